@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs every build and test dependency of tubecast from Debian 12 packages.
+# Idempotent: packages already installed are skipped. Works as root, or through sudo otherwise.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  g++ cmake pkg-config make git ca-certificates
+  # headless OpenGL: EGL (surfaceless / device) and OSMesa, Mesa's llvmpipe
+  libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libgbm-dev
+  # libraries
+  libglm-dev libopenimageio-dev openimageio-tools libopenexr-dev libvtk9-dev
+  nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+if [ "$(id -u)" -eq 0 ]; then
+  SUDO=()
+elif command -v sudo >/dev/null 2>&1; then
+  SUDO=(sudo)
+else
+  echo "install-deps: need root or sudo to install: ${missing[*]}" >&2
+  exit 1
+fi
+
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${SUDO[@]}" apt-get update -qq
+"${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
