@@ -82,11 +82,11 @@ struct ImageSpec {
     glm::vec4 background{0.0f};  // sRGB colour, straight alpha
 };
 
-enum class Technique { Rasterized };
+enum class RenderTechnique { Rasterized };
 enum class Transparency { Opaque };
 
 struct RenderSpec {
-    Technique technique = Technique::Rasterized;
+    RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
 };
 

@@ -21,11 +21,21 @@ struct ContextInfo {
     std::string device;   // which EGL device ran (index and DRM node / extension string), or ""
     std::string vendor, renderer, version, glslVersion;
     std::vector<std::string> extensions;  // the ones the pipeline cares about that are present
-    bool hasExtension(const std::string& name) const;
+    std::vector<std::string> allExtensions;  // every GL_EXTENSIONS entry, sorted
+    bool hasExtension(const std::string& name) const;  // searches allExtensions
 };
 
-// Owns the context; makes it current on creation. Move-only. Destroying it releases the
-// context and the backend's display. Throws tc::ContextError saying which backend failed and why.
+// Owns the context; makes it current on the calling thread on creation and loads the GL entry
+// points of its backend (gl/gl_api.h). Move-only. Destroying it unbinds it if current and
+// releases the context and, with the last context on it, the backend's EGL display.
+// Throws tc::ContextError saying which backend failed, why, and what to try.
+//
+// One context is current at a time per process: the GL entry points are process-wide. A context
+// has no default framebuffer worth drawing to (EGL: none; OSMesa: a 1x1 dummy) and its initial
+// viewport is unspecified, so renderers set glViewport for each framebuffer they bind.
+//
+// Test hook: with the environment variable TUBECAST_FORCE_NO_GL=1, create() behaves as if no
+// backend were available and throws ContextError (the CLI tests check exit code 3 with it).
 class Context {
 public:
     static Context create(const ContextConfig& config);
@@ -37,6 +47,11 @@ public:
 
     const ContextInfo& info() const;
     bool isSoftwareRenderer() const;  // llvmpipe, softpipe, swrast
+
+    // Makes this context current again and, if another backend's context was current, unbinds
+    // that one and reloads the GL entry points. Only needed by processes that juggle several
+    // contexts (the GL tests); a renderer has one context, current since create().
+    void makeCurrent();
 
 private:
     struct Impl;

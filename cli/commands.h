@@ -1,0 +1,19 @@
+#pragma once
+// One function per subcommand (cli/<name>.cpp); main.cpp wires them to CLI11 and maps errors
+// to exit codes.
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace tc::cli {
+
+void addRenderCommand(CLI::App& app);
+void addValidateCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
+
+// Set by subcommands that end with a non-zero code without an exception (compare --fail).
+extern int g_exitCode;
+
+}  // namespace tc::cli

@@ -1,0 +1,129 @@
+#include "core/line_set.h"
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace tc {
+
+void Attribute::updateRange() {
+    min = std::numeric_limits<float>::quiet_NaN();
+    max = std::numeric_limits<float>::quiet_NaN();
+    bool found = false;
+    for (float v : values) {
+        if (!std::isfinite(v)) continue;
+        if (!found) {
+            min = max = v;
+            found = true;
+        } else {
+            min = std::min(min, v);
+            max = std::max(max, v);
+        }
+    }
+}
+
+const Attribute* LineSet::attribute(const std::string& name) const {
+    for (const Attribute& a : attributes)
+        if (a.name == name) return &a;
+    return nullptr;
+}
+
+void LineSet::updateBounds() {
+    bounds = Bounds{};
+    for (const glm::vec3& p : positions) bounds.extend(p);
+}
+
+namespace {
+
+std::string countNoun(std::size_t n, const char* singular, const char* plural) {
+    return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
+bool isFinite(const glm::vec3& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+}  // namespace
+
+std::string CleanReport::summary() const {
+    std::string parts;
+    auto add = [&](const std::string& part) {
+        if (!parts.empty()) parts += ", ";
+        parts += part;
+    };
+    if (nonFiniteVertices)
+        add(countNoun(nonFiniteVertices, "non-finite vertex", "non-finite vertices") +
+            " (polylines split there)");
+    if (duplicateVertices)
+        add(countNoun(duplicateVertices, "duplicate vertex", "duplicate vertices") +
+            " (zero-length segments)");
+    if (droppedPolylines)
+        add(countNoun(droppedPolylines, "polyline", "polylines") + " with fewer than 2 vertices");
+    return parts.empty() ? std::string() : "skipped " + parts;
+}
+
+CleanReport cleanLineSet(LineSet& lines) {
+    TC_CHECK(!lines.offsets.empty());
+    TC_CHECK_OP(std::size_t(lines.offsets.back()), ==, lines.positions.size());
+    for (const Attribute& a : lines.attributes) TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
+
+    CleanReport report;
+    // Compacts in place: `out` never overtakes the vertex being read, so positions and
+    // attribute values can be moved down without a second buffer (line sets can be large).
+    std::size_t out = 0;
+    std::vector<std::uint32_t> offsets{0};
+    offsets.reserve(lines.offsets.size());
+    auto keep = [&](std::size_t from) {
+        lines.positions[out] = lines.positions[from];
+        for (Attribute& a : lines.attributes) a.values[out] = a.values[from];
+        ++out;
+    };
+    // Closes the piece [offsets.back(), out): kept when it has a segment, rolled back otherwise.
+    auto closePiece = [&] {
+        std::size_t begin = offsets.back();
+        if (out - begin >= 2) {
+            offsets.push_back(std::uint32_t(out));
+        } else if (out - begin == 1) {
+            out = begin;
+            ++report.droppedPolylines;
+        }
+    };
+
+    for (std::size_t p = 0; p + 1 < lines.offsets.size(); ++p) {
+        std::size_t begin = lines.offsets[p], end = lines.offsets[p + 1];
+        TC_CHECK_OP(begin, <=, end);
+        std::size_t piecesBefore = offsets.size();
+        std::size_t droppedBefore = report.droppedPolylines;
+        for (std::size_t v = begin; v < end; ++v) {
+            const glm::vec3 pos = lines.positions[v];
+            if (!isFinite(pos)) {
+                ++report.nonFiniteVertices;
+                closePiece();
+                continue;
+            }
+            if (out > offsets.back() && lines.positions[out - 1] == pos) {
+                ++report.duplicateVertices;
+                continue;
+            }
+            keep(v);
+        }
+        closePiece();
+        // A polyline that left nothing at all (empty, or only non-finite vertices) is dropped
+        // too; one that left 1-vertex pieces was already counted per piece.
+        if (offsets.size() == piecesBefore && report.droppedPolylines == droppedBefore)
+            ++report.droppedPolylines;
+    }
+
+    lines.positions.resize(out);
+    lines.positions.shrink_to_fit();
+    for (Attribute& a : lines.attributes) {
+        a.values.resize(out);
+        a.values.shrink_to_fit();
+        a.updateRange();
+    }
+    lines.offsets = std::move(offsets);
+    lines.updateBounds();
+    return report;
+}
+
+}  // namespace tc

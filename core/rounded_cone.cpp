@@ -1,0 +1,149 @@
+#include "core/rounded_cone.h"
+
+#include <cmath>
+#include <limits>
+
+namespace tc {
+namespace {
+
+// One implementation for float and double (the double one exists to measure the float one).
+template <typename T>
+struct IntervalT {
+    bool hit = false;
+    T tIn = 0, tOut = 0;
+    glm::vec<3, T> nIn{0}, nOut{0};
+};
+
+template <typename T>
+IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> x0, T r0,
+                           glm::vec<3, T> x1, T r1) {
+    using V = glm::vec<3, T>;
+    // Parameters beyond this are treated as "no root" (a linear equation's root at infinity).
+    constexpr T kHuge = T(1e18);
+    constexpr T kFar = T(1e30);
+
+    // Solve in a frame whose origin is the ray point closest to x0: thin tubes (r ~ 1e-3) seen
+    // from far away (distance ~ 2) would otherwise lose most float digits in |o - x|^2 - r^2.
+    T t0 = glm::dot(x0 - o, dir);
+    V oa = (o - x0) + t0 * dir;
+    V ba = x1 - x0;
+
+    T tIn = kFar, tOut = -kFar;
+    V nIn(0), nOut(0);
+    bool hit = false;
+
+    // Spheres: discriminant from the perpendicular offset (no cancellation near the silhouette).
+    auto sphere = [&](V oc, T r) {
+        T b = glm::dot(oc, dir);
+        V perp = oc - b * dir;
+        T h = r * r - glm::dot(perp, perp);
+        if (h < T(0)) return;
+        T sq = std::sqrt(h);
+        T ta = -b - sq, tb = -b + sq;
+        hit = true;
+        if (ta < tIn) { tIn = ta; nIn = glm::normalize(perp - sq * dir); }
+        if (tb > tOut) { tOut = tb; nOut = glm::normalize(perp + sq * dir); }
+    };
+    sphere(oa, r0);
+    sphere(oa - ba, r1);
+
+    // Lateral surface of the common tangent cone, with the axis normalised (u = ba/L, s = rr/L):
+    //   c2 |q|^2 - y^2 + 2 r0 s y - r0^2 = 0,  q = oa + t dir,  y = dot(q, u),  c2 = 1 - s^2,
+    // valid where y - r0 s lies in [0, L c2] (between the tangent circles). Without a lateral
+    // surface (L <= |rr|: one sphere contains the other, or a zero-length segment) the union of
+    // the spheres already is the shape.
+    T L = glm::length(ba);
+    T rr = r0 - r1;
+    if (L > std::abs(rr)) {
+        V u = ba / L;
+        T s = rr / L;
+        T c2 = (T(1) - s) * (T(1) + s);
+        T m1 = glm::dot(oa, u), m2 = glm::dot(dir, u), m3 = glm::dot(oa, dir);
+        V uxd = glm::cross(u, dir);
+        // 1 - m2^2 as |u x dir|^2: exact for rays nearly parallel to the axis.
+        T k2 = glm::dot(uxd, uxd) - s * s;
+        T w = m1 - r0 * s;
+        T k1 = c2 * m3 - m2 * w;
+        T k0 = c2 * (glm::dot(oa, oa) - r0 * r0) - w * w;
+        T h = k1 * k1 - k0 * k2;
+        if (h >= T(0)) {
+            T sq = std::sqrt(h);
+            // Stable roots q/k2 and k0/q. The root where the quadric's derivative k1 + k2 t is
+            // -sqrt(h) enters the cone (the gradient points outward on the real nappe), whatever
+            // the sign of k2.
+            T q = -(k1 + (k1 >= T(0) ? sq : -sq));
+            bool validA = std::abs(q) < kHuge * std::abs(k2);
+            bool validB = std::abs(k0) < kHuge * std::abs(q);
+            T tA = validA ? q / k2 : T(0);
+            T tB = validB ? k0 / q : T(0);
+            bool aIsEntry = k1 >= T(0);
+            auto lateral = [&](T t, bool entry) {
+                T yc = w + t * m2;  // y - r0 s
+                if (!(yc >= T(0) && yc <= L * c2)) return;
+                V n = glm::normalize(c2 * (oa + t * dir) - u * yc);
+                hit = true;
+                if (entry && t < tIn) { tIn = t; nIn = n; }
+                if (!entry && t > tOut) { tOut = t; nOut = n; }
+            };
+            if (validA) lateral(tA, aIsEntry);
+            if (validB) lateral(tB, !aIsEntry);
+        }
+    }
+
+    IntervalT<T> result;
+    if (!hit) return result;
+    // A ray grazing a seam between pieces can lose one end to rounding: close the interval.
+    if (tOut < tIn) {
+        if (tOut == -kFar) { tOut = tIn; nOut = nIn; }
+        else if (tIn == kFar) { tIn = tOut; nIn = nOut; }
+        else { T m = T(0.5) * (tIn + tOut); tIn = tOut = m; }
+    }
+    result.hit = true;
+    result.tIn = t0 + tIn;
+    result.tOut = t0 + tOut;
+    result.nIn = nIn;
+    result.nOut = nOut;
+    return result;
+}
+
+template <typename T>
+T sdImpl(glm::vec<3, T> p, glm::vec<3, T> x0, T r0, glm::vec<3, T> x1, T r1) {
+    using V = glm::vec<3, T>;
+    V ba = x1 - x0;
+    T L = glm::length(ba);
+    T rr = r0 - r1;
+    if (!(L > std::abs(rr))) return r0 >= r1 ? glm::length(p - x0) - r0 : glm::length(p - x1) - r1;
+    // 2D problem in (axial y, radial rho): the hull of discs (0, r0) and (L, r1). The lateral
+    // line has outward normal (s, c); the lines through the centres perpendicular to it split
+    // the half plane into the regions of sphere 0, the lateral line and sphere 1.
+    V u = ba / L;
+    T s = rr / L;
+    T c = std::sqrt((T(1) - s) * (T(1) + s));
+    V pa = p - x0;
+    T y = glm::dot(pa, u);
+    T rho = glm::length(pa - y * u);
+    T k = y * c - rho * s;
+    if (k < T(0)) return glm::length(pa) - r0;
+    if (k > L * c) return glm::length(p - x1) - r1;
+    return y * s + rho * c - r0;
+}
+
+}  // namespace
+
+ConeInterval intersectRoundedCone(const Ray& ray, const RoundedCone& c) {
+    IntervalT<float> i = intersectImpl<float>(ray.origin, ray.dir, c.x0, c.r0, c.x1, c.r1);
+    return {i.hit, i.tIn, i.tOut, i.nIn, i.nOut};
+}
+
+ConeIntervalD intersectRoundedCone(const RayD& ray, const RoundedConeD& c) {
+    IntervalT<double> i = intersectImpl<double>(ray.origin, ray.dir, c.x0, c.r0, c.x1, c.r1);
+    return {i.hit, i.tIn, i.tOut, i.nIn, i.nOut};
+}
+
+float sdRoundedCone(glm::vec3 p, const RoundedCone& c) { return sdImpl<float>(p, c.x0, c.r0, c.x1, c.r1); }
+
+double sdRoundedCone(const glm::dvec3& p, const RoundedConeD& c) {
+    return sdImpl<double>(p, c.x0, c.r0, c.x1, c.r1);
+}
+
+}  // namespace tc

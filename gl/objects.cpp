@@ -1,0 +1,61 @@
+#include "gl/objects.h"
+
+#include <cstdio>
+#include <string>
+
+#include "core/error.h"
+
+namespace tc::gl {
+
+Buffer makeBuffer(std::size_t bytes, const void* data, GLbitfield flags) {
+    Buffer buffer = Buffer::create();
+    if (bytes == 0) {
+        bytes = 4;
+        data = nullptr;  // nothing to copy; the caller's pointer may be null or past-the-end
+    }
+    glNamedBufferStorage(buffer.id(), static_cast<GLsizeiptr>(bytes), data, flags);
+    return buffer;
+}
+
+Texture makeTexture2D(GLenum internalFormat, int width, int height) {
+    TC_CHECK(width > 0 && height > 0);
+    Texture texture = Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(texture.id(), 1, internalFormat, width, height);
+    glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
+namespace {
+std::string framebufferStatusName(GLenum status) {
+    switch (status) {
+    case GL_FRAMEBUFFER_COMPLETE: return "GL_FRAMEBUFFER_COMPLETE";
+    case GL_FRAMEBUFFER_UNDEFINED: return "GL_FRAMEBUFFER_UNDEFINED";
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
+        return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER: return "GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER";
+    case GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER: return "GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER";
+    case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+    case GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS: return "GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS";
+    case 0: return "error while checking (glCheckNamedFramebufferStatus returned 0)";
+    default: return "status 0x" + [&] {
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "%04X", status);
+        return std::string(hex);
+    }();
+    }
+}
+}  // namespace
+
+void checkFramebuffer(const Framebuffer& framebuffer, const char* what) {
+    const GLenum status = glCheckNamedFramebufferStatus(framebuffer.id(), GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        throw Error(ExitCode::Internal, std::string("framebuffer '") + what +
+                                            "' is incomplete: " + framebufferStatusName(status));
+}
+
+}  // namespace tc::gl

@@ -1,0 +1,40 @@
+#pragma once
+// The interface between the frame loop (cli/render.cpp) and a render technique. A technique
+// owns its passes and GPU resources; it never writes files.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/camera.h"
+#include "core/frame_images.h"
+#include "core/scene.h"
+#include "core/styled_lines.h"
+
+namespace tc::gl {
+
+class StageTimer;
+
+struct FrameSetup {
+    int frame = 0;
+    Camera camera;
+    int width = 0, height = 0;
+};
+
+class Technique {
+public:
+    virtual ~Technique() = default;
+    // Renders one frame into `out` (allocated by the technique to width x height), timing its
+    // stages with `timer`.
+    virtual void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) = 0;
+    // What the technique chose (draw path, synchronisation, ...) for run.json.
+    virtual nlohmann::json describe() const = 0;
+};
+
+// Prepares the technique the scene asks for (uploads, per-dataset work). The GL context must
+// be current. Throws InputError for combinations that do not exist.
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines);
+
+}  // namespace tc::gl

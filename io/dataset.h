@@ -1,0 +1,21 @@
+#pragma once
+// A scene's dataset: read from a file (by extension) or made by a built-in generator.
+#include <string>
+
+#include "core/line_set.h"
+#include "core/scene.h"
+
+namespace tc {
+
+struct DatasetLoad {
+    LineSet lines;
+    CleanReport cleaned;   // what was skipped (NaN/Inf, duplicates, short polylines)
+    std::string source;    // the path, or "generate:tornado(lines=..,points=..,seed=..)"
+    double seconds = 0;
+};
+
+// Throws InputError for unreadable or empty data; a dataset with no polylines left after
+// cleaning is an error naming the file and what was skipped.
+DatasetLoad loadDataset(const DatasetSpec& spec);
+
+}  // namespace tc

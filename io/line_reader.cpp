@@ -1,0 +1,320 @@
+#include "io/line_reader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <numeric>
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellType.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkFloatArray.h>
+#include <vtkGenericDataObjectReader.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkOutputWindow.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+namespace tc {
+
+namespace {
+
+// Collects what VTK objects print (errors, warnings) instead of letting it reach stderr
+// unformatted. VTK routes every vtkErrorMacro without an ErrorEvent observer here, including
+// those of internal objects (the XML parser, the executive) that we cannot observe directly.
+class CapturingOutputWindow : public vtkOutputWindow {
+public:
+    static CapturingOutputWindow* New();
+    vtkTypeMacro(CapturingOutputWindow, vtkOutputWindow);
+
+    void DisplayText(const char* text) override {
+        if (!text) return;
+        if (GetCurrentMessageType() == MESSAGE_TYPE_ERROR) errors.emplace_back(text);
+    }
+
+    std::vector<std::string> errors;
+};
+vtkStandardNewMacro(CapturingOutputWindow);
+
+// Installs a CapturingOutputWindow for its lifetime. The output window is process-global, so
+// the mutex serialises everything that talks to VTK through this file.
+class VtkMessageCapture {
+public:
+    VtkMessageCapture() : m_lock(mutex()) {
+        m_previous = vtkOutputWindow::GetInstance();
+        vtkOutputWindow::SetInstance(m_window);
+    }
+    ~VtkMessageCapture() { vtkOutputWindow::SetInstance(m_previous); }
+    VtkMessageCapture(const VtkMessageCapture&) = delete;
+    VtkMessageCapture& operator=(const VtkMessageCapture&) = delete;
+
+    bool failed() const { return !m_window->errors.empty(); }
+
+    // "ERROR: In /build/.../vtkDataReader.cxx, line 123\nvtkPolyDataReader (0x55d0): Unable
+    // to open file\n\n" -> "Unable to open file": the first error, its message line only
+    // (later ones are the pipeline's "Algorithm ... returned failure" echo).
+    std::string firstError() const {
+        if (m_window->errors.empty()) return {};
+        std::string text = m_window->errors.front();
+        if (text.rfind("ERROR: In ", 0) == 0) {
+            std::size_t nl = text.find('\n');
+            text = nl == std::string::npos ? std::string() : text.substr(nl + 1);
+        }
+        // Drop the "ClassName (0x1234): " prefix.
+        std::size_t paren = text.find(" (0x");
+        std::size_t close = paren == std::string::npos ? paren : text.find("): ", paren);
+        if (close != std::string::npos && text.find('\n') > close) text = text.substr(close + 3);
+        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+        for (char& c : text)
+            if (c == '\n') c = ' ';
+        return text.empty() ? "unknown error" : text;
+    }
+
+private:
+    static std::mutex& mutex() {
+        static std::mutex m;
+        return m;
+    }
+    std::lock_guard<std::mutex> m_lock;
+    vtkSmartPointer<vtkOutputWindow> m_previous;
+    vtkNew<CapturingOutputWindow> m_window;
+};
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// Gathers positions and point data of the cells' points into `lines`, one polyline per cell.
+class LineSetBuilder {
+public:
+    LineSetBuilder(const std::string& path, vtkDataSet* data) : m_path(path), m_data(data) {
+        m_pointCount = data->GetNumberOfPoints();
+        vtkPointData* pd = data->GetPointData();
+        for (int i = 0; pd && i < pd->GetNumberOfArrays(); ++i) {
+            vtkDataArray* array = pd->GetArray(i);  // null for string arrays
+            if (!array || array->GetNumberOfTuples() != m_pointCount) continue;
+            m_arrays.push_back(array);
+            std::string name = array->GetName() && *array->GetName() ? array->GetName()
+                                                                      : "array" + std::to_string(i);
+            const int k = array->GetNumberOfComponents();
+            if (k == 1) {
+                m_lines.attributes.push_back({name, {}});
+                continue;
+            }
+            static const char* const xyz[] = {"x", "y", "z"};
+            for (int c = 0; c < k; ++c) {
+                std::string component = c < 3 ? std::string(xyz[c]) : std::to_string(c);
+                m_lines.attributes.push_back({name + '_' + component, {}});
+            }
+            m_lines.attributes.push_back({name + "_magnitude", {}});
+        }
+    }
+
+    void addCell(vtkIdType cell, vtkIdType n, const vtkIdType* ids) {
+        vtkPoints* points = pointsOf();
+        for (vtkIdType j = 0; j < n; ++j) {
+            const vtkIdType id = ids[j];
+            if (id < 0 || id >= m_pointCount)
+                throw InputError(m_path + ": cell " + std::to_string(cell) + ": point id " +
+                                 std::to_string(id) + " out of range (" +
+                                 std::to_string(m_pointCount) + " points)");
+            double p[3];
+            points->GetPoint(id, p);
+            m_lines.positions.emplace_back(float(p[0]), float(p[1]), float(p[2]));
+            std::size_t a = 0;
+            for (vtkDataArray* array : m_arrays) {
+                const int k = array->GetNumberOfComponents();
+                if (k == 1) {
+                    m_lines.attributes[a++].values.push_back(float(array->GetComponent(id, 0)));
+                    continue;
+                }
+                double sum = 0.0;
+                for (int c = 0; c < k; ++c) {
+                    double v = array->GetComponent(id, c);
+                    sum += v * v;
+                    m_lines.attributes[a++].values.push_back(float(v));
+                }
+                m_lines.attributes[a++].values.push_back(float(std::sqrt(sum)));
+            }
+        }
+        if (m_lines.positions.size() > std::numeric_limits<std::uint32_t>::max())
+            throw InputError(m_path + ": more than 2^32 polyline vertices are not supported");
+        m_lines.offsets.push_back(std::uint32_t(m_lines.positions.size()));
+    }
+
+    LineSet take() { return std::move(m_lines); }
+
+private:
+    vtkPoints* pointsOf() {
+        if (auto* poly = vtkPolyData::SafeDownCast(m_data)) return poly->GetPoints();
+        return vtkPointSet::SafeDownCast(m_data)->GetPoints();
+    }
+
+    const std::string& m_path;
+    vtkDataSet* m_data;
+    vtkIdType m_pointCount = 0;
+    std::vector<vtkDataArray*> m_arrays;
+    LineSet m_lines;
+};
+
+[[noreturn]] void throwNoPolylines(const std::string& path, vtkDataSet* data, vtkIdType otherCells) {
+    throw InputError(path + ": no polylines (" + std::to_string(data->GetNumberOfPoints()) +
+                     " points, " + std::to_string(otherCells) + " cells of other types)");
+}
+
+LineSet extractLines(const std::string& path, vtkDataObject* object) {
+    if (auto* poly = vtkPolyData::SafeDownCast(object)) {
+        vtkCellArray* cells = poly->GetLines();
+        const vtkIdType lineCells = cells ? cells->GetNumberOfCells() : 0;
+        if (lineCells == 0 || !poly->GetPoints()) throwNoPolylines(path, poly, poly->GetNumberOfCells() - lineCells);
+        LineSetBuilder builder(path, poly);
+        auto it = vtk::TakeSmartPointer(cells->NewIterator());
+        for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell()) {
+            vtkIdType n;
+            const vtkIdType* ids;
+            it->GetCurrentCell(n, ids);
+            builder.addCell(it->GetCurrentCellId(), n, ids);
+        }
+        return builder.take();
+    }
+    if (auto* grid = vtkUnstructuredGrid::SafeDownCast(object)) {
+        const vtkIdType cellCount = grid->GetNumberOfCells();
+        vtkIdType lineCells = 0;
+        for (vtkIdType c = 0; c < cellCount; ++c) {
+            int type = grid->GetCellType(c);
+            lineCells += type == VTK_LINE || type == VTK_POLY_LINE;
+        }
+        if (lineCells == 0 || !grid->GetPoints()) throwNoPolylines(path, grid, cellCount - lineCells);
+        LineSetBuilder builder(path, grid);
+        for (vtkIdType c = 0; c < cellCount; ++c) {
+            int type = grid->GetCellType(c);
+            if (type != VTK_LINE && type != VTK_POLY_LINE) continue;
+            vtkIdType n;
+            const vtkIdType* ids;
+            grid->GetCellPoints(c, n, ids);
+            builder.addCell(c, n, ids);
+        }
+        return builder.take();
+    }
+    throw InputError(path + ": not VTK PolyData or an UnstructuredGrid (" +
+                     std::string(object ? object->GetClassName() : "no data") + ")");
+}
+
+// Runs `reader` and returns its output, turning VTK's complaints into an InputError.
+template <class Reader>
+vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader,
+                                         const VtkMessageCapture& capture) {
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    if (capture.failed()) throw InputError(path + ": VTK: " + capture.firstError());
+    if (reader->GetErrorCode() != 0)
+        throw InputError(path + ": VTK: " +
+                         vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode()));
+    return reader->GetOutputDataObject(0);
+}
+
+}  // namespace
+
+LineSet readLineSet(const std::string& path, CleanReport* report) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory");
+    const std::string ext = lowerExtension(path);
+
+    LineSet lines;
+    {
+        VtkMessageCapture capture;
+        vtkSmartPointer<vtkDataObject> output;
+        if (ext == ".vtk") {
+            // Generic rather than vtkPolyDataReader: also takes UNSTRUCTURED_GRID files.
+            vtkNew<vtkGenericDataObjectReader> reader;
+            output = runReader(path, reader.Get(), capture);
+        } else if (ext == ".vtp") {
+            vtkNew<vtkXMLPolyDataReader> reader;
+            output = runReader(path, reader.Get(), capture);
+        } else if (ext == ".vtu") {
+            vtkNew<vtkXMLUnstructuredGridReader> reader;
+            output = runReader(path, reader.Get(), capture);
+        } else {
+            throw InputError(path + ": unsupported file extension '" + ext +
+                             "' (supported: .vtk, .vtp, .vtu)");
+        }
+        lines = extractLines(path, output);
+    }
+
+    CleanReport cleaned = cleanLineSet(lines);
+    if (report) *report = cleaned;
+    if (lines.polylineCount() == 0)
+        throw InputError(path + ": no polylines left after cleaning (" + cleaned.summary() + ")");
+    return lines;
+}
+
+void writeLineSetVtp(const LineSet& lines, const std::string& path) {
+    TC_CHECK(!lines.offsets.empty());
+    TC_CHECK_OP(std::size_t(lines.offsets.back()), ==, lines.positions.size());
+
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToFloat();
+    points->SetNumberOfPoints(vtkIdType(lines.positions.size()));
+    auto* coords = vtkFloatArray::SafeDownCast(points->GetData());
+    TC_CHECK(coords != nullptr);
+    std::copy_n(&lines.positions.data()->x, 3 * lines.positions.size(), coords->GetPointer(0));
+
+    vtkNew<vtkCellArray> cells;
+    cells->AllocateExact(vtkIdType(lines.polylineCount()), vtkIdType(lines.positions.size()));
+    std::vector<vtkIdType> ids;
+    for (std::size_t p = 0; p < lines.polylineCount(); ++p) {
+        ids.resize(lines.offsets[p + 1] - lines.offsets[p]);
+        std::iota(ids.begin(), ids.end(), vtkIdType(lines.offsets[p]));
+        cells->InsertNextCell(vtkIdType(ids.size()), ids.data());
+    }
+
+    vtkNew<vtkPolyData> poly;
+    poly->SetPoints(points);
+    poly->SetLines(cells);
+    for (const Attribute& a : lines.attributes) {
+        TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
+        vtkNew<vtkFloatArray> array;
+        array->SetName(a.name.c_str());
+        array->SetNumberOfTuples(vtkIdType(a.values.size()));
+        std::copy(a.values.begin(), a.values.end(), array->GetPointer(0));
+        poly->GetPointData()->AddArray(array);
+    }
+
+    AtomicFile file(path);
+    {
+        VtkMessageCapture capture;
+        vtkNew<vtkXMLPolyDataWriter> writer;
+        writer->SetFileName(file.tempPath().c_str());
+        writer->SetInputData(poly);
+        writer->SetDataModeToAppended();
+        writer->EncodeAppendedDataOff();  // raw binary, not base64
+        const int ok = writer->Write();
+        if (!ok || capture.failed() || writer->GetErrorCode() != 0)
+            throw OutputError(path + ": cannot write: " +
+                              (capture.failed() ? capture.firstError()
+                                                : std::string(vtkErrorCode::GetStringFromErrorCode(
+                                                      writer->GetErrorCode()))));
+    }
+    file.commit();
+}
+
+}  // namespace tc

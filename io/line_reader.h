@@ -1,0 +1,34 @@
+#pragma once
+// Line sets from VTK files: legacy .vtk (ASCII or binary; POLYDATA or UNSTRUCTURED_GRID),
+// XML .vtp (PolyData) and XML .vtu (UnstructuredGrid).
+#include <string>
+
+#include "core/line_set.h"
+
+namespace tc {
+
+// Reads the polylines of a VTK file, chosen by extension (case-insensitive): .vtk, .vtp, .vtu.
+//
+// - Polylines come from VTK_POLY_LINE and VTK_LINE cells (the Lines cell array of PolyData; the
+//   line and polyline cells of an UnstructuredGrid), in file order, one LineSet polyline per
+//   cell. Consecutive 2-point VTK_LINE cells are NOT merged into longer polylines: a file of
+//   segments renders correctly but gets round caps at every joint.
+// - Every numeric point-data array becomes per-vertex Attributes (as float): a 1-component
+//   array under its name, an n-component one as name_x, name_y, name_z (name_3, name_4, ...
+//   beyond three) plus name_magnitude. Unnamed arrays are called "array<i>"; string arrays are
+//   skipped. Vertices, polygons and other cells are ignored.
+// - The result is passed through cleanLineSet(); what it removed goes to `report` if given.
+//
+// Throws InputError, always starting with the path: "PATH: no such file", "PATH: unsupported
+// file extension ...", "PATH: VTK: <the reader's first error>", "PATH: cell C: point id I out
+// of range (N points)", "PATH: no polylines (N points, M cells of other types)" or
+// "PATH: no polylines left after cleaning (<summary>)". VTK's own error output is captured,
+// not printed. Reads are serialised (VTK's output window is process-global).
+LineSet readLineSet(const std::string& path, CleanReport* report = nullptr);
+
+// Writes `lines` as VTK XML PolyData (.vtp): float points, one polyline cell per polyline,
+// one float point-data array per attribute, binary appended data (raw, zlib-compressed).
+// Written through an AtomicFile. Throws OutputError "PATH: cannot write: ...".
+void writeLineSetVtp(const LineSet& lines, const std::string& path);
+
+}  // namespace tc

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Fresh machine to first picture: installs dependencies, builds, renders the built-in demo scene
+# (an analytic tornado traced into streamlines; no download) to out/demo.png and out/demo.exr.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+scripts/build.sh
+build/cli/tubecast render configs/demo.json -o out --overwrite "$@"
+echo "demo: wrote out/demo.png, out/demo.exr, out/timings.csv, out/run.json"
