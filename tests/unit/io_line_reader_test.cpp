@@ -1,0 +1,275 @@
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "io/line_reader.h"
+
+namespace fs = std::filesystem;
+
+namespace tc {
+namespace {
+
+// A fresh directory per test under the build tree.
+std::string testDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    fs::path dir = fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir.string();
+}
+
+std::string writeText(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+// Runs `f`, expects an InputError, returns its message, and checks VTK printed nothing.
+template <class F>
+std::string inputErrorOf(F&& f) {
+    ::testing::internal::CaptureStderr();
+    std::string message;
+    try {
+        f();
+        ADD_FAILURE() << "no InputError thrown";
+    } catch (const InputError& e) {
+        message = e.what();
+    }
+    std::string spilled = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(spilled, "") << "VTK output reached stderr";
+    return message;
+}
+
+const char* const kLegacyAscii = R"(# vtk DataFile Version 3.0
+two polylines
+ASCII
+DATASET POLYDATA
+POINTS 5 float
+0 0 0
+1 0 0
+2 0 0
+0 1 0
+0 2 0
+VERTICES 1 2
+1 0
+LINES 2 7
+3 0 1 2
+2 4 3
+POINT_DATA 5
+SCALARS temperature float 1
+LOOKUP_TABLE default
+1 2 3 4 5
+VECTORS velocity float
+3 4 0
+0 0 1
+1 0 0
+0 2 0
+0 0 0
+)";
+
+TEST(ReadLineSet, legacy_ascii_polydata_with_scalars_and_vectors) {
+    std::string path = writeText(testDir() + "/lines.vtk", kLegacyAscii);
+    CleanReport report;
+    LineSet lines = readLineSet(path, &report);
+    EXPECT_FALSE(report.any());
+    EXPECT_EQ(lines.offsets, (std::vector<std::uint32_t>{0, 3, 5}));
+    EXPECT_EQ(lines.positions,
+              (std::vector<glm::vec3>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 1, 0}}));
+    ASSERT_EQ(lines.attributes.size(), 5u);
+    auto values = [&](const char* name) {
+        const Attribute* a = lines.attribute(name);
+        EXPECT_NE(a, nullptr) << name;
+        return a ? a->values : std::vector<float>{};
+    };
+    // Per vertex, following the cells' point ids (the second polyline runs 4 -> 3).
+    EXPECT_EQ(values("temperature"), (std::vector<float>{1, 2, 3, 5, 4}));
+    EXPECT_EQ(values("velocity_x"), (std::vector<float>{3, 0, 1, 0, 0}));
+    EXPECT_EQ(values("velocity_y"), (std::vector<float>{4, 0, 0, 0, 2}));
+    EXPECT_EQ(values("velocity_z"), (std::vector<float>{0, 1, 0, 0, 0}));
+    EXPECT_EQ(values("velocity_magnitude"), (std::vector<float>{5, 1, 1, 0, 2}));
+    EXPECT_EQ(lines.attribute("velocity_magnitude")->max, 5.0f);
+    EXPECT_EQ(lines.bounds.hi, glm::vec3(2, 2, 0));
+}
+
+// Legacy binary is big-endian.
+template <class T>
+void putBigEndian(std::string& out, T value) {
+    static_assert(sizeof(T) == 4);
+    std::uint32_t bits;
+    std::memcpy(&bits, &value, 4);
+    for (int shift = 24; shift >= 0; shift -= 8) out += char((bits >> shift) & 0xFF);
+}
+
+TEST(ReadLineSet, legacy_binary_with_a_nan_coordinate_reports_one_non_finite_vertex) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::string text = "# vtk DataFile Version 3.0\nnan\nBINARY\nDATASET POLYDATA\nPOINTS 5 float\n";
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 2.f, nan, 0.f, 3.f, 0.f, 0.f, 4.f, 0.f, 0.f})
+        putBigEndian(text, v);
+    text += "\nLINES 1 6\n";
+    for (std::int32_t v : {5, 0, 1, 2, 3, 4}) putBigEndian(text, v);
+    text += "\n";
+    std::string path = writeText(testDir() + "/nan.vtk", text);
+
+    CleanReport report;
+    LineSet lines = readLineSet(path, &report);
+    EXPECT_EQ(report.nonFiniteVertices, 1u);
+    EXPECT_EQ(report.droppedPolylines, 0u);
+    EXPECT_EQ(lines.offsets, (std::vector<std::uint32_t>{0, 2, 4}));
+    EXPECT_EQ(lines.positions[2], glm::vec3(3, 0, 0));
+}
+
+TEST(ReadLineSet, legacy_unstructured_grid_takes_line_and_polyline_cells) {
+    std::string path = writeText(testDir() + "/grid.vtk", R"(# vtk DataFile Version 3.0
+grid
+ASCII
+DATASET UNSTRUCTURED_GRID
+POINTS 4 float
+0 0 0  1 0 0  1 1 0  0 1 0
+CELLS 3 12
+3 0 1 2
+3 1 2 3
+2 3 0
+CELL_TYPES 3
+4
+5
+3
+)");
+    LineSet lines = readLineSet(path);
+    EXPECT_EQ(lines.offsets, (std::vector<std::uint32_t>{0, 3, 5}));  // the triangle is skipped
+    EXPECT_EQ(lines.positions[3], glm::vec3(0, 1, 0));
+}
+
+TEST(ReadLineSet, vtp_round_trip_keeps_positions_offsets_and_attributes) {
+    LineSet lines;
+    lines.positions = {{0, 0, 0}, {1, 0.5f, 0}, {2, 0, 1e-3f}, {-1, -1, -1}, {-2, -1, -1}};
+    lines.offsets = {0, 3, 5};
+    lines.attributes = {{"speed", {0.1f, 0.2f, 0.3f, 0.4f, 0.5f}}, {"v_x", {1, 2, 3, 4, -5}}};
+    std::string path = testDir() + "/round.vtp";
+    writeLineSetVtp(lines, path);
+
+    LineSet back = readLineSet(path);
+    EXPECT_EQ(back.positions, lines.positions);
+    EXPECT_EQ(back.offsets, lines.offsets);
+    ASSERT_EQ(back.attributes.size(), 2u);
+    for (const Attribute& a : lines.attributes) {
+        ASSERT_NE(back.attribute(a.name), nullptr) << a.name;
+        EXPECT_EQ(back.attribute(a.name)->values, a.values) << a.name;
+    }
+    EXPECT_EQ(back.attribute("v_x")->min, -5.0f);
+
+    std::ifstream in(path, std::ios::binary);
+    std::string head(400, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    EXPECT_NE(head.find("<AppendedData encoding=\"raw\">"), std::string::npos) << head;
+    // No temp file left next to it.
+    EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(path).parent_path()), fs::directory_iterator{}), 1);
+}
+
+TEST(ReadLineSet, nan_written_to_vtp_is_reported_on_read) {
+    LineSet lines;
+    lines.positions = {{0, 0, 0}, {1, 0, 0}, {std::nanf(""), 0, 0}, {3, 0, 0}, {4, 0, 0}};
+    lines.offsets = {0, 5};
+    std::string path = testDir() + "/nan.vtp";
+    writeLineSetVtp(lines, path);
+    CleanReport report;
+    LineSet back = readLineSet(path, &report);
+    EXPECT_EQ(report.nonFiniteVertices, 1u);
+    EXPECT_EQ(back.polylineCount(), 2u);
+}
+
+TEST(ReadLineSet, missing_file) {
+    std::string path = testDir() + "/absent.vtk";
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }), path + ": no such file");
+}
+
+TEST(ReadLineSet, unknown_extension_lists_supported_ones) {
+    std::string path = writeText(testDir() + "/lines.xyz", "1 2 3\n");
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
+              path + ": unsupported file extension '.xyz' (supported: .vtk, .vtp, .vtu)");
+}
+
+TEST(ReadLineSet, garbage_legacy_file_names_the_file) {
+    std::string path = writeText(testDir() + "/garbage.vtk", "this is not a VTK file\n\x01\x02\x03");
+    std::string message = inputErrorOf([&] { readLineSet(path); });
+    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+}
+
+TEST(ReadLineSet, garbage_xml_file_names_the_file) {
+    std::string path = writeText(testDir() + "/garbage.vtp", "<VTKFile type=\"PolyData\"><oops");
+    std::string message = inputErrorOf([&] { readLineSet(path); });
+    EXPECT_EQ(message.rfind(path + ": VTK: ", 0), 0u) << message;
+}
+
+TEST(ReadLineSet, truncated_legacy_file_names_the_file) {
+    std::string text = kLegacyAscii;
+    std::string path = writeText(testDir() + "/cut.vtk", text.substr(0, text.find("2 0 0")));
+    std::string message = inputErrorOf([&] { readLineSet(path); });
+    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+}
+
+TEST(ReadLineSet, truncated_vtp_file_names_the_file) {
+    LineSet lines;
+    for (int i = 0; i < 1000; ++i) lines.positions.push_back({float(i), float(i * i % 7), 0});
+    lines.offsets = {0, 1000};
+    std::string dir = testDir();
+    writeLineSetVtp(lines, dir + "/full.vtp");
+    std::string full;
+    {
+        std::ifstream in(dir + "/full.vtp", std::ios::binary);
+        full.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    std::string path = writeText(dir + "/cut.vtp", full.substr(0, full.size() * 2 / 3));
+    std::string message = inputErrorOf([&] { readLineSet(path); });
+    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+}
+
+TEST(ReadLineSet, file_without_line_cells_says_what_it_has) {
+    std::string path = writeText(testDir() + "/points.vtk", R"(# vtk DataFile Version 3.0
+points only
+ASCII
+DATASET POLYDATA
+POINTS 3 float
+0 0 0 1 0 0 2 0 0
+VERTICES 1 4
+3 0 1 2
+)");
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
+              path + ": no polylines (3 points, 1 cells of other types)");
+}
+
+TEST(ReadLineSet, point_id_out_of_range_names_the_cell) {
+    std::string path = writeText(testDir() + "/bad_id.vtk", R"(# vtk DataFile Version 3.0
+bad id
+ASCII
+DATASET POLYDATA
+POINTS 2 float
+0 0 0 1 0 0
+LINES 1 3
+2 0 7
+)");
+    std::string message = inputErrorOf([&] { readLineSet(path); });
+    EXPECT_EQ(message, path + ": cell 0: point id 7 out of range (2 points)");
+}
+
+TEST(ReadLineSet, file_whose_polylines_all_degenerate) {
+    std::string path = writeText(testDir() + "/flat.vtk", R"(# vtk DataFile Version 3.0
+degenerate
+ASCII
+DATASET POLYDATA
+POINTS 2 float
+1 1 1 1 1 1
+LINES 1 3
+2 0 1
+)");
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
+              path + ": no polylines left after cleaning (skipped 1 duplicate vertex "
+                     "(zero-length segments), 1 polyline with fewer than 2 vertices)");
+}
+
+}  // namespace
+}  // namespace tc
