@@ -22,11 +22,24 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
     constexpr T kHuge = T(1e18);
     constexpr T kFar = T(1e30);
 
-    // Solve in a frame whose origin is the ray point closest to x0: thin tubes (r ~ 1e-3) seen
-    // from far away (distance ~ 2) would otherwise lose most float digits in |o - x|^2 - r^2.
-    T t0 = glm::dot(x0 - o, dir);
-    V oa = (o - x0) + t0 * dir;
     V ba = x1 - x0;
+    T L = glm::length(ba);
+    T rr = r0 - r1;
+    V u = L > T(0) ? ba / L : V(0);
+    T m2 = glm::dot(dir, u);
+    V uxd = glm::cross(u, dir);
+    T sin2 = glm::dot(uxd, uxd);  // 1 - m2^2, exact for rays nearly parallel to the axis
+
+    // Solve in a frame centred on xc, the axis point closest to the ray, with the origin moved to
+    // the ray point closest to xc: thin tubes (r ~ 1e-3) seen from far away (distance ~ 2) would
+    // otherwise lose most float digits in |o - x|^2 - r^2 (and, along long segments, in the
+    // lateral quadric's y^2 terms).
+    V w0 = o - x0;
+    T ac = T(0);
+    if (sin2 > T(1e-6)) ac = glm::clamp((glm::dot(w0, u) - m2 * glm::dot(w0, dir)) / sin2, T(0), L);
+    V xc = x0 + ac * u;
+    T t0 = glm::dot(xc - o, dir);
+    V oa = (o - xc) + t0 * dir;
 
     T tIn = kFar, tOut = -kFar;
     V nIn(0), nOut(0);
@@ -44,27 +57,24 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
         if (ta < tIn) { tIn = ta; nIn = glm::normalize(perp - sq * dir); }
         if (tb > tOut) { tOut = tb; nOut = glm::normalize(perp + sq * dir); }
     };
-    sphere(oa, r0);
-    sphere(oa - ba, r1);
+    sphere(oa + ac * u, r0);
+    sphere(oa - (L - ac) * u, r1);
 
-    // Lateral surface of the common tangent cone, with the axis normalised (u = ba/L, s = rr/L):
-    //   c2 |q|^2 - y^2 + 2 r0 s y - r0^2 = 0,  q = oa + t dir,  y = dot(q, u),  c2 = 1 - s^2,
-    // valid where y - r0 s lies in [0, L c2] (between the tangent circles). Without a lateral
-    // surface (L <= |rr|: one sphere contains the other, or a zero-length segment) the union of
-    // the spheres already is the shape.
-    T L = glm::length(ba);
-    T rr = r0 - r1;
+    // Lateral surface of the common tangent cone, axis normalised (s = rr/L, c2 = 1 - s^2) and
+    // written around xc, where the cone's "radius" is rc = r0 - s ac:
+    //   c2 |q|^2 - y^2 + 2 rc s y - rc^2 = 0,  q = oa + t dir,  y = dot(q, u),
+    // valid where (y - rc s) + c2 ac, the axial coordinate measured from sphere 0's tangent circle,
+    // lies in [0, L c2]. Without a lateral surface (L <= |rr|: one sphere contains the other, or
+    // a zero-length segment) the union of the spheres already is the shape.
     if (L > std::abs(rr)) {
-        V u = ba / L;
         T s = rr / L;
         T c2 = (T(1) - s) * (T(1) + s);
-        T m1 = glm::dot(oa, u), m2 = glm::dot(dir, u), m3 = glm::dot(oa, dir);
-        V uxd = glm::cross(u, dir);
-        // 1 - m2^2 as |u x dir|^2: exact for rays nearly parallel to the axis.
-        T k2 = glm::dot(uxd, uxd) - s * s;
-        T w = m1 - r0 * s;
+        T rc = r0 - s * ac;
+        T m1 = glm::dot(oa, u), m3 = glm::dot(oa, dir);
+        T k2 = sin2 - s * s;
+        T w = m1 - rc * s;
         T k1 = c2 * m3 - m2 * w;
-        T k0 = c2 * (glm::dot(oa, oa) - r0 * r0) - w * w;
+        T k0 = c2 * (glm::dot(oa, oa) - rc * rc) - w * w;
         T h = k1 * k1 - k0 * k2;
         if (h >= T(0)) {
             T sq = std::sqrt(h);
@@ -78,8 +88,9 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
             T tB = validB ? k0 / q : T(0);
             bool aIsEntry = k1 >= T(0);
             auto lateral = [&](T t, bool entry) {
-                T yc = w + t * m2;  // y - r0 s
-                if (!(yc >= T(0) && yc <= L * c2)) return;
+                T yc = w + t * m2;  // y - rc s: the normal's axial part
+                T ya = yc + c2 * ac;
+                if (!(ya >= T(0) && ya <= L * c2)) return;
                 V n = glm::normalize(c2 * (oa + t * dir) - u * yc);
                 hit = true;
                 if (entry && t < tIn) { tIn = t; nIn = n; }

@@ -150,7 +150,13 @@ void debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsiz
 
 }  // namespace
 
-struct Context::Impl {
+// What a Context owns. Named outside Context so the backend functions below can use it;
+// Context::Impl is just this.
+struct BackendContext {
+    BackendContext() = default;
+    BackendContext(const BackendContext&) = delete;
+    BackendContext& operator=(const BackendContext&) = delete;
+
     Backend backend = Backend::Egl;  // Egl or OsMesa, never Auto
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLContext eglContext = EGL_NO_CONTEXT;
@@ -159,20 +165,22 @@ struct Context::Impl {
     std::array<unsigned char, 4> osmesaBuffer{};
     ContextInfo info;
 
-    ~Impl();
+    ~BackendContext();
     void bind();
     void unbind();
 };
+
+struct Context::Impl : BackendContext {};
 
 namespace {
 // The context whose backend is bound and whose entry points gl_api.h points at. Tracked here
 // rather than asked of the backends: Mesa's EGL and OSMesa share libglapi's "current context"
 // slot, so OSMesaGetCurrentContext() returns a foreign pointer while an EGL context is current.
-Context::Impl* g_current = nullptr;
+BackendContext* g_current = nullptr;
 Backend g_loadedEntryPoints = Backend::Auto;  // Auto = none loaded yet
 }  // namespace
 
-void Context::Impl::bind() {
+void BackendContext::bind() {
     // Unbind another backend's context first: both backends write libglapi's current-context
     // slot, and glvnd skips an eglMakeCurrent of the context it believes is still current.
     if (g_current && g_current != this && g_current->backend != backend) g_current->unbind();
@@ -192,7 +200,7 @@ void Context::Impl::bind() {
     }
 }
 
-void Context::Impl::unbind() {
+void BackendContext::unbind() {
     if (backend == Backend::Egl)
         eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     else
@@ -200,7 +208,7 @@ void Context::Impl::unbind() {
     if (g_current == this) g_current = nullptr;
 }
 
-Context::Impl::~Impl() {
+BackendContext::~BackendContext() {
     if (g_current == this) unbind();
     if (eglContext != EGL_NO_CONTEXT) eglDestroyContext(display, eglContext);
     if (display != EGL_NO_DISPLAY) {
@@ -216,8 +224,8 @@ Context::Impl::~Impl() {
 namespace {
 
 // Makes an EGL context for config.device (or the first hardware device, else Mesa's surfaceless
-// platform) and leaves `impl` owning what it created, so a throw cleans up through ~Impl.
-void createEgl(const ContextConfig& config, Context::Impl& impl) {
+// platform) and leaves `impl` owning what it created, so a throw cleans up through ~BackendContext.
+void createEgl(const ContextConfig& config, BackendContext& impl) {
     impl.backend = Backend::Egl;
     // Null when libEGL lacks EGL_EXT_client_extensions (or has no vendor at all); treat as empty.
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
@@ -296,7 +304,7 @@ void createEgl(const ContextConfig& config, Context::Impl& impl) {
             throw BackendFailure{
                 "no hardware EGL device and libEGL offers no surfaceless platform "
                 "(EGL_MESA_platform_surfaceless)",
-                "install libegl1-mesa and libgl1-mesa-dri (Mesa llvmpipe) or a GPU driver with EGL, "
+                "install libegl-mesa0 and libgl1-mesa-dri (Mesa llvmpipe) or a GPU driver with EGL, "
                 "or use --backend osmesa"};
         }
         impl.display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -359,7 +367,7 @@ void createEgl(const ContextConfig& config, Context::Impl& impl) {
     }
 }
 
-void createOsMesa(const ContextConfig&, Context::Impl& impl) {
+void createOsMesa(const ContextConfig&, BackendContext& impl) {
     impl.backend = Backend::OsMesa;
     impl.info.backend = "osmesa";
     // No depth or stencil: the dummy buffer is never drawn to; render targets are FBOs.
@@ -418,23 +426,26 @@ void enableDebugOutput() {
     glDebugMessageCallback(debugCallback, nullptr);
     glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr,
                           GL_FALSE);
+    // Compile errors reach the user through the shader library, which maps them to file names;
+    // the raw copies here would only repeat them with source-string numbers.
+    glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr,
+                          GL_FALSE);
 }
 
-std::unique_ptr<Context::Impl> createBackend(Backend backend, const ContextConfig& config) {
-    auto impl = std::make_unique<Context::Impl>();
+// Fills `impl`, an empty BackendContext; on a throw, its destructor releases what was made.
+void createBackend(Backend backend, const ContextConfig& config, BackendContext& impl) {
     if (backend == Backend::Egl)
-        createEgl(config, *impl);
+        createEgl(config, impl);
     else
-        createOsMesa(config, *impl);
+        createOsMesa(config, impl);
     try {
-        impl->bind();
+        impl.bind();
     } catch (const ContextError& e) {
         throw BackendFailure{e.what(), backend == Backend::Egl ? "use --backend osmesa"
                                                               : "use --backend egl"};
     }
-    queryInfo(impl->info);
+    queryInfo(impl.info);
     if (config.debug) enableDebugOutput();
-    return impl;
 }
 
 const char* backendName(Backend backend) { return backend == Backend::Egl ? "EGL" : "OSMesa"; }
@@ -456,7 +467,9 @@ Context Context::create(const ContextConfig& config) {
         std::string failures;
         for (Backend backend : {Backend::Egl, Backend::OsMesa}) {
             try {
-                impl = createBackend(backend, config);
+                auto candidate = std::make_unique<Impl>();
+                createBackend(backend, config, *candidate);
+                impl = std::move(candidate);
                 break;
             } catch (const BackendFailure& f) {
                 failures += std::string(failures.empty() ? "" : "; ") + backendName(backend) +
@@ -469,7 +482,8 @@ Context Context::create(const ContextConfig& config) {
                                "driver with EGL");
     } else {
         try {
-            impl = createBackend(config.backend, config);
+            impl = std::make_unique<Impl>();
+            createBackend(config.backend, config, *impl);
         } catch (const BackendFailure& f) {
             throw ContextError(std::string(backendName(config.backend)) + " backend failed: " +
                                f.reason + "; " + f.hint);

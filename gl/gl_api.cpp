@@ -37,6 +37,13 @@ void loadGlFunctions(ProcLoader loader) {
     int missingCount = 0;
     for (const Entry& e : kEntries) {
         void* proc = loader(e.name);
+        // A function promoted to core from ARB_robustness/KHR_robustness may be known to the
+        // backend only by its extension name: OSMesa (Mesa 22) resolves glGetnTexImageARB but
+        // not glGetnTexImage. Same signature and semantics, so the suffixed entry point serves.
+        for (const char* suffix : {"ARB", "KHR"}) {
+            if (proc) break;
+            proc = loader((std::string(e.name) + suffix).c_str());
+        }
         // POSIX guarantees data and function pointers have the same representation; memcpy keeps
         // the conversion from void* well-defined without a chain of reinterpret_casts.
         static_assert(sizeof(proc) == sizeof(PFNGLCLEARPROC));

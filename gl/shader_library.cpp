@@ -82,10 +82,14 @@ public:
         const int file = static_cast<int>(m_out.files.size());
         m_out.files.push_back(library.displayPath(name));
 
-        static const std::regex include(R"(^\s*#\s*include\s+"([^"]+)"\s*(//.*)?$)");
+        static const std::regex include(R"re(^\s*#\s*include\s+"([^"]+)"\s*(//.*)?$)re");
         static const std::regex version(R"(^\s*#\s*version\b.*)");
         // In GLSL >= 3.30, as in C, `#line L N` numbers the *next* line L.
-        emit("#line 1 " + std::to_string(file), -1, 0);
+        auto lineMarker = [file](int nextLine) {
+            return "#line " + std::to_string(file * kShaderLineStride + nextLine) + " " +
+                   std::to_string(file);
+        };
+        emit(lineMarker(1), -1, 0);
         std::istringstream lines(text);
         std::string line;
         for (int lineNumber = 1; std::getline(lines, line); ++lineNumber) {
@@ -93,7 +97,7 @@ public:
             std::smatch match;
             if (std::regex_match(line, match, include)) {
                 expand(match[1].str());
-                emit("#line " + std::to_string(lineNumber + 1) + " " + std::to_string(file), -1, 0);
+                emit(lineMarker(lineNumber + 1), -1, 0);
             } else if (std::regex_match(line, version)) {
                 throw Error(ExitCode::Internal,
                             m_out.files[static_cast<size_t>(file)] + ":" +
@@ -183,9 +187,16 @@ std::string rewriteShaderLog(std::string_view log, const std::vector<std::string
     static const std::regex mesa(R"(^(\s*(?:ERROR: |WARNING: )?)(\d+):(\d+)\((\d+)\):)");
     static const std::regex nvidia(R"(^(\s*)(\d+)\((\d+)\)\s*:)");
     static const std::regex plain(R"(^(\s*(?:ERROR: |WARNING: )?)(\d+):(\d+):)");
-    auto fileName = [&](const std::string& number) -> std::string {
-        const size_t n = std::stoul(number);
-        return n < files.size() ? files[n] : number;
+    // "file:line" for source string `number` and reported line `line`.
+    auto location = [&](const std::string& number, const std::string& line) -> std::string {
+        size_t file = std::stoul(number);
+        unsigned long lineNumber = std::stoul(line);
+        if (lineNumber >= static_cast<unsigned long>(kShaderLineStride)) {
+            file = lineNumber / kShaderLineStride;
+            lineNumber %= kShaderLineStride;
+        }
+        if (file >= files.size()) return number + ":" + line;
+        return files[file] + ":" + std::to_string(lineNumber);
     };
 
     std::string out;
@@ -194,12 +205,11 @@ std::string rewriteShaderLog(std::string_view log, const std::vector<std::string
     while (std::getline(lines, line)) {
         std::smatch m;
         if (std::regex_search(line, m, mesa))
-            line = m[1].str() + fileName(m[2]) + ":" + m[3].str() + ":" + m[4].str() + ":" +
-                   m.suffix().str();
+            line = m[1].str() + location(m[2], m[3]) + ":" + m[4].str() + ":" + m.suffix().str();
         else if (std::regex_search(line, m, nvidia))
-            line = m[1].str() + fileName(m[2]) + ":" + m[3].str() + ":" + m.suffix().str();
+            line = m[1].str() + location(m[2], m[3]) + ":" + m.suffix().str();
         else if (std::regex_search(line, m, plain))
-            line = m[1].str() + fileName(m[2]) + ":" + m[3].str() + ":" + m.suffix().str();
+            line = m[1].str() + location(m[2], m[3]) + ":" + m.suffix().str();
         out += line;
         out += '\n';
     }

@@ -10,7 +10,10 @@
 // Variants are chosen by defines, never by editing the text. GLSL's #line takes a source-string
 // *number*, not a name, so each stage numbers its files (0 = the preamble above, 1.. = files in
 // order of first inclusion) and compile logs are rewritten to name the real file and line:
-//     0:12(3): error: ...   ->   shaders/rounded_cone.frag:12:3: error: ...
+//     1:100012(3): error: ...   ->   shaders/rounded_cone.frag:12:3: error: ...
+// The #line markers also encode the file in the line number (kShaderLineStride * file + line):
+// Mesa 22 reports source-string number 0 for many errors (bison's default location merge drops
+// the number), so the line alone must say which file it is in.
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -42,6 +45,9 @@ private:
     std::string m_overrideDir;
 };
 
+// #line numbers of file N (N >= 1) start at N * kShaderLineStride; files have fewer lines.
+inline constexpr int kShaderLineStride = 100000;
+
 // One stage's assembled source and what it was assembled from. Exposed for tests and tools.
 struct ExpandedShader {
     std::string text;                // what glShaderSource receives
@@ -59,7 +65,8 @@ struct ExpandedShader {
 ExpandedShader expandShader(std::string_view name, const std::vector<std::string>& defines);
 
 // Rewrites "N:L(C):", "N(L) :" and "N:L:" locations (Mesa, NVIDIA, AMD/Intel) in a compile log
-// to "file:L:C:" / "file:L:" using `files` (ExpandedShader::files). Other text passes unchanged.
+// to "file:line:C:" / "file:line:" using `files` (ExpandedShader::files) and the line encoding
+// above; a line below kShaderLineStride is in source string N. Other text passes unchanged.
 std::string rewriteShaderLog(std::string_view log, const std::vector<std::string>& files);
 
 // Compiles and links a program from (stage, file name) pairs, e.g.

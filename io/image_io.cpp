@@ -271,7 +271,8 @@ ImageDiff compareImages(const std::string& a, const std::string& b, float thresh
     OIIO::ImageBuf bufB(spec, ib.rgba.data());
     OIIO::ImageBufAlgo::CompareResults r =
         OIIO::ImageBufAlgo::compare(bufA, bufB, threshold, threshold);
-    if (r.error) throw InputError(a + ": cannot compare with " + b + ": " + oiioError(OIIO::geterror()));
+    // r.error is not checked: OIIO sets it whenever some value exceeds failthresh (nfail > 0),
+    // not only on real errors, and the buffers here are known to match in size and format.
 
     ImageDiff diff;
     diff.pixels = std::size_t(ia.width) * std::size_t(ia.height);

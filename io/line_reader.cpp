@@ -15,6 +15,7 @@
 #include <vtkErrorCode.h>
 #include <vtkFloatArray.h>
 #include <vtkGenericDataObjectReader.h>
+#include <vtkLogger.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOutputWindow.h>
@@ -42,9 +43,15 @@ public:
     static CapturingOutputWindow* New();
     vtkTypeMacro(CapturingOutputWindow, vtkOutputWindow);
 
+    // Errors and warnings both count: the legacy reader only warns about a truncated ASCII
+    // array ("Error reading ascii data. Possible mismatch of datasize with declaration.") and
+    // returns what it got.
     void DisplayText(const char* text) override {
         if (!text) return;
-        if (GetCurrentMessageType() == MESSAGE_TYPE_ERROR) errors.emplace_back(text);
+        MessageTypes type = GetCurrentMessageType();
+        if (type == MESSAGE_TYPE_ERROR || type == MESSAGE_TYPE_WARNING ||
+            type == MESSAGE_TYPE_GENERIC_WARNING)
+            errors.emplace_back(text);
     }
 
     std::vector<std::string> errors;
@@ -56,6 +63,11 @@ vtkStandardNewMacro(CapturingOutputWindow);
 class VtkMessageCapture {
 public:
     VtkMessageCapture() : m_lock(mutex()) {
+        // VTK 9 also sends every message through vtkLogger (loguru), whose stderr sink prints
+        // it regardless of the output window. tubecast reports VTK problems as exceptions, so
+        // the sink is switched off for the process, once (vtkLogger has no getter to restore).
+        static std::once_flag quietLogger;
+        std::call_once(quietLogger, [] { vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF); });
         m_previous = vtkOutputWindow::GetInstance();
         vtkOutputWindow::SetInstance(m_window);
     }
@@ -71,7 +83,8 @@ public:
     std::string firstError() const {
         if (m_window->errors.empty()) return {};
         std::string text = m_window->errors.front();
-        if (text.rfind("ERROR: In ", 0) == 0) {
+        if (text.rfind("ERROR: In ", 0) == 0 || text.rfind("Warning: In ", 0) == 0 ||
+            text.rfind("Generic Warning: In ", 0) == 0) {
             std::size_t nl = text.find('\n');
             text = nl == std::string::npos ? std::string() : text.substr(nl + 1);
         }
@@ -79,6 +92,9 @@ public:
         std::size_t paren = text.find(" (0x");
         std::size_t close = paren == std::string::npos ? paren : text.find("): ", paren);
         if (close != std::string::npos && text.find('\n') > close) text = text.substr(close + 3);
+        // The legacy reader appends " for file: PATH"; we print the path first already.
+        if (std::size_t forFile = text.find(" for file: "); forFile != std::string::npos)
+            text.erase(forFile);
         while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
         for (char& c : text)
             if (c == '\n') c = ' ';
@@ -94,6 +110,20 @@ private:
     vtkSmartPointer<vtkOutputWindow> m_previous;
     vtkNew<CapturingOutputWindow> m_window;
 };
+
+// vtkErrorCode::GetStringFromErrorCode lives in VTK::CommonMisc, which tubecast does not link;
+// the enum is header-only.
+std::string errorCodeText(unsigned long code) {
+    switch (code) {
+        case vtkErrorCode::FileNotFoundError: return "file not found";
+        case vtkErrorCode::CannotOpenFileError: return "cannot open file";
+        case vtkErrorCode::UnrecognizedFileTypeError: return "unrecognized file type";
+        case vtkErrorCode::PrematureEndOfFileError: return "premature end of file";
+        case vtkErrorCode::FileFormatError: return "file format error";
+        case vtkErrorCode::OutOfDiskSpaceError: return "out of disk space";
+        default: return "error code " + std::to_string(code);
+    }
+}
 
 std::string lowerExtension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
@@ -227,7 +257,7 @@ vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader
     if (capture.failed()) throw InputError(path + ": VTK: " + capture.firstError());
     if (reader->GetErrorCode() != 0)
         throw InputError(path + ": VTK: " +
-                         vtkErrorCode::GetStringFromErrorCode(reader->GetErrorCode()));
+                         errorCodeText(reader->GetErrorCode()));
     return reader->GetOutputDataObject(0);
 }
 
@@ -307,12 +337,12 @@ void writeLineSetVtp(const LineSet& lines, const std::string& path) {
         writer->SetInputData(poly);
         writer->SetDataModeToAppended();
         writer->EncodeAppendedDataOff();  // raw binary, not base64
+        writer->SetHeaderTypeToUInt64();  // arrays over 4 GiB
         const int ok = writer->Write();
         if (!ok || capture.failed() || writer->GetErrorCode() != 0)
             throw OutputError(path + ": cannot write: " +
                               (capture.failed() ? capture.firstError()
-                                                : std::string(vtkErrorCode::GetStringFromErrorCode(
-                                                      writer->GetErrorCode()))));
+                                                : errorCodeText(writer->GetErrorCode())));
     }
     file.commit();
 }

@@ -1,5 +1,6 @@
 // Headless contexts: both backends on this machine, exact readback, context info, error paths.
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -183,6 +184,28 @@ TEST_F(SeparateContextTest, force_no_gl_env_gives_context_error_for_every_backen
         }
     }
     ::unsetenv("TUBECAST_FORCE_NO_GL");
+}
+
+TEST(ContextWithoutEglDrivers, egl_fails_with_a_context_error_and_auto_falls_back_to_osmesa) {
+    // glvnd reads its vendor list once per process, so the check runs in a child: the
+    // "threadsafe" death-test style re-executes this binary, which inherits the environment.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    ::setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/egl_vendor.json", 1);
+    EXPECT_EXIT(
+        {
+            try {
+                makeContext(gl::Backend::Egl);
+                std::fprintf(stderr, "EGL unexpectedly worked\n");
+                std::exit(1);
+            } catch (const ContextError& e) {
+                std::fprintf(stderr, "%s\n", e.what());
+            }
+            gl::Context context = makeContext(gl::Backend::Auto);
+            std::fprintf(stderr, "auto: %s\n", context.info().backend.c_str());
+            std::exit(0);
+        },
+        ::testing::ExitedWithCode(0), "EGL backend failed: .*use --backend osmesa(.|\n)*auto: osmesa");
+    ::unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
 }
 
 }  // namespace

@@ -1,0 +1,46 @@
+// Rays through pixel centres: the GPU twin of tc::pixelRay (core/camera.cpp), same formula and
+// operation order so CPU references and GPU images agree per pixel. GLSL 4.50 chunk, #include'd.
+#ifndef TC_CAMERA_GLSL
+#define TC_CAMERA_GLSL
+
+struct Ray {
+    vec3 origin;
+    vec3 dir;  // unit length
+};
+
+// What the shader needs of a tc::Camera, filled from uniforms:
+//   forward/right/trueUp = Camera::forward()/right()/trueUp(),
+//   tanHalfFovY = std::tan(glm::radians(fovYDeg) * 0.5f), orthoHalfHeight = 0.5f * orthoHeight,
+//   viewport = (width, height) of the full image in pixels.
+struct RayCamera {
+    vec3 eye;
+    vec3 forward;
+    vec3 right;
+    vec3 trueUp;
+    float tanHalfFovY;
+    float orthoHalfHeight;
+    bool orthographic;
+    vec2 viewport;
+};
+
+// Ray through the pixel whose centre is at window coordinate fragCoord (gl_FragCoord.xy: y = 0.5
+// is the BOTTOM row, which is tc::pixelRay's py = height - 1). Perspective rays start at the eye;
+// orthographic rays start on the plane through the eye.
+Ray pixelRay(RayCamera cam, vec2 fragCoord) {
+    float sx = 2.0 * fragCoord.x / cam.viewport.x - 1.0;
+    float sy = 2.0 * fragCoord.y / cam.viewport.y - 1.0;
+    float aspect = cam.viewport.x / cam.viewport.y;
+    Ray ray;
+    if (cam.orthographic) {
+        float h = cam.orthoHalfHeight;
+        ray.origin = cam.eye + (sx * h * aspect) * cam.right + (sy * h) * cam.trueUp;
+        ray.dir = cam.forward;
+        return ray;
+    }
+    float t = cam.tanHalfFovY;
+    ray.origin = cam.eye;
+    ray.dir = normalize(cam.forward + (sx * t * aspect) * cam.right + (sy * t) * cam.trueUp);
+    return ray;
+}
+
+#endif  // TC_CAMERA_GLSL

@@ -1,0 +1,263 @@
+// Styling (core/styling.h): attributes -> per-vertex radius and linear RGBA, the segment index
+// buffer, flags and bounds.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/color.h"
+#include "core/colormap.h"
+#include "core/error.h"
+#include "core/styling.h"
+
+namespace tc {
+namespace {
+
+// Three polylines of 3, 2 and 4 vertices along x at y = 0, 1, 2; attribute "a" = vertex index
+// (0..8), "b" = 10 * vertex index.
+LineSet threeLines() {
+    LineSet lines;
+    const int counts[] = {3, 2, 4};
+    for (int p = 0; p < 3; ++p) {
+        for (int k = 0; k < counts[p]; ++k) lines.positions.push_back({float(k), float(p), 0.0f});
+        lines.offsets.push_back(std::uint32_t(lines.positions.size()));
+    }
+    Attribute a{"a", {}}, b{"b", {}};
+    for (std::size_t i = 0; i < lines.positions.size(); ++i) {
+        a.values.push_back(float(i));
+        b.values.push_back(10.0f * float(i));
+    }
+    lines.attributes = {a, b};
+    for (auto& attr : lines.attributes) attr.updateRange();
+    lines.updateBounds();
+    return lines;
+}
+
+std::string styleError(const LineSet& lines, const StyleSpec& style) {
+    try {
+        styleLines(lines, style, "scene.json");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "<no error>";
+}
+
+void expectNear(const glm::vec3& a, const glm::vec3& b, float tolerance) {
+    EXPECT_NEAR(a.x, b.x, tolerance) << "x";
+    EXPECT_NEAR(a.y, b.y, tolerance) << "y";
+    EXPECT_NEAR(a.z, b.z, tolerance) << "z";
+}
+
+TEST(Styling, ConstantStyleIsTheSameForEveryVertexAndLinearised) {
+    StyleSpec style;
+    style.radius.constant = 0.25f;
+    style.color.constant = {1.0f, 0.5f, 0.0f};
+    style.opacity.constant = 0.75f;
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    ASSERT_EQ(s.vertexCount(), 9u);
+    // sRGB 0.5 is linear 0.214041 (IEC 61966-2-1).
+    for (std::size_t i = 0; i < s.vertexCount(); ++i) {
+        EXPECT_FLOAT_EQ(s.positionRadius[i].w, 0.25f);
+        EXPECT_FLOAT_EQ(s.color[i].x, 1.0f);
+        EXPECT_NEAR(s.color[i].y, 0.214041f, 1e-5f);
+        EXPECT_FLOAT_EQ(s.color[i].z, 0.0f);
+        EXPECT_FLOAT_EQ(s.color[i].w, 0.75f);
+    }
+    EXPECT_FLOAT_EQ(s.maxRadius, 0.25f);
+    EXPECT_EQ(glm::vec3(s.positionRadius[4]), glm::vec3(1, 1, 0));
+}
+
+TEST(Styling, SrgbConversionRoundTripsAndHitsKnownValues) {
+    EXPECT_FLOAT_EQ(srgbToLinear(0.0f), 0.0f);
+    EXPECT_FLOAT_EQ(srgbToLinear(1.0f), 1.0f);
+    EXPECT_NEAR(srgbToLinear(0.04045f), 0.04045f / 12.92f, 1e-7f);  // the linear toe
+    EXPECT_NEAR(srgbToLinear(0.5f), 0.214041f, 1e-6f);
+    for (float c = 0.0f; c <= 1.0f; c += 0.01f) EXPECT_NEAR(linearToSrgb(srgbToLinear(c)), c, 1e-5f);
+}
+
+TEST(Styling, RadiusIsMappedLinearlyFromAnExplicitRangeAndClamped) {
+    StyleSpec style;
+    style.radius.attribute = "b";
+    style.radius.range = {false, 20.0f, 60.0f};
+    style.radius.radiusLo = 0.1f;
+    style.radius.radiusHi = 0.5f;
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    // b = 0, 10, 20 (clamped to lo), 30, 40, 50, 60, 70, 80 (clamped to hi).
+    const float expected[] = {0.1f, 0.1f, 0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.5f, 0.5f};
+    for (std::size_t i = 0; i < 9; ++i) EXPECT_NEAR(s.positionRadius[i].w, expected[i], 1e-6f) << "vertex " << i;
+    EXPECT_FLOAT_EQ(s.maxRadius, 0.5f);
+}
+
+TEST(Styling, RadiusIsMappedLinearlyFromTheAutomaticRange) {
+    StyleSpec style;
+    style.radius.attribute = "a";  // range auto: 0..8
+    style.radius.radiusLo = 1.0f;
+    style.radius.radiusHi = 3.0f;
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    for (std::size_t i = 0; i < 9; ++i)
+        EXPECT_NEAR(s.positionRadius[i].w, 1.0f + 2.0f * float(i) / 8.0f, 1e-6f) << "vertex " << i;
+}
+
+TEST(Styling, ConstantAttributeMapsToTheLowEnd) {
+    LineSet lines = threeLines();
+    for (float& v : lines.attributes[0].values) v = 4.0f;
+    lines.attributes[0].updateRange();
+    StyleSpec style;
+    style.radius.attribute = "a";
+    StyledLines s = styleLines(lines, style, "scene.json");
+    for (std::size_t i = 0; i < 9; ++i) EXPECT_FLOAT_EQ(s.positionRadius[i].w, style.radius.radiusLo);
+}
+
+TEST(Styling, ColourmapEndpointsAreTheLinearisedColormapEnds) {
+    StyleSpec style;
+    style.color.attribute = "a";
+    style.color.colormap = "viridis";
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    const Colormap& viridis = builtinColormap("viridis");
+    // a = 0 -> t = 0, a = 8 -> t = 1.
+    expectNear(glm::vec3(s.color[0]), srgbToLinear(viridis.srgb.front()), 1e-6f);
+    expectNear(glm::vec3(s.color[8]), srgbToLinear(viridis.srgb.back()), 1e-6f);
+    // The first viridis entry (0.267, 0.0049, 0.329) in linear space:
+    expectNear(glm::vec3(s.color[0]), {0.0583f, 0.000377f, 0.0883f}, 2e-4f);
+    // t = 0.5 (a = 4) lies halfway between viridis' control points 4 and 5 (at t = i / 9); the
+    // colormap interpolates in sRGB, then the result is linearised.
+    glm::vec3 mid = glm::mix(viridis.srgb[4], viridis.srgb[5], 0.5f);
+    expectNear(glm::vec3(s.color[4]), srgbToLinear(mid), 1e-5f);
+    for (std::size_t i = 0; i < 9; ++i) EXPECT_FLOAT_EQ(s.color[i].w, 1.0f);
+}
+
+TEST(Styling, ColourRangeClampsToTheColormapEnds) {
+    StyleSpec style;
+    style.color.attribute = "b";
+    style.color.colormap = "grayscale";
+    style.color.range = {false, 30.0f, 50.0f};
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    expectNear(glm::vec3(s.color[0]), {0, 0, 0}, 0);
+    expectNear(glm::vec3(s.color[8]), {1, 1, 1}, 1e-6f);
+    expectNear(glm::vec3(s.color[4]), glm::vec3(srgbToLinear(0.5f)), 1e-6f);  // b = 40: sRGB grey 0.5
+}
+
+TEST(Styling, NanAttributeValuesGetGreyAndTheLowEnd) {
+    LineSet lines = threeLines();
+    lines.attributes[0].values[2] = std::numeric_limits<float>::quiet_NaN();
+    lines.attributes[0].updateRange();
+    StyleSpec style;
+    style.color.attribute = "a";
+    style.radius.attribute = "a";
+    StyledLines s = styleLines(lines, style, "scene.json");
+    expectNear(glm::vec3(s.color[2]), glm::vec3(srgbToLinear(0.5f)), 1e-6f);
+    EXPECT_FLOAT_EQ(s.positionRadius[2].w, style.radius.radiusLo);
+}
+
+TEST(Styling, OpacityFollowsTheTransferFunction) {
+    StyleSpec style;
+    style.opacity.attribute = "a";  // t = a / 8
+    style.opacity.points = {{0.0f, 0.0f}, {0.5f, 0.2f}, {1.0f, 1.0f}};
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    EXPECT_NEAR(s.color[0].w, 0.0f, 1e-6f);
+    EXPECT_NEAR(s.color[2].w, 0.1f, 1e-6f);   // t = 0.25
+    EXPECT_NEAR(s.color[4].w, 0.2f, 1e-6f);   // t = 0.5
+    EXPECT_NEAR(s.color[6].w, 0.6f, 1e-6f);   // t = 0.75
+    EXPECT_NEAR(s.color[8].w, 1.0f, 1e-6f);
+}
+
+TEST(Styling, TransferFunctionInterpolatesLinearlyBetweenPoints) {
+    const std::vector<glm::vec2> tf = {{0.2f, 0.1f}, {0.6f, 0.9f}, {0.8f, 0.5f}};
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 0.2f), 0.1f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 0.4f), 0.5f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 0.6f), 0.9f);
+    EXPECT_NEAR(evaluateTransferFunction(tf, 0.7f), 0.7f, 1e-6f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 0.8f), 0.5f);
+}
+
+TEST(Styling, TransferFunctionIsHeldOutsideItsPoints) {
+    const std::vector<glm::vec2> tf = {{0.2f, 0.1f}, {0.8f, 0.5f}};
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 0.0f), 0.1f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, -5.0f), 0.1f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 1.0f), 0.5f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(tf, 7.0f), 0.5f);
+}
+
+TEST(Styling, TransferFunctionEdgeCases) {
+    EXPECT_FLOAT_EQ(evaluateTransferFunction({}, 0.3f), 1.0f);               // no points: opaque
+    EXPECT_FLOAT_EQ(evaluateTransferFunction({{0.5f, 0.25f}}, 0.0f), 0.25f);  // one point: constant
+    EXPECT_FLOAT_EQ(evaluateTransferFunction({{0.5f, 0.25f}}, 1.0f), 0.25f);
+    // Two points at the same t make a step; exactly at the step the lower value is taken, just
+    // after it the upper one.
+    const std::vector<glm::vec2> step = {{0.0f, 0.0f}, {0.5f, 0.0f}, {0.5f, 1.0f}, {1.0f, 1.0f}};
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(step, 0.49f), 0.0f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(step, 0.5f), 0.0f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(step, 0.51f), 1.0f);
+    // Zero-width interval at the start.
+    EXPECT_FLOAT_EQ(evaluateTransferFunction({{0.0f, 0.3f}, {0.0f, 0.7f}}, 0.0f), 0.3f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction({{0.0f, 0.3f}, {0.0f, 0.7f}}, 0.1f), 0.7f);
+}
+
+TEST(Styling, MissingAttributeErrorNamesTheKeyAndListsTheAvailableAttributes) {
+    StyleSpec style;
+    style.color.attribute = "velocity";
+    EXPECT_EQ(styleError(threeLines(), style),
+              "scene.json: style.color.attribute: the dataset has no attribute \"velocity\" (available: a, b)");
+    style = {};
+    style.radius.attribute = "r";
+    EXPECT_EQ(styleError(threeLines(), style),
+              "scene.json: style.radius.attribute: the dataset has no attribute \"r\" (available: a, b)");
+    style = {};
+    style.opacity.attribute = "o";
+    LineSet bare = threeLines();
+    bare.attributes.clear();
+    EXPECT_EQ(styleError(bare, style),
+              "scene.json: style.opacity.attribute: the dataset has no attribute \"o\" (available: none)");
+}
+
+TEST(Styling, SegmentsJoinConsecutiveVerticesWithinPolylinesOnly) {
+    LineSet lines = threeLines();
+    StyledLines s = styleLines(lines, StyleSpec{}, "scene.json");
+    ASSERT_EQ(s.segmentCount(), lines.segmentCount());
+    EXPECT_EQ(s.segmentCount(), 6u);  // 2 + 1 + 3
+    EXPECT_EQ(s.segmentVertices, (std::vector<std::uint32_t>{0, 1, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8}));
+    for (std::size_t seg = 0; seg < s.segmentCount(); ++seg) {
+        std::uint32_t a = s.segmentVertices[2 * seg], b = s.segmentVertices[2 * seg + 1];
+        EXPECT_EQ(b, a + 1) << "segment " << seg;
+        EXPECT_EQ(s.polylineId[a], s.polylineId[b]) << "segment " << seg << " crosses polylines";
+    }
+}
+
+TEST(Styling, PolylineIdsAndFirstLastFlags) {
+    StyledLines s = styleLines(threeLines(), StyleSpec{}, "scene.json");
+    EXPECT_EQ(s.polylineId, (std::vector<std::uint32_t>{0, 0, 0, 1, 1, 2, 2, 2, 2}));
+    const std::uint32_t F = FirstOfPolyline, L = LastOfPolyline;
+    EXPECT_EQ(s.flags, (std::vector<std::uint32_t>{F, 0, L, F, L, F, 0, 0, L}));
+}
+
+TEST(Styling, TwoVertexPolylineIsBothFirstAndLast) {
+    LineSet lines;
+    lines.positions = {{0, 0, 0}, {1, 0, 0}};
+    lines.offsets = {0, 2};
+    lines.updateBounds();
+    StyledLines s = styleLines(lines, StyleSpec{}, "");
+    EXPECT_EQ(s.flags[0], std::uint32_t(FirstOfPolyline));
+    EXPECT_EQ(s.flags[1], std::uint32_t(LastOfPolyline));
+}
+
+TEST(Styling, BoundsIncludeTheRadii) {
+    StyleSpec style;
+    style.radius.attribute = "a";
+    style.radius.radiusLo = 0.1f;
+    style.radius.radiusHi = 0.9f;
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    // Vertex 0 at (0,0,0) has r = 0.1; vertex 8 at (3,2,0) has r = 0.9; vertex 4 at (1,1,0) r = 0.5.
+    expectNear(s.bounds.lo, {-0.1f, -0.1f, -0.9f}, 1e-6f);
+    expectNear(s.bounds.hi, {3.9f, 2.9f, 0.9f}, 1e-6f);
+}
+
+TEST(Styling, EmptyLineSetGivesEmptyBuffers) {
+    StyledLines s = styleLines(LineSet{}, StyleSpec{}, "scene.json");
+    EXPECT_EQ(s.vertexCount(), 0u);
+    EXPECT_EQ(s.segmentCount(), 0u);
+    EXPECT_TRUE(s.bounds.empty());
+}
+
+}  // namespace
+}  // namespace tc
