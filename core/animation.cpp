@@ -32,10 +32,24 @@ Camera fitCamera(const CameraSpec& spec, const Bounds& bounds, float aspect) {
 
 namespace {
 
-glm::vec3 catmullRom(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3, float t) {
-    float t2 = t * t, t3 = t2 * t;
-    return 0.5f * ((2.0f * p1) + (-p0 + p2) * t + (2.0f * p0 - 5.0f * p1 + 4.0f * p2 - p3) * t2 +
-                   (-p0 + 3.0f * p1 - 3.0f * p2 + p3) * t3);
+// Catmull-Rom for keys at uneven frames: cubic Hermite whose tangent at a key is the mean of the
+// slopes (per frame) of its two neighbouring intervals, a missing neighbour contributing 0. With
+// uniform spacing this is exactly the uniform Catmull-Rom spline with repeated end keys; with
+// uneven spacing the velocity per frame stays continuous across keys (uniform Catmull-Rom in
+// the per-segment parameter would jump by the ratio of the two spacings).
+glm::vec3 keyTangent(const glm::vec3& p0, float f0, const glm::vec3& p1, float f1, const glm::vec3& p2, float f2) {
+    glm::vec3 left = f1 > f0 ? (p1 - p0) / (f1 - f0) : glm::vec3(0.0f);
+    glm::vec3 right = f2 > f1 ? (p2 - p1) / (f2 - f1) : glm::vec3(0.0f);
+    return 0.5f * (left + right);
+}
+
+glm::vec3 catmullRom(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3, float f0,
+                     float f1, float f2, float f3, float frame) {
+    float h = f2 - f1, t = (frame - f1) / h, t2 = t * t, t3 = t2 * t;
+    glm::vec3 m1 = h * keyTangent(p0, f0, p1, f1, p2, f2);
+    glm::vec3 m2 = h * keyTangent(p1, f1, p2, f2, p3, f3);
+    return (2.0f * t3 - 3.0f * t2 + 1.0f) * p1 + (t3 - 2.0f * t2 + t) * m1 + (-2.0f * t3 + 3.0f * t2) * p2 +
+           (t3 - t2) * m2;
 }
 
 }  // namespace
@@ -69,10 +83,11 @@ Camera cameraAtFrame(const AnimationSpec& animation, const Camera& base, int fra
         const Keyframe& k2 = keys[i + 1];
         const Keyframe& k0 = keys[i == 0 ? 0 : i - 1];
         const Keyframe& k3 = keys[std::min(i + 2, keys.size() - 1)];
-        float t = float(frame - k1.frame) / float(k2.frame - k1.frame);
-        camera.eye = catmullRom(k0.eye, k1.eye, k2.eye, k3.eye, t);
-        camera.target = catmullRom(k0.target, k1.target, k2.target, k3.target, t);
-        glm::vec3 up = catmullRom(k0.up, k1.up, k2.up, k3.up, t);
+        const float f0 = float(k0.frame), f1 = float(k1.frame), f2 = float(k2.frame), f3 = float(k3.frame);
+        const float f = float(frame);
+        camera.eye = catmullRom(k0.eye, k1.eye, k2.eye, k3.eye, f0, f1, f2, f3, f);
+        camera.target = catmullRom(k0.target, k1.target, k2.target, k3.target, f0, f1, f2, f3, f);
+        glm::vec3 up = catmullRom(k0.up, k1.up, k2.up, k3.up, f0, f1, f2, f3, f);
         camera.up = glm::length(up) > 1e-6f ? glm::normalize(up) : k1.up;
         return camera;
     }

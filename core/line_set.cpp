@@ -65,7 +65,8 @@ std::string CleanReport::summary() const {
 CleanReport cleanLineSet(LineSet& lines) {
     TC_CHECK(!lines.offsets.empty());
     TC_CHECK_OP(std::size_t(lines.offsets.back()), ==, lines.positions.size());
-    for (const Attribute& a : lines.attributes) TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
+    for (const Attribute& a : lines.attributes)
+        TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
 
     CleanReport report;
     // Compacts in place: `out` never overtakes the vertex being read, so positions and

@@ -32,9 +32,9 @@ struct ConeInterval {
 // from the ray origin keep float precision. ray.dir must be unit length; radii > 0.
 ConeInterval intersectRoundedCone(const Ray& ray, const RoundedCone& cone);
 
-// Signed distance from p to the rounded cone: exact outside, negative inside (inside, it is the
-// distance to the nearest boundary piece of the same Voronoi region, a lower bound in magnitude
-// only where that matters for nothing but sign tests).
+// Signed distance from p to the rounded cone: exact outside; inside negative, with the magnitude
+// of the distance to the boundary piece (sphere 0, lateral, sphere 1) whose region holds p, so
+// the sign is exact everywhere and the value continuous.
 float sdRoundedCone(glm::vec3 p, const RoundedCone& cone);
 
 // Double-precision twins, for tests that measure the float versions.

@@ -127,6 +127,10 @@ void readStyle(SpecReader r, StyleSpec& s) {
             s.color.range = readRange(m, "range");
             m.finish();
         } else {
+            // getColor takes RGBA too; an alpha here would be dropped silently.
+            if (v.is_array() && v.size() == 4)
+                r.fail("color", "expected a colour [r, g, b] with components in [0, 1] (opacity goes in style.opacity), got " +
+                                    describeJson(v));
             s.color.constant = glm::vec3(r.getColor("color", glm::vec4(s.color.constant, 1.0f)));
         }
     }
@@ -260,15 +264,20 @@ void readOutput(SpecReader r, OutputSpec& o) {
 
 int Scene::frameCount() const { return animation.type == AnimationSpec::Type::None ? 1 : animation.frames; }
 
+// "{frame}", "{frame:04}", "{frame:4}". hasFrameToken must accept exactly what frameFileName
+// replaces, or a multi-frame render with "{frame:x}" would write every frame to one name.
+static const std::regex& frameBraces() {
+    static const std::regex braces(R"(\{frame(?::0?(\d+))?\})");
+    return braces;
+}
+
 bool hasFrameToken(const std::string& pattern) {
-    return pattern.find('#') != std::string::npos || pattern.find("{frame:") != std::string::npos ||
-           pattern.find("{frame}") != std::string::npos;
+    return pattern.find('#') != std::string::npos || std::regex_search(pattern, frameBraces());
 }
 
 std::string frameFileName(const std::string& pattern, int frame) {
-    static const std::regex braces(R"(\{frame(?::0?(\d+))?\})");
     std::smatch m;
-    if (std::regex_search(pattern, m, braces)) {
+    if (std::regex_search(pattern, m, frameBraces())) {
         int width = m[1].matched ? std::stoi(m[1].str()) : 0;
         std::string number = std::to_string(frame);
         if (int(number.size()) < width) number.insert(0, std::size_t(width) - number.size(), '0');

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "core/error.h"
 
@@ -32,7 +33,8 @@ std::string SpecReader::location(const std::string& key) const {
     std::string path = keyPath(key);
     if (m_overridden)
         for (const auto& o : *m_overridden)
-            if (path == o || path.rfind(o + ".", 0) == 0 || o.rfind(path + ".", 0) == 0)
+            if (path == o || path.rfind(o + ".", 0) == 0 || path.rfind(o + "[", 0) == 0 ||
+                o.rfind(path + ".", 0) == 0)
                 return "--set " + path;
     return (m_file.empty() ? std::string("scene") : m_file) + ": " + path;
 }
@@ -87,8 +89,11 @@ float SpecReader::getFloat(const std::string& key, float fallback, float lo, flo
             auto fmt = [](float x) {
                 if (x >= std::numeric_limits<float>::max()) return std::string("inf");
                 if (x <= -std::numeric_limits<float>::max()) return std::string("-inf");
-                json j = double(x);
-                return j.dump();
+                // 6 significant digits: the float bound, not its double expansion (1e-09, not
+                // 9.999999717180685e-10), and "1", not "1.0".
+                std::ostringstream s;
+                s << x;
+                return s.str();
             };
             s += " in [" + fmt(lo) + ", " + fmt(hi) + "]";
         }

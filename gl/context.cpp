@@ -462,8 +462,15 @@ Context Context::create(const ContextConfig& config) {
         throw ContextError("no OpenGL backend available: TUBECAST_FORCE_NO_GL=1 is set (test hook); "
                            "unset it");
 
+    if (config.device >= 0 && config.backend == Backend::OsMesa)
+        throw InputError("--device " + std::to_string(config.device) +
+                         ": only the EGL backend has devices, got --backend osmesa");
+    // An explicit device asks for EGL: falling back to OSMesa would hide a wrong index.
+    const Backend requested =
+        config.device >= 0 && config.backend == Backend::Auto ? Backend::Egl : config.backend;
+
     std::unique_ptr<Impl> impl;
-    if (config.backend == Backend::Auto) {
+    if (requested == Backend::Auto) {
         std::string failures;
         for (Backend backend : {Backend::Egl, Backend::OsMesa}) {
             try {
@@ -483,9 +490,9 @@ Context Context::create(const ContextConfig& config) {
     } else {
         try {
             impl = std::make_unique<Impl>();
-            createBackend(config.backend, config, *impl);
+            createBackend(requested, config, *impl);
         } catch (const BackendFailure& f) {
-            throw ContextError(std::string(backendName(config.backend)) + " backend failed: " +
+            throw ContextError(std::string(backendName(requested)) + " backend failed: " +
                                f.reason + "; " + f.hint);
         }
     }

@@ -11,7 +11,8 @@ enum class Backend { Auto, Egl, OsMesa };
 
 struct ContextConfig {
     Backend backend = Backend::Auto;
-    int device = -1;     // EGL: index into the enumerated EGL devices; -1 = automatic
+    int device = -1;     // EGL: index into the enumerated EGL devices; -1 = automatic.
+                         // Implies EGL with Backend::Auto; InputError with Backend::OsMesa.
     bool debug = false;  // KHR_debug synchronous callback, messages to the log (stderr)
     bool verbose = false;
 };

@@ -28,14 +28,15 @@ using OIIO::TypeDesc;
 // OIIO reports some errors on the object and some (failed create/open) globally.
 std::string oiioError(const std::string& objectError) {
     std::string message = objectError.empty() ? OIIO::geterror() : objectError;
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
+        message.pop_back();
     return message.empty() ? "unknown OpenImageIO error" : message;
 }
 
 // Writes `pixels` (native per-channel layout when spec.channelformats is set) to a temp file
 // next to `path` and renames it into place.
-void writeImage(const std::string& path, const ImageSpec& spec, TypeDesc format,
-                const void* pixels, const char* what) {
+void writeImage(const std::string& path, const ImageSpec& spec, TypeDesc format, const void* pixels,
+                const char* what) {
     AtomicFile file(path);
     const std::string prefix = path + ": cannot write " + what + ": ";
     auto out = ImageOutput::create(file.tempPath());
@@ -64,9 +65,13 @@ int channelIndex(const ImageSpec& spec, const char* name) {
     return -1;
 }
 
-float clamp01(float v) { return std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f); }
+float clamp01(float v) {
+    return std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+}
 
-std::uint8_t quantise(float v) { return std::uint8_t(std::lround(clamp01(v) * 255.0f)); }
+std::uint8_t quantise(float v) {
+    return std::uint8_t(std::lround(clamp01(v) * 255.0f));
+}
 
 }  // namespace
 
@@ -153,9 +158,12 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
                 Imath::half h(static_cast<const float*>(ch.source)[i * std::size_t(ch.stride)]);
                 std::memcpy(dst, &h, sizeof h);
             } else if (ch.type == TypeDesc::FLOAT) {
-                std::memcpy(dst, static_cast<const float*>(ch.source) + i * std::size_t(ch.stride), 4);
+                std::memcpy(dst, static_cast<const float*>(ch.source) + i * std::size_t(ch.stride),
+                            4);
             } else {
-                std::memcpy(dst, static_cast<const std::uint32_t*>(ch.source) + i * std::size_t(ch.stride), 4);
+                std::memcpy(
+                    dst, static_cast<const std::uint32_t*>(ch.source) + i * std::size_t(ch.stride),
+                    4);
             }
             dst += ch.type.size();
         }
@@ -200,7 +208,8 @@ FrameImages readExr(const std::string& path, std::map<std::string, std::string>*
         gather(alpha, {"A"}, false);
         frame.rgba.resize(4 * n);
         for (std::size_t i = 0; i < n; ++i) {
-            for (int c = 0; c < 3; ++c) frame.rgba[4 * i + std::size_t(c)] = rgb[3 * i + std::size_t(c)];
+            for (int c = 0; c < 3; ++c)
+                frame.rgba[4 * i + std::size_t(c)] = rgb[3 * i + std::size_t(c)];
             frame.rgba[4 * i + 3] = alpha.empty() ? 1.0f : alpha[i];
         }
     }

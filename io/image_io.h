@@ -38,7 +38,8 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
 // Reads an EXR written by writeExr (channels are looked up by name; missing optional ones
 // leave the matching FrameImages vector empty, missing A reads as 1). `metadata`, if given,
 // receives the header's string attributes. Throws InputError "PATH: ...".
-FrameImages readExr(const std::string& path, std::map<std::string, std::string>* metadata = nullptr);
+FrameImages readExr(const std::string& path,
+                    std::map<std::string, std::string>* metadata = nullptr);
 
 struct RgbaImage {
     int width = 0;

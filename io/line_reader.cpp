@@ -11,7 +11,6 @@
 #include <vtkCellArrayIterator.h>
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
-#include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
 #include <vtkFloatArray.h>
 #include <vtkGenericDataObjectReader.h>
@@ -51,10 +50,10 @@ public:
         MessageTypes type = GetCurrentMessageType();
         if (type == MESSAGE_TYPE_ERROR || type == MESSAGE_TYPE_WARNING ||
             type == MESSAGE_TYPE_GENERIC_WARNING)
-            errors.emplace_back(text);
+            messages.emplace_back(text);
     }
 
-    std::vector<std::string> errors;
+    std::vector<std::string> messages;
 };
 vtkStandardNewMacro(CapturingOutputWindow);
 
@@ -67,7 +66,8 @@ public:
         // it regardless of the output window. tubecast reports VTK problems as exceptions, so
         // the sink is switched off for the process, once (vtkLogger has no getter to restore).
         static std::once_flag quietLogger;
-        std::call_once(quietLogger, [] { vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF); });
+        std::call_once(quietLogger,
+                       [] { vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF); });
         m_previous = vtkOutputWindow::GetInstance();
         vtkOutputWindow::SetInstance(m_window);
     }
@@ -75,14 +75,14 @@ public:
     VtkMessageCapture(const VtkMessageCapture&) = delete;
     VtkMessageCapture& operator=(const VtkMessageCapture&) = delete;
 
-    bool failed() const { return !m_window->errors.empty(); }
+    bool failed() const { return !m_window->messages.empty(); }
 
     // "ERROR: In /build/.../vtkDataReader.cxx, line 123\nvtkPolyDataReader (0x55d0): Unable
     // to open file\n\n" -> "Unable to open file": the first error, its message line only
     // (later ones are the pipeline's "Algorithm ... returned failure" echo).
     std::string firstError() const {
-        if (m_window->errors.empty()) return {};
-        std::string text = m_window->errors.front();
+        if (m_window->messages.empty()) return {};
+        std::string text = m_window->messages.front();
         if (text.rfind("ERROR: In ", 0) == 0 || text.rfind("Warning: In ", 0) == 0 ||
             text.rfind("Generic Warning: In ", 0) == 0) {
             std::size_t nl = text.find('\n');
@@ -95,7 +95,8 @@ public:
         // The legacy reader appends " for file: PATH"; we print the path first already.
         if (std::size_t forFile = text.find(" for file: "); forFile != std::string::npos)
             text.erase(forFile);
-        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+            text.pop_back();
         for (char& c : text)
             if (c == '\n') c = ' ';
         return text.empty() ? "unknown error" : text;
@@ -115,13 +116,20 @@ private:
 // the enum is header-only.
 std::string errorCodeText(unsigned long code) {
     switch (code) {
-        case vtkErrorCode::FileNotFoundError: return "file not found";
-        case vtkErrorCode::CannotOpenFileError: return "cannot open file";
-        case vtkErrorCode::UnrecognizedFileTypeError: return "unrecognized file type";
-        case vtkErrorCode::PrematureEndOfFileError: return "premature end of file";
-        case vtkErrorCode::FileFormatError: return "file format error";
-        case vtkErrorCode::OutOfDiskSpaceError: return "out of disk space";
-        default: return "error code " + std::to_string(code);
+        case vtkErrorCode::FileNotFoundError:
+            return "file not found";
+        case vtkErrorCode::CannotOpenFileError:
+            return "cannot open file";
+        case vtkErrorCode::UnrecognizedFileTypeError:
+            return "unrecognized file type";
+        case vtkErrorCode::PrematureEndOfFileError:
+            return "premature end of file";
+        case vtkErrorCode::FileFormatError:
+            return "file format error";
+        case vtkErrorCode::OutOfDiskSpaceError:
+            return "out of disk space";
+        default:
+            return "error code " + std::to_string(code);
     }
 }
 
@@ -143,7 +151,7 @@ public:
             if (!array || array->GetNumberOfTuples() != m_pointCount) continue;
             m_arrays.push_back(array);
             std::string name = array->GetName() && *array->GetName() ? array->GetName()
-                                                                      : "array" + std::to_string(i);
+                                                                     : "array" + std::to_string(i);
             const int k = array->GetNumberOfComponents();
             if (k == 1) {
                 m_lines.attributes.push_back({name, {}});
@@ -205,7 +213,8 @@ private:
     LineSet m_lines;
 };
 
-[[noreturn]] void throwNoPolylines(const std::string& path, vtkDataSet* data, vtkIdType otherCells) {
+[[noreturn]] void throwNoPolylines(const std::string& path, vtkDataSet* data,
+                                   vtkIdType otherCells) {
     throw InputError(path + ": no polylines (" + std::to_string(data->GetNumberOfPoints()) +
                      " points, " + std::to_string(otherCells) + " cells of other types)");
 }
@@ -214,7 +223,8 @@ LineSet extractLines(const std::string& path, vtkDataObject* object) {
     if (auto* poly = vtkPolyData::SafeDownCast(object)) {
         vtkCellArray* cells = poly->GetLines();
         const vtkIdType lineCells = cells ? cells->GetNumberOfCells() : 0;
-        if (lineCells == 0 || !poly->GetPoints()) throwNoPolylines(path, poly, poly->GetNumberOfCells() - lineCells);
+        if (lineCells == 0 || !poly->GetPoints())
+            throwNoPolylines(path, poly, poly->GetNumberOfCells() - lineCells);
         LineSetBuilder builder(path, poly);
         auto it = vtk::TakeSmartPointer(cells->NewIterator());
         for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell()) {
@@ -232,7 +242,8 @@ LineSet extractLines(const std::string& path, vtkDataObject* object) {
             int type = grid->GetCellType(c);
             lineCells += type == VTK_LINE || type == VTK_POLY_LINE;
         }
-        if (lineCells == 0 || !grid->GetPoints()) throwNoPolylines(path, grid, cellCount - lineCells);
+        if (lineCells == 0 || !grid->GetPoints())
+            throwNoPolylines(path, grid, cellCount - lineCells);
         LineSetBuilder builder(path, grid);
         for (vtkIdType c = 0; c < cellCount; ++c) {
             int type = grid->GetCellType(c);
@@ -256,8 +267,7 @@ vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader
     reader->Update();
     if (capture.failed()) throw InputError(path + ": VTK: " + capture.firstError());
     if (reader->GetErrorCode() != 0)
-        throw InputError(path + ": VTK: " +
-                         errorCodeText(reader->GetErrorCode()));
+        throw InputError(path + ": VTK: " + errorCodeText(reader->GetErrorCode()));
     return reader->GetOutputDataObject(0);
 }
 
@@ -340,9 +350,9 @@ void writeLineSetVtp(const LineSet& lines, const std::string& path) {
         writer->SetHeaderTypeToUInt64();  // arrays over 4 GiB
         const int ok = writer->Write();
         if (!ok || capture.failed() || writer->GetErrorCode() != 0)
-            throw OutputError(path + ": cannot write: " +
-                              (capture.failed() ? capture.firstError()
-                                                : errorCodeText(writer->GetErrorCode())));
+            throw OutputError(
+                path + ": cannot write: " +
+                (capture.failed() ? capture.firstError() : errorCodeText(writer->GetErrorCode())));
     }
     file.commit();
 }

@@ -105,4 +105,12 @@ Billboard computeBillboard(RoundedCone c, mat4 viewProj, vec3 eye, bool orthogra
     return bb;
 }
 
+// The corners alone (culled billboards are a zero-area quad, full-screen ones the screen), in the
+// argument order rounded_cone_gbuffer.vert uses.
+void computeBillboard(RoundedCone c, mat4 viewProj, vec3 eye, vec3 forward, bool orthographic,
+                      out vec2 corners[4]) {
+    Billboard bb = computeBillboard(c, viewProj, eye, orthographic, forward);
+    corners = bb.ndc;
+}
+
 #endif  // TC_BILLBOARD_GLSL

@@ -116,6 +116,14 @@ TEST_F(SeparateContextTest, egl_device_out_of_range_names_the_device_count) {
     }
 }
 
+TEST_F(SeparateContextTest, device_index_implies_egl_and_is_rejected_for_osmesa) {
+    gl::ContextConfig config;
+    config.device = 99;
+    EXPECT_THROW(gl::Context::create(config), ContextError) << "auto must not fall back to OSMesa";
+    config.backend = gl::Backend::OsMesa;
+    EXPECT_THROW(gl::Context::create(config), InputError);
+}
+
 TEST_F(SeparateContextTest, egl_device_zero_is_mesas_software_device_here) {
     gl::ContextConfig config;
     config.backend = gl::Backend::Egl;

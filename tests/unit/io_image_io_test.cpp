@@ -19,7 +19,8 @@ namespace {
 
 std::string testDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
+    fs::path dir =
+        fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir.string();
@@ -43,7 +44,7 @@ TEST(WritePng, premultiplied_linear_becomes_straight_srgb_8bit) {
     // Straight linear colours chosen as exact sRGB codes 200 and 128, premultiplied by 0.6.
     const float r = srgbToLinear(200.0f / 255.0f), g = srgbToLinear(128.0f / 255.0f);
     setPixel(f, 0, 0, 0.6f * r, 0.6f * g, 0.0f, 0.6f);
-    setPixel(f, 1, 0, 0.0f, 0.0f, 0.0f, 0.0f);  // background
+    setPixel(f, 1, 0, 0.0f, 0.0f, 0.0f, 0.0f);   // background
     setPixel(f, 2, 0, 1.0f, 2.0f, -1.0f, 1.0f);  // out of range: clamped
     std::string path = testDir() + "/frame.png";
     writePng(f, path);
@@ -193,7 +194,8 @@ TEST(WriteExr, round_trip_of_all_channels) {
     for (std::size_t i = 0; i < f.rgba.size(); ++i)
         EXPECT_NEAR(back.rgba[i], f.rgba[i], std::abs(f.rgba[i]) * 0x1p-11f + 1e-7f) << i;
     ASSERT_EQ(back.ao.size(), f.ao.size());
-    for (std::size_t i = 0; i < f.ao.size(); ++i) EXPECT_NEAR(back.ao[i], f.ao[i], f.ao[i] * 0x1p-11f);
+    for (std::size_t i = 0; i < f.ao.size(); ++i)
+        EXPECT_NEAR(back.ao[i], f.ao[i], f.ao[i] * 0x1p-11f);
     // Z and N are FLOAT: exact, including +inf on the background.
     EXPECT_EQ(back.depth, f.depth);
     EXPECT_TRUE(std::isinf(back.depth[0]) && back.depth[0] > 0);
@@ -241,8 +243,8 @@ TEST(ReadImageRgba, garbage_names_the_file) {
     }
 }
 
-std::string writeRgbaExr(const std::string& path, int w, int h, float value,
-                         float offset = 0.0f, int offsetColumns = 0) {
+std::string writeRgbaExr(const std::string& path, int w, int h, float value, float offset = 0.0f,
+                         int offsetColumns = 0) {
     FrameImages f;
     f.allocate(w, h);
     for (int y = 0; y < h; ++y)

@@ -18,7 +18,8 @@ namespace {
 // A fresh directory per test under the build tree.
 std::string testDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
+    fs::path dir =
+        fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir.string();
@@ -107,7 +108,8 @@ void putBigEndian(std::string& out, T value) {
 
 TEST(ReadLineSet, legacy_binary_with_a_nan_coordinate_reports_one_non_finite_vertex) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    std::string text = "# vtk DataFile Version 3.0\nnan\nBINARY\nDATASET POLYDATA\nPOINTS 5 float\n";
+    std::string text =
+        "# vtk DataFile Version 3.0\nnan\nBINARY\nDATASET POLYDATA\nPOINTS 5 float\n";
     for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 2.f, nan, 0.f, 3.f, 0.f, 0.f, 4.f, 0.f, 0.f})
         putBigEndian(text, v);
     text += "\nLINES 1 6\n";
@@ -167,7 +169,9 @@ TEST(ReadLineSet, vtp_round_trip_keeps_positions_offsets_and_attributes) {
     EXPECT_NE(file.find("format=\"appended\""), std::string::npos);
     EXPECT_NE(file.find("<AppendedData encoding=\"raw\">"), std::string::npos);
     // No temp file left next to it.
-    EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(path).parent_path()), fs::directory_iterator{}), 1);
+    EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(path).parent_path()),
+                            fs::directory_iterator{}),
+              1);
 }
 
 TEST(ReadLineSet, nan_written_to_vtp_is_reported_on_read) {
@@ -194,7 +198,8 @@ TEST(ReadLineSet, unknown_extension_lists_supported_ones) {
 }
 
 TEST(ReadLineSet, garbage_legacy_file_names_the_file) {
-    std::string path = writeText(testDir() + "/garbage.vtk", "this is not a VTK file\n\x01\x02\x03");
+    std::string path =
+        writeText(testDir() + "/garbage.vtk", "this is not a VTK file\n\x01\x02\x03");
     EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
               path + ": VTK: Unrecognized file type: this is not a VTK file");
 }
@@ -209,8 +214,9 @@ TEST(ReadLineSet, garbage_xml_file_names_the_file) {
 TEST(ReadLineSet, truncated_legacy_file_names_the_file) {
     std::string text = kLegacyAscii;
     std::string path = writeText(testDir() + "/cut.vtk", text.substr(0, text.find("2 0 0")));
-    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
-              path + ": VTK: Error reading ascii data. Possible mismatch of datasize with declaration.");
+    EXPECT_EQ(
+        inputErrorOf([&] { readLineSet(path); }),
+        path + ": VTK: Error reading ascii data. Possible mismatch of datasize with declaration.");
 }
 
 TEST(ReadLineSet, truncated_vtp_file_names_the_file) {
@@ -268,8 +274,9 @@ LINES 1 3
 2 0 1
 )");
     EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
-              path + ": no polylines left after cleaning (skipped 1 duplicate vertex "
-                     "(zero-length segments), 1 polyline with fewer than 2 vertices)");
+              path +
+                  ": no polylines left after cleaning (skipped 1 duplicate vertex "
+                  "(zero-length segments), 1 polyline with fewer than 2 vertices)");
 }
 
 }  // namespace

@@ -58,11 +58,11 @@ TEST(CleanLineSet, consecutive_duplicates_are_removed) {
 
 TEST(CleanLineSet, short_and_degenerate_polylines_are_dropped) {
     LineSet lines = makeLines({
-        {{0, 0, 0}},                         // 1 vertex
-        {{5, 5, 5}, {5, 5, 5}},              // collapses to 1 vertex
-        {},                                  // empty
-        {{kNaN, 0, 0}, {0, kNaN, 0}},        // nothing finite
-        {{1, 1, 1}, {2, 2, 2}},              // kept
+        {{0, 0, 0}},                   // 1 vertex
+        {{5, 5, 5}, {5, 5, 5}},        // collapses to 1 vertex
+        {},                            // empty
+        {{kNaN, 0, 0}, {0, kNaN, 0}},  // nothing finite
+        {{1, 1, 1}, {2, 2, 2}},        // kept
     });
     CleanReport r = cleanLineSet(lines);
     EXPECT_EQ(r.droppedPolylines, 4u);

@@ -83,7 +83,7 @@ TEST(Scene, MinimalSceneParsesWithTheDocumentedDefaults) {
     EXPECT_EQ(s.image.height, 480);
     EXPECT_EQ(s.image.background, glm::vec4(0));
 
-    EXPECT_EQ(s.render.technique, Technique::Rasterized);
+    EXPECT_EQ(s.render.technique, RenderTechnique::Rasterized);
     EXPECT_EQ(s.render.transparency, Transparency::Opaque);
 
     EXPECT_EQ(s.lighting.direction, glm::vec3(0.3f, 0.5f, 1.0f));
@@ -531,7 +531,7 @@ TEST(Scene, LoadSceneOfInvalidJsonReportsLineAndColumn) {
         FAIL() << "no error";
     } catch (const InputError& e) {
         std::string what = e.what();
-        EXPECT_EQ(what.substr(0, what.find(": invalid JSON")), path.string() + ":3:24") << what;
+        EXPECT_EQ(what.substr(0, what.find(": invalid JSON")), path.string() + ":3:22") << what;
         EXPECT_NE(what.find("invalid JSON: syntax error while parsing value - unexpected ','"), std::string::npos)
             << what;
     }
