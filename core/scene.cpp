@@ -182,7 +182,7 @@ void readCamera(SpecReader r, CameraSpec& c) {
     r.finish();
 }
 
-void readAnimation(SpecReader r, AnimationSpec& a) {
+void readAnimation(SpecReader r, AnimationSpec& a, const std::set<std::string>& overridden) {
     std::string type = r.getEnum("type", "none", {"none", "orbit", "keyframes"});
     if (type == "orbit") {
         a.type = AnimationSpec::Type::Orbit;
@@ -196,7 +196,7 @@ void readAnimation(SpecReader r, AnimationSpec& a) {
         if (!keys.is_array() || keys.empty())
             r.fail("keys", "expected a non-empty array of {\"frame\", \"eye\", \"target\", \"up\"}");
         for (std::size_t i = 0; i < keys.size(); ++i) {
-            SpecReader k(keys[i], r.file(), r.keyPath("keys[" + std::to_string(i) + "]"));
+            SpecReader k(keys[i], r.file(), r.keyPath("keys[" + std::to_string(i) + "]"), &overridden);
             Keyframe key;
             key.frame = k.getInt("frame", -1, 0, 10'000'000);
             if (!k.has("frame")) k.fail("frame", "missing required key");
@@ -306,7 +306,7 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
     if (top.has("style")) readStyle(top.child("style"), scene.style);
     if (top.has("camera")) readCamera(top.child("camera"), scene.camera);
     else scene.camera.fit = true;
-    if (top.has("animation")) readAnimation(top.child("animation"), scene.animation);
+    if (top.has("animation")) readAnimation(top.child("animation"), scene.animation, overridden);
     if (top.has("image")) readImage(top.child("image"), scene.image);
     if (top.has("render")) readRender(top.child("render"), scene.render);
     if (top.has("lighting")) readLighting(top.child("lighting"), scene.lighting);

@@ -5,13 +5,17 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "io/image_io.h"
+#include "io/line_reader.h"
 
 namespace fs = std::filesystem;
 
@@ -133,20 +137,20 @@ TEST_F(Cli, BadFrameListIsExit2) {
     EXPECT_NE(r.err.find("--frames 0..5: frame 5 is outside"), std::string::npos) << r.err;
 }
 
-// Legacy VTK polydata with one NaN vertex in the middle of a 4-point polyline.
-const char* kNanVtk = R"(# vtk DataFile Version 3.0
-nan test
-ASCII
-DATASET POLYDATA
-POINTS 4 float
-0 0 0  0.5 0 0  nan 0 0  1 0.2 0
-LINES 1 5
-4 0 1 2 3
-)";
+// One 4-point polyline whose third vertex is NaN (VTK's ASCII reader cannot parse "nan", so the
+// file is written through our own .vtp writer).
+void writeNanVtp(const fs::path& path, bool allNan = false) {
+    tc::LineSet lines;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    lines.positions = {{0, 0, 0}, {0.5f, 0, 0}, {nan, 0, 0}, {1, 0.2f, 0}};
+    if (allNan) lines.positions = {{nan, 0, 0}, {1, nan, 0}};
+    lines.offsets = {0, std::uint32_t(lines.positions.size())};
+    tc::writeLineSetVtp(lines, path.string());
+}
 
 TEST_F(Cli, NanVerticesAreSkippedWithACountAndTheRestRenders) {
-    writeText(dir / "nan.vtk", kNanVtk);
-    writeText(dir / "scene.json", R"({"dataset": {"path": "nan.vtk"}, "style": {"radius": 0.05},
+    writeNanVtp(dir / "nan.vtp");
+    writeText(dir / "scene.json", R"({"dataset": {"path": "nan.vtp"}, "style": {"radius": 0.05},
         "image": {"width": 16, "height": 16}, "output": {"dir": "out", "name": "nan"}})");
     RunResult r = run("render scene.json");
     EXPECT_EQ(r.code, 0) << r.err;
@@ -156,12 +160,11 @@ TEST_F(Cli, NanVerticesAreSkippedWithACountAndTheRestRenders) {
 }
 
 TEST_F(Cli, DatasetWithOnlyNanVerticesIsExit2) {
-    writeText(dir / "nan.vtk", "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 2 float\nnan 0 0 1 nan 0\n"
-                               "LINES 1 3\n2 0 1\n");
-    writeText(dir / "scene.json", R"({"dataset": {"path": "nan.vtk"}, "image": {"width": 16, "height": 16}})");
+    writeNanVtp(dir / "nan.vtp", /*allNan=*/true);
+    writeText(dir / "scene.json", R"({"dataset": {"path": "nan.vtp"}, "image": {"width": 16, "height": 16}})");
     RunResult r = run("render scene.json");
     EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_NE(r.err.find("nan.vtk"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("nan.vtp"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("no polylines"), std::string::npos) << r.err;
 }
 
@@ -173,11 +176,21 @@ TEST_F(Cli, UnwritableOutputDirectoryIsExit4) {
     EXPECT_NE(r.err.find("blocker/sub"), std::string::npos) << r.err;
 }
 
-TEST_F(Cli, NoGlBackendIsExit3NamingTheBackend) {
+TEST_F(Cli, NoGlBackendIsExit3) {
     writeScene();
     RunResult r = run("render scene.json", "TUBECAST_FORCE_NO_GL=1");
     EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("no OpenGL backend"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out" / "f.0000.png"));
+}
+
+// A real failure, not the test hook: glvnd finds no EGL vendor library.
+TEST_F(Cli, BrokenEglIsExit3NamingEglAndTheAlternative) {
+    writeScene();
+    RunResult r = run("render scene.json --backend egl", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json");
+    EXPECT_EQ(r.code, 3) << r.err;
     EXPECT_NE(r.err.find("EGL"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--backend osmesa"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, RenderWritesPngExrTimingsAndRunJson) {
@@ -233,8 +246,8 @@ TEST_F(Cli, ResumeRendersOnlyTheMissingFramesAndAppendsTimings) {
 }
 
 TEST_F(Cli, InfoJsonReportsCountsBoundsAndAttributes) {
-    writeText(dir / "nan.vtk", kNanVtk);
-    RunResult r = run("info nan.vtk --json");
+    writeNanVtp(dir / "nan.vtp");
+    RunResult r = run("info nan.vtp --json");
     ASSERT_EQ(r.code, 0) << r.err;
     auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["polylines"], 1);  // the NaN vertex splits off a 1-vertex polyline, which is dropped

@@ -577,6 +577,28 @@ TEST(Scene, EveryConfigInTheRepositoryParses) {
     EXPECT_GE(count, 3);
 }
 
+// The examples in docs/scene-spec.md are valid scenes.
+TEST(Scene, DocumentedExamplesParse) {
+    fs::path doc = fs::path(__FILE__).parent_path().parent_path().parent_path() / "docs" / "scene-spec.md";
+    std::ifstream in(doc);
+    ASSERT_TRUE(in) << doc;
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::string> blocks;
+    for (std::size_t at = text.find("```json\n"); at != std::string::npos; at = text.find("```json\n", at)) {
+        at += 8;
+        blocks.push_back(text.substr(at, text.find("```", at) - at));
+    }
+    ASSERT_EQ(blocks.size(), 2u);
+    json full = json::parse(blocks[0]);
+    Scene s = parseScene(full, "scene-spec.md");
+    EXPECT_EQ(s.frameCount(), 36);
+    // The second block is an "animation" member to put into the first.
+    full.merge_patch(json::parse("{" + blocks[1] + "}"));
+    s = parseScene(full, "scene-spec.md");
+    EXPECT_EQ(s.animation.type, AnimationSpec::Type::Keyframes);
+    EXPECT_EQ(s.frameCount(), 91);
+}
+
 TEST(Scene, DemoConfigIsTheDocumentedBuiltInDemo) {
     fs::path demo = fs::path(__FILE__).parent_path().parent_path().parent_path() / "configs" / "demo.json";
     Scene s = loadScene(demo.string());

@@ -247,8 +247,9 @@ TEST(Styling, BoundsIncludeTheRadii) {
     style.radius.radiusLo = 0.1f;
     style.radius.radiusHi = 0.9f;
     StyledLines s = styleLines(threeLines(), style, "scene.json");
-    // Vertex 0 at (0,0,0) has r = 0.1; vertex 8 at (3,2,0) has r = 0.9; vertex 4 at (1,1,0) r = 0.5.
-    expectNear(s.bounds.lo, {-0.1f, -0.1f, -0.9f}, 1e-6f);
+    // Vertex i has r = 0.1 + 0.1 i: lo.x from vertex 5 at (0,2,0), r 0.6; lo.y from vertex 2 at
+    // (2,0,0), r 0.3; z from vertex 8 at (3,2,0), r 0.9, which also gives hi.x and hi.y.
+    expectNear(s.bounds.lo, {-0.6f, -0.3f, -0.9f}, 1e-6f);
     expectNear(s.bounds.hi, {3.9f, 2.9f, 0.9f}, 1e-6f);
 }
 
