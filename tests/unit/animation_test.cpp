@@ -288,7 +288,7 @@ Camera obliqueCamera() {
     return c;
 }
 
-TEST(Camera, BasisIsRightHandedAndOrthonormal) {
+TEST(Animation, CameraBasisIsRightHandedAndOrthonormal) {
     Camera c = obliqueCamera();
     glm::vec3 f = c.forward(), r = c.right(), u = c.trueUp();
     EXPECT_NEAR(glm::length(f), 1, 1e-6f);
@@ -302,7 +302,7 @@ TEST(Camera, BasisIsRightHandedAndOrthonormal) {
     expectNear(f, glm::normalize(c.target - c.eye), 1e-6f);
 }
 
-TEST(Camera, UpParallelToTheViewStillGivesAnOrthonormalBasis) {
+TEST(Animation, CameraUpParallelToTheViewStillGivesAnOrthonormalBasis) {
     Camera c;
     c.eye = {0, 5, 0};
     c.target = {0, 0, 0};
@@ -313,7 +313,7 @@ TEST(Camera, UpParallelToTheViewStillGivesAnOrthonormalBasis) {
     EXPECT_NEAR(glm::dot(c.forward(), u), 0, 1e-6f);
 }
 
-TEST(Camera, CentrePixelRayPointsAlongForward) {
+TEST(Animation, CameraCentrePixelRayPointsAlongForward) {
     Camera c = obliqueCamera();
     // Odd sizes have a centre pixel; even sizes a centre between pixels (px = w/2 - 0.5).
     for (auto [w, h] : {std::pair{33, 17}, std::pair{64, 48}}) {
@@ -327,7 +327,7 @@ TEST(Camera, CentrePixelRayPointsAlongForward) {
     expectNear(ray.dir, c.forward(), 1e-6f);
 }
 
-TEST(Camera, PixelRaysSpanTheVerticalFieldOfViewAndRowZeroIsTheTop) {
+TEST(Animation, CameraPixelRaysSpanTheVerticalFieldOfViewAndRowZeroIsTheTop) {
     Camera c = obliqueCamera();
     c.fovYDeg = 40;
     const int w = 40, h = 30;
@@ -339,7 +339,7 @@ TEST(Camera, PixelRaysSpanTheVerticalFieldOfViewAndRowZeroIsTheTop) {
     EXPECT_GT(glm::dot(right.dir, c.right()), 0.0f);
 }
 
-TEST(Camera, WorldToCameraMapsTheEyeToTheOriginAndTheTargetToMinusZ) {
+TEST(Animation, CameraWorldToCameraMapsTheEyeToTheOriginAndTheTargetToMinusZ) {
     Camera c = obliqueCamera();
     glm::mat4 m = c.worldToCamera();
     expectNear(glm::vec3(m * glm::vec4(c.eye, 1)), {0, 0, 0}, 1e-5f);

@@ -593,7 +593,7 @@ TEST(Scene, DocumentedExamplesParse) {
     Scene s = parseScene(full, "scene-spec.md");
     EXPECT_EQ(s.frameCount(), 36);
     // The second block is an "animation" member to put into the first.
-    full.merge_patch(json::parse("{" + blocks[1] + "}"));
+    full["animation"] = json::parse("{" + blocks[1] + "}")["animation"];
     s = parseScene(full, "scene-spec.md");
     EXPECT_EQ(s.animation.type, AnimationSpec::Type::Keyframes);
     EXPECT_EQ(s.frameCount(), 91);
