@@ -224,12 +224,14 @@ void readImage(SpecReader r, ImageSpec& im) {
 }
 
 void readRender(SpecReader r, RenderSpec& rs) {
-    std::string technique = r.getEnum("technique", "rasterized", {"rasterized"});
-    std::string transparency = r.getEnum("transparency", "opaque", {"opaque"});
-    (void)technique;
-    (void)transparency;
+    r.getEnum("technique", "rasterized", {"rasterized"});
+    r.getEnum("transparency", "opaque", {"opaque"});
     rs.technique = RenderTechnique::Rasterized;
     rs.transparency = Transparency::Opaque;
+    std::string billboards = r.getEnum("billboards", "compute", {"compute", "vertex", "geometry"});
+    rs.billboards = billboards == "vertex"     ? BillboardPath::Vertex
+                    : billboards == "geometry" ? BillboardPath::Geometry
+                                               : BillboardPath::Compute;
     r.finish();
 }
 

@@ -85,9 +85,14 @@ struct ImageSpec {
 enum class RenderTechnique { Rasterized };
 enum class Transparency { Opaque };
 
+// Where the rasterized path builds each segment's billboard: a compute pre-pass (default), the
+// vertex shader (vertex pulling, once per quad corner) or a geometry shader (the paper's layout).
+enum class BillboardPath { Compute, Vertex, Geometry };
+
 struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
+    BillboardPath billboards = BillboardPath::Compute;
 };
 
 // Blinn-Phong. direction is in camera space and points from the surface toward the light.

@@ -1,10 +1,10 @@
 #pragma once
-// Opaque rounded cones (Groß & Gumhold 2020, Sect. 5.1-5.2): one billboard per segment built by
-// vertex pulling from SSBOs, an analytic ray-rounded-cone intersection per fragment writing
-// gl_FragDepth into a G-buffer, then one deferred full-screen shading pass, so shading (and AO
-// later) runs once per visible pixel.
+// Opaque rounded cones (Groß & Gumhold 2020, Sect. 5.1-5.2): one billboard per segment, an
+// analytic ray-rounded-cone intersection per fragment writing gl_FragDepth into a G-buffer, then
+// one deferred full-screen shading pass, so shading (and AO later) runs once per visible pixel.
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "gl/line_geometry.h"
 #include "gl/objects.h"
 #include "gl/technique.h"
 
@@ -12,25 +12,19 @@ namespace tc::gl {
 
 class RoundedConeRenderer final : public Technique {
 public:
-    // Uploads the lines (positions+radius, colours, polyline ids, segment index buffer) and
-    // compiles the programs. Needs a current context.
+    // Uploads the lines and compiles the programs. Needs a current context.
     static std::unique_ptr<RoundedConeRenderer> create(const Scene& scene, const StyledLines& lines);
 
     void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
     nlohmann::json describe() const override;
 
 private:
-    RoundedConeRenderer() = default;
+    explicit RoundedConeRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
     void resizeTargets(int width, int height);
 
+    LineGeometry m_geometry;
     LightingSpec m_lighting;
-    std::size_t m_segmentCount = 0;
-    float m_maxRadius = 0;
-    Bounds m_bounds;
-
-    Buffer m_positionRadius, m_colors, m_polylineIds, m_segmentVertices;
     Program m_gbufferProgram, m_shadingProgram;
-    VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
 
     int m_width = 0, m_height = 0;
     Texture m_albedo, m_normalDepth, m_id, m_depth, m_color;

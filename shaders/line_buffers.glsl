@@ -4,3 +4,11 @@ layout(std430, binding = 0) readonly buffer PositionRadius { vec4 positionRadius
 layout(std430, binding = 1) readonly buffer Colors { vec4 vertexColor[]; };
 layout(std430, binding = 2) readonly buffer PolylineIds { uint polylineId[]; };
 layout(std430, binding = 3) readonly buffer SegmentVertices { uint segmentVertices[]; };
+layout(std430, binding = 6) readonly buffer VertexFlags { uint vertexFlags[]; };  // VertexFlag bits
+#ifdef DRAW_ORDER
+// Draw slot -> segment id, front to back (the visibility sort of Groß & Gumhold 2020, Sect. 4.1).
+layout(std430, binding = 5) readonly buffer DrawOrder { uint drawOrder[]; };
+uint segmentOfSlot(uint slot) { return drawOrder[slot]; }
+#else
+uint segmentOfSlot(uint slot) { return slot; }
+#endif

@@ -1,6 +1,6 @@
-// Vertex pulling: 6 vertices (two triangles) per segment, each invocation builds its segment's
-// billboard (Groß & Gumhold 2020, Sect. 5.1) from the SSBOs and emits one corner. Measured on
-// llvmpipe to beat a geometry shader (docs/performance.md).
+// Vertex pulling: 6 vertices (two triangles) per segment, no vertex buffers. The quad's corners
+// come from the billboard pre-pass (BILLBOARDS_PRECOMPUTED, the default) or are built here, once
+// per vertex (BILLBOARDS_IN_VERTEX_SHADER, kept for the measurements in docs/performance.md).
 #include "camera.glsl"
 #include "rounded_cone.glsl"
 #include "billboard.glsl"
@@ -11,21 +11,27 @@ uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
 
+#ifdef BILLBOARDS_PRECOMPUTED
+layout(std430, binding = 4) readonly buffer BillboardCorners { vec4 billboardCorners[]; };
+#endif
+
 flat out uint vSegment;
 
 // Two triangles of the quad from its 4 corners in triangle-strip order.
 const int kCorner[6] = int[6](0, 1, 2, 2, 1, 3);
 
 void main() {
-    uint segment = uint(gl_VertexID) / 6u;
+    uint segment = segmentOfSlot(uint(gl_VertexID) / 6u);
     int corner = kCorner[gl_VertexID % 6];
-    uint v0 = segmentVertices[2u * segment];
-    uint v1 = segmentVertices[2u * segment + 1u];
-    vec4 a = positionRadius[v0];
-    vec4 b = positionRadius[v1];
-    RoundedCone cone = RoundedCone(a.xyz, a.w, b.xyz, b.w);
-    vec2 corners[4];
-    computeBillboard(cone, uViewProj, uEye, uForward, uOrthographic, corners);
     vSegment = segment;
+#ifdef BILLBOARDS_PRECOMPUTED
+    vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
+    gl_Position = vec4((corner & 1) == 0 ? pair.xy : pair.zw, 0.0, 1.0);
+#else
+    vec4 a = positionRadius[segmentVertices[2u * segment]];
+    vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
+    vec2 corners[4];
+    computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uForward, uOrthographic, corners);
     gl_Position = vec4(corners[corner], 0.0, 1.0);
+#endif
 }

@@ -10,6 +10,7 @@ layout(std430, binding = 3) writeonly buffer SegmentIds { uint segmentIds[]; };
 
 #include "sort_keys.glsl"
 
+uniform uint firstSegment;  // dispatches are split at the work group count limit
 uniform uint segmentCount;
 uniform vec3 eye;
 uniform vec3 forward;       // unit view direction; used when orthographic
@@ -17,7 +18,7 @@ uniform bool orthographic;
 
 void main()
 {
-    uint s = gl_GlobalInvocationID.x;
+    uint s = firstSegment + gl_GlobalInvocationID.x;
     if (s >= segmentCount)
         return;
     vec3 x0 = positionRadius[segmentVertices[2u * s]].xyz;

@@ -1,0 +1,95 @@
+#include "core/transparent_reference.h"
+
+#include <algorithm>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/cap_clipping.h"
+#include "core/rounded_cone.h"
+#include "core/shading.h"
+
+namespace tc {
+
+void collectFragments(const StyledLines& lines, const Ray& ray, const Camera& camera, const LightingSpec& light,
+                      bool capClipping, std::vector<TransparentFragment>& out) {
+    out.clear();
+    const glm::vec3 forward = camera.forward();
+    const glm::vec3 lightDir = lightDirectionWorld(light, camera);
+    const bool ortho = camera.projection == Projection::Orthographic;
+    const float depthScale = ortho ? 1.0f : glm::dot(ray.dir, forward);
+    const ClipPlanes noPlanes;
+    const std::size_t segments = lines.segmentCount();
+    for (std::size_t s = 0; s < segments; ++s) {
+        const std::uint32_t v0 = lines.segmentVertices[2 * s], v1 = lines.segmentVertices[2 * s + 1];
+        const glm::vec4& a = lines.positionRadius[v0];
+        const glm::vec4& b = lines.positionRadius[v1];
+        ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
+        if (!iv.hit) continue;
+        float t;
+        glm::vec3 n;
+        // Planes only for segments the ray hits: most pixels miss most segments.
+        if (!segmentFragment(ray, iv, capClipping ? segmentClipPlanes(lines, s) : noPlanes, t, n)) continue;
+
+        glm::vec3 x0(a), x1(b);
+        glm::vec3 p = ray.origin + t * ray.dir;
+        glm::vec3 ba = x1 - x0;
+        float m0 = glm::dot(ba, ba);
+        float u = m0 > 0.0f ? glm::clamp(glm::dot(p - x0, ba) / m0, 0.0f, 1.0f) : 0.0f;
+        glm::vec4 base = glm::mix(lines.color[v0], lines.color[v1], u);
+        TransparentFragment f;
+        f.depth = ortho ? t : t * depthScale;
+        f.t = t;
+        f.segment = std::uint32_t(s);
+        f.normal = n;
+        f.rgb = shadeBlinnPhong(glm::vec3(base), n, ray.dir, lightDir, light);
+        f.alpha = base.w;
+        out.push_back(f);
+    }
+    std::sort(out.begin(), out.end(), [](const TransparentFragment& l, const TransparentFragment& r) {
+        return l.depth < r.depth || (l.depth == r.depth && l.segment < r.segment);
+    });
+}
+
+FrameImages renderReferenceTransparent(const StyledLines& lines, const Camera& camera, const LightingSpec& light,
+                                       int width, int height, bool capClipping, std::vector<int>* fragmentCount) {
+    FrameImages img;
+    img.allocate(width, height);
+    if (fragmentCount) fragmentCount->assign(img.pixelCount(), 0);
+    tbb::enumerable_thread_specific<std::vector<TransparentFragment>> scratch;
+
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<TransparentFragment>& frags = scratch.local();
+        for (int py = rows.begin(); py != rows.end(); ++py) {
+            for (int px = 0; px < width; ++px) {
+                Ray ray = pixelRay(camera, width, height, float(px), float(py));
+                collectFragments(lines, ray, camera, light, capClipping, frags);
+                std::size_t i = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                if (fragmentCount) (*fragmentCount)[i] = int(frags.size());
+                if (frags.empty()) continue;
+
+                glm::vec3 c(0.0f);
+                float alpha = 0.0f;
+                for (const TransparentFragment& f : frags) {
+                    float w = (1.0f - alpha) * f.alpha;
+                    c += w * f.rgb;
+                    alpha += w;
+                }
+                const TransparentFragment& first = frags.front();
+                img.depth[i] = first.depth;
+                img.normal[3 * i + 0] = first.normal.x;
+                img.normal[3 * i + 1] = first.normal.y;
+                img.normal[3 * i + 2] = first.normal.z;
+                img.id[i] = lines.polylineId[lines.segmentVertices[2 * first.segment]];
+                img.rgba[4 * i + 0] = c.x;
+                img.rgba[4 * i + 1] = c.y;
+                img.rgba[4 * i + 2] = c.z;
+                img.rgba[4 * i + 3] = alpha;
+            }
+        }
+    });
+    return img;
+}
+
+}  // namespace tc

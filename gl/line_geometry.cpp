@@ -1,0 +1,132 @@
+#include "gl/line_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "gl/gpu_timer.h"
+#include "gl/shader_library.h"
+
+namespace tc::gl {
+
+namespace {
+
+constexpr GLuint kBillboardGroupSize = 128;  // local_size_x of shaders/billboard_pass.comp
+constexpr GLuint kMaxGroupsPerDispatch = 65535;
+
+template <class T>
+Buffer upload(const std::vector<T>& v) {
+    return makeBuffer(v.size() * sizeof(T), v.data(), 0);
+}
+
+}  // namespace
+
+GLint uniformLocation(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
+void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
+                        std::size_t bytesPerComponent, void* dst) {
+    const std::size_t row = std::size_t(width) * components * bytesPerComponent;
+    std::vector<unsigned char> tmp(row * std::size_t(height));
+    glGetTextureImage(texture, 0, format, type, GLsizei(tmp.size()), tmp.data());
+    auto* out = static_cast<unsigned char*>(dst);
+    for (int y = 0; y < height; ++y)
+        std::memcpy(out + std::size_t(height - 1 - y) * row, tmp.data() + std::size_t(y) * row, row);
+}
+
+LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) {
+    LineGeometry g;
+    g.m_path = path;
+    g.m_segmentCount = lines.segmentCount();
+    g.m_maxRadius = lines.maxRadius;
+    g.m_bounds = lines.bounds;
+    g.m_positionRadius = upload(lines.positionRadius);
+    g.m_colors = upload(lines.color);
+    g.m_polylineIds = upload(lines.polylineId);
+    g.m_flags = upload(lines.flags);
+    g.m_segmentVertices = upload(lines.segmentVertices);
+    if (path == BillboardPath::Compute) {
+        g.m_billboardCorners = makeBuffer(lines.segmentCount() * 2 * sizeof(glm::vec4));
+        g.m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}});
+    }
+    g.m_emptyVao = VertexArray::create();
+    return g;
+}
+
+void LineGeometry::bind() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionRadiusBinding, m_positionRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kColorBinding, m_colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPolylineIdBinding, m_polylineIds.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentVertexBinding, m_segmentVertices.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexFlagBinding, m_flags.id());
+    if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBillboardCornerBinding, m_billboardCorners.id());
+}
+
+float LineGeometry::farDepth(const FrameSetup& setup) const {
+    // Beyond everything the data can reach. A 32-bit float depth buffer holding view depth / far
+    // keeps ~1e-7 relative precision over the whole range.
+    return glm::distance(setup.camera.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
+}
+
+void LineGeometry::setCameraUniforms(GLuint p, const FrameSetup& setup) const {
+    const Camera& cam = setup.camera;
+    const float aspect = float(setup.width) / float(setup.height);
+    const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
+    const float far = farDepth(setup);
+    const glm::mat4 viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
+    glProgramUniformMatrix4fv(p, uniformLocation(p, "uViewProj"), 1, GL_FALSE, &viewProj[0][0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &eye[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uRight"), 1, &right[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uUp"), 1, &up[0]);
+    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
+    glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
+    glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
+    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
+    glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
+}
+
+Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {
+    switch (m_path) {
+    case BillboardPath::Compute:
+        defines.push_back("BILLBOARDS_PRECOMPUTED");
+        return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_gbuffer.vert"}, {GL_FRAGMENT_SHADER, fragmentShader}},
+                              defines);
+    case BillboardPath::Vertex:
+        return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_gbuffer.vert"}, {GL_FRAGMENT_SHADER, fragmentShader}},
+                              defines);
+    case BillboardPath::Geometry:
+        return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_segment.vert"},
+                               {GL_GEOMETRY_SHADER, "rounded_cone_billboard.geom"},
+                               {GL_FRAGMENT_SHADER, fragmentShader}},
+                              defines);
+    }
+    return {};
+}
+
+void LineGeometry::computeBillboards(const FrameSetup& setup, StageTimer& timer) const {
+    if (m_path != BillboardPath::Compute) return;
+    timer.begin("billboards");
+    const GLuint b = m_billboardProgram.id();
+    setCameraUniforms(b, setup);
+    glProgramUniform1ui(b, uniformLocation(b, "uSegmentCount"), GLuint(m_segmentCount));
+    glUseProgram(b);
+    bind();
+    const std::size_t perDispatch = std::size_t(kMaxGroupsPerDispatch) * kBillboardGroupSize;
+    for (std::size_t first = 0; first < m_segmentCount; first += perDispatch) {
+        std::size_t count = std::min(perDispatch, m_segmentCount - first);
+        glProgramUniform1ui(b, uniformLocation(b, "uFirstSegment"), GLuint(first));
+        glDispatchCompute(GLuint((count + kBillboardGroupSize - 1) / kBillboardGroupSize), 1, 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    timer.setItems(m_segmentCount);
+    timer.end();
+}
+
+void LineGeometry::draw(std::size_t first, std::size_t count) const {
+    glBindVertexArray(m_emptyVao.id());
+    bind();
+    if (m_path == BillboardPath::Geometry) glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
+    else glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+}
+
+}  // namespace tc::gl

@@ -1,0 +1,70 @@
+#pragma once
+// The line set on the GPU and the one way every rasterized line pass draws it: SSBOs for
+// per-vertex data and the segment index buffer (bindings in shaders/line_buffers.glsl), the
+// per-frame camera uniforms (shaders/frame_uniforms.glsl) and the billboard pre-pass
+// (shaders/billboard_pass.comp). Passes own their programs and targets; this owns the data.
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "gl/objects.h"
+#include "gl/technique.h"
+
+namespace tc::gl {
+
+class LineGeometry {
+public:
+    // Uploads positions+radius, colours, polyline ids, vertex flags and the segment index
+    // buffer. Needs a current context.
+    static LineGeometry create(const StyledLines& lines, BillboardPath path);
+
+    std::size_t segmentCount() const { return m_segmentCount; }
+    BillboardPath billboardPath() const { return m_path; }
+
+    // Binds the line SSBOs (bindings 0-4).
+    void bind() const;
+    // Sets the camera uniforms of `program` for this frame; uniforms the program lacks are skipped.
+    void setCameraUniforms(GLuint program, const FrameSetup& setup) const;
+    // Linear depth scale: gl_FragDepth = view depth / farDepth(setup).
+    float farDepth(const FrameSetup& setup) const;
+
+    // Compiles a program drawing the lines' billboards with `fragmentShader`, for this
+    // geometry's billboard path; `defines` go to every stage.
+    Program compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines = {}) const;
+    // Builds this frame's billboards (BillboardPath::Compute; no-op otherwise) as stage
+    // "billboards" of `timer`.
+    void computeBillboards(const FrameSetup& setup, StageTimer& timer) const;
+    // Draws `count` segments starting at draw slot `first` with the bound program. When the
+    // program was compiled with DRAW_ORDER, slot i draws segment drawOrder[i] (binding 5).
+    void draw(std::size_t first, std::size_t count) const;
+
+private:
+    LineGeometry() = default;
+
+    BillboardPath m_path = BillboardPath::Compute;
+    std::size_t m_segmentCount = 0;
+    float m_maxRadius = 0;
+    Bounds m_bounds;
+    Buffer m_positionRadius, m_colors, m_polylineIds, m_flags, m_segmentVertices, m_billboardCorners;
+    Program m_billboardProgram;
+    VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
+};
+
+// SSBO bindings shared with the shaders.
+constexpr GLuint kPositionRadiusBinding = 0;
+constexpr GLuint kColorBinding = 1;
+constexpr GLuint kPolylineIdBinding = 2;
+constexpr GLuint kSegmentVertexBinding = 3;
+constexpr GLuint kBillboardCornerBinding = 4;
+constexpr GLuint kDrawOrderBinding = 5;
+constexpr GLuint kVertexFlagBinding = 6;
+
+GLint uniformLocation(GLuint program, const char* name);
+
+// Reads a texture level into `dst`, flipping rows: GL's row 0 is the bottom, FrameImages' the top.
+void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
+                        std::size_t bytesPerComponent, void* dst);
+
+}  // namespace tc::gl

@@ -1,0 +1,29 @@
+// Billboards once per segment (Groß & Gumhold 2020, Sect. 5.1), before the draw: llvmpipe runs
+// vertex and geometry shaders single-threaded and a vertex-pulling draw would build each quad six
+// times, while compute shaders run on all cores (docs/performance.md has the measurements).
+#include "camera.glsl"
+#include "rounded_cone.glsl"
+#include "billboard.glsl"
+#include "line_buffers.glsl"
+
+layout(local_size_x = 128) in;
+
+// Two vec4 per segment: (corner0, corner1), (corner2, corner3) in NDC, triangle-strip order.
+layout(std430, binding = 4) writeonly buffer BillboardCorners { vec4 billboardCorners[]; };
+
+uniform mat4 uViewProj;
+uniform vec3 uEye;
+uniform vec3 uForward;
+uniform bool uOrthographic;
+uniform uint uSegmentCount;
+uniform uint uFirstSegment;  // dispatches are split to stay under the work-group count limit
+
+void main() {
+    uint segment = uFirstSegment + gl_GlobalInvocationID.x;
+    if (segment >= uSegmentCount) return;
+    vec4 a = positionRadius[segmentVertices[2u * segment]];
+    vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
+    Billboard bb = computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uOrthographic, uForward);
+    billboardCorners[2u * segment] = vec4(bb.ndc[0], bb.ndc[1]);
+    billboardCorners[2u * segment + 1u] = vec4(bb.ndc[2], bb.ndc[3]);
+}

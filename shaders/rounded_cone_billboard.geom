@@ -1,0 +1,30 @@
+// Builds one segment's billboard (Groß & Gumhold 2020, Sect. 5.1) as a 4-vertex strip.
+#include "camera.glsl"
+#include "rounded_cone.glsl"
+#include "billboard.glsl"
+#include "line_buffers.glsl"
+
+layout(points) in;
+layout(triangle_strip, max_vertices = 4) out;
+
+uniform mat4 uViewProj;
+uniform vec3 uEye;
+uniform vec3 uForward;
+uniform bool uOrthographic;
+
+flat in uint vSegmentIn[];
+flat out uint vSegment;
+
+void main() {
+    uint segment = vSegmentIn[0];
+    vec4 a = positionRadius[segmentVertices[2u * segment]];
+    vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
+    Billboard bb = computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uOrthographic, uForward);
+    if (bb.culled) return;
+    for (int k = 0; k < 4; ++k) {
+        vSegment = segment;
+        gl_Position = vec4(bb.ndc[k], 0.0, 1.0);
+        EmitVertex();
+    }
+    EndPrimitive();
+}
