@@ -23,7 +23,10 @@ public:
     std::size_t segmentCount() const { return m_segmentCount; }
     BillboardPath billboardPath() const { return m_path; }
 
-    // Binds the line SSBOs (bindings 0-4).
+    const Buffer& positionRadiusBuffer() const { return m_positionRadius; }
+    const Buffer& segmentVerticesBuffer() const { return m_segmentVertices; }
+
+    // Binds the line SSBOs (bindings 0-4, 6).
     void bind() const;
     // Sets the camera uniforms of `program` for this frame; uniforms the program lacks are skipped.
     void setCameraUniforms(GLuint program, const FrameSetup& setup) const;

