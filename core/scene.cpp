@@ -225,13 +225,30 @@ void readImage(SpecReader r, ImageSpec& im) {
 
 void readRender(SpecReader r, RenderSpec& rs) {
     r.getEnum("technique", "rasterized", {"rasterized"});
-    r.getEnum("transparency", "opaque", {"opaque"});
     rs.technique = RenderTechnique::Rasterized;
-    rs.transparency = Transparency::Opaque;
+    std::string transparency =
+        r.getEnum("transparency", "opaque", {"opaque", "kbuffer", "depth_peeling", "object_order"});
+    rs.transparency = transparency == "kbuffer"         ? Transparency::KBuffer
+                      : transparency == "depth_peeling" ? Transparency::DepthPeeling
+                      : transparency == "object_order"  ? Transparency::ObjectOrder
+                                                        : Transparency::Opaque;
     std::string billboards = r.getEnum("billboards", "compute", {"compute", "vertex", "geometry"});
     rs.billboards = billboards == "vertex"     ? BillboardPath::Vertex
                     : billboards == "geometry" ? BillboardPath::Geometry
                                                : BillboardPath::Compute;
+    if (r.has("kbuffer")) {
+        SpecReader k = r.child("kbuffer");
+        rs.kbufferK = k.getInt("k", rs.kbufferK, 1, 16);
+        k.finish();
+    }
+    rs.capClipping = r.getBool("cap_clipping", rs.capClipping);
+    if (r.has("depth_peeling")) {
+        SpecReader d = r.child("depth_peeling");
+        rs.maxPeelLayers = d.getInt("max_layers", rs.maxPeelLayers, 0, 100000);
+        d.finish();
+    }
+    rs.memoryBudgetMb = r.getInt("memory_budget_mb", rs.memoryBudgetMb, 1, 1 << 30);
+    rs.referenceDepthPeeling = r.getEnum("reference", "none", {"none", "depth_peeling"}) == "depth_peeling";
     r.finish();
 }
 

@@ -83,7 +83,7 @@ struct ImageSpec {
 };
 
 enum class RenderTechnique { Rasterized };
-enum class Transparency { Opaque };
+enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling };
 
 // Where the rasterized path builds each segment's billboard: a compute pre-pass (default), the
 // vertex shader (vertex pulling, once per quad corner) or a geometry shader (the paper's layout).
@@ -93,6 +93,11 @@ struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
     BillboardPath billboards = BillboardPath::Compute;
+    int kbufferK = 8;              // render.kbuffer.k, 1..16
+    bool capClipping = true;       // render.cap_clipping (Groß & Gumhold 2020, Sect. 5.4)
+    int maxPeelLayers = 0;         // render.depth_peeling.max_layers; 0 = until a pass produces nothing
+    int memoryBudgetMb = 4096;     // render.memory_budget_mb: per-pixel buffers must fit
+    bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv
 };
 
 // Blinn-Phong. direction is in camera space and points from the surface toward the light.

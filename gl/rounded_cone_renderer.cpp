@@ -4,6 +4,7 @@
 #include "core/shading.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
+#include "gl/transparent_renderer.h"
 
 namespace tc::gl {
 
@@ -68,7 +69,8 @@ nlohmann::json RoundedConeRenderer::describe() const {
 std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {
     switch (scene.render.technique) {
     case RenderTechnique::Rasterized:
-        return RoundedConeRenderer::create(scene, lines);
+        if (scene.render.transparency == Transparency::Opaque) return RoundedConeRenderer::create(scene, lines);
+        return TransparentRenderer::create(scene, lines);
     }
     throw InputError("unsupported render.technique");
 }

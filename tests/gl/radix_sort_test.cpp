@@ -206,9 +206,10 @@ TEST_F(RadixSortTest, scene_keys_equal_cpu_keys_bit_for_bit_and_sort_front_to_ba
         }
         EXPECT_EQ(mismatches, 0u);
         EXPECT_EQ(download(ids, segments), iota(segments));
-        if (orthographic)  // the eye is inside the cloud: some segments are behind it
+        if (orthographic) {  // the eye is inside the cloud: some segments are behind it
             EXPECT_TRUE(std::any_of(cpuKeys.begin(), cpuKeys.end(),
                                     [](std::uint32_t k) { return floatFromSortKey(k) < 0; }));
+        }
 
         sorter().sort(keys, ids, segments);
         Pairs expected = referenceSort(cpuKeys, iota(segments));

@@ -1,0 +1,296 @@
+#include "gl/transparent_renderer.h"
+
+#include <cstring>
+#include <iostream>
+#include <limits>
+
+#include "core/error.h"
+#include "core/shading.h"
+#include "gl/gpu_timer.h"
+#include "gl/shader_library.h"
+
+namespace tc::gl {
+
+namespace {
+
+constexpr GLuint kKBufferBinding = 7;
+constexpr GLuint kPreviousLayerBinding = 8;
+constexpr GLuint kCurrentLayerBinding = 9;
+constexpr GLuint kCandidatesBinding = 10;
+
+bool hasExtension(const char* name) {
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    for (GLint i = 0; i < count; ++i)
+        if (std::strcmp(reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i))), name) == 0) return true;
+    return false;
+}
+
+bool isLlvmpipe() {
+    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    return renderer && std::strstr(renderer, "llvmpipe");
+}
+
+void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
+    glClearNamedBufferData(buffer.id(), GL_RG32UI, GL_RG_INTEGER, GL_UNSIGNED_INT, &value);
+}
+
+std::string mode(Transparency t) {
+    switch (t) {
+    case Transparency::ObjectOrder: return "object_order";
+    case Transparency::KBuffer: return "kbuffer";
+    case Transparency::DepthPeeling: return "depth_peeling";
+    case Transparency::Opaque: return "opaque";
+    }
+    return "?";
+}
+
+}  // namespace
+
+std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& scene, const StyledLines& lines) {
+    std::unique_ptr<TransparentRenderer> r(
+        new TransparentRenderer(LineGeometry::create(lines, scene.render.billboards)));
+    const RenderSpec& rs = scene.render;
+    r->m_mode = rs.transparency;
+    r->m_k = rs.kbufferK;
+    r->m_capClipping = rs.capClipping;
+    r->m_maxPeelLayers = rs.maxPeelLayers;
+    r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
+    r->m_lighting = scene.lighting;
+    if (scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId)
+        r->m_gbuffer = GBufferPass::create(r->m_geometry);
+
+    // Per-pixel read-modify-write must be ordered: interlock where the GPU has it, llvmpipe's
+    // in-order per-pixel shading with blending on (../shared/notes/llvmpipe.md), else a warning.
+    std::vector<std::string> syncDefines;
+    if (hasExtension("GL_ARB_fragment_shader_interlock")) {
+        syncDefines.push_back("USE_INTERLOCK");
+        r->m_synchronisation = "ARB_fragment_shader_interlock";
+    } else if (isLlvmpipe()) {
+        r->m_synchronisation = "llvmpipe per-pixel primitive order (blending on)";
+    } else {
+        r->m_synchronisation = "none (unordered: results may race)";
+        if (rs.transparency != Transparency::ObjectOrder)
+            std::cerr << "warning: this GPU has no fragment shader interlock and is not llvmpipe; the "
+                      << mode(rs.transparency) << " per-pixel updates are not ordered and may race\n";
+    }
+
+    switch (r->m_mode) {
+    case Transparency::ObjectOrder:
+        r->m_blendProgram = r->m_geometry.compileDrawProgram("object_order.frag", {"DRAW_ORDER"});
+        break;
+    case Transparency::KBuffer: {
+        std::vector<std::string> defines = syncDefines;
+        defines.push_back("DRAW_ORDER");
+        defines.push_back("KBUFFER_K " + std::to_string(r->m_k));
+        r->m_blendProgram = r->m_geometry.compileDrawProgram("kbuffer_insert.frag", defines);
+        r->m_resolveProgram = compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"},
+                                              {GL_FRAGMENT_SHADER, "kbuffer_resolve.frag"}},
+                                             {"KBUFFER_K " + std::to_string(r->m_k)});
+        break;
+    }
+    case Transparency::DepthPeeling: {
+        std::vector<std::string> defines = syncDefines;
+        if (hasExtension("GL_ARB_shader_atomic_int64")) {
+            defines = {"USE_ATOMIC64"};
+            r->m_synchronisation = "ARB_shader_atomic_int64 (atomicMin)";
+        }
+        auto minDefines = defines, shadeDefines = defines;
+        minDefines.push_back("PEEL_MIN");
+        shadeDefines.push_back("PEEL_SHADE");
+        r->m_peelMinProgram = r->m_geometry.compileDrawProgram("depth_peel.frag", minDefines);
+        r->m_peelShadeProgram = r->m_geometry.compileDrawProgram("depth_peel.frag", shadeDefines);
+        r->m_candidates = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        break;
+    }
+    case Transparency::Opaque:
+        TC_CHECK(false);
+    }
+    if (r->m_mode != Transparency::DepthPeeling) {
+        r->m_sortKeys = SegmentSortKeys::create();
+        r->m_radixSort = RadixSort::create();
+    }
+    r->m_emptyVao = VertexArray::create();
+    return r;
+}
+
+void TransparentRenderer::resize(int width, int height) {
+    if (width == m_width && height == m_height) return;
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    std::size_t bytes = pixels * 16;  // the float colour target
+    if (m_mode == Transparency::KBuffer) bytes += pixels * std::size_t(m_k) * 8;
+    if (m_mode == Transparency::DepthPeeling) bytes += pixels * 16;
+    if (bytes > m_memoryBudgetBytes)
+        throw InputError("render.memory_budget_mb: " + mode(m_mode) + " at " + std::to_string(width) + "x" +
+                         std::to_string(height) + (m_mode == Transparency::KBuffer ? " with k=" + std::to_string(m_k) : "") +
+                         " needs " + std::to_string(bytes / (1024 * 1024) + 1) + " MB of per-pixel buffers, over the budget of " +
+                         std::to_string(m_memoryBudgetBytes / (1024 * 1024)) + " MB (lower image size or k, or raise the budget)");
+    m_width = width;
+    m_height = height;
+    m_color = makeTexture2D(GL_RGBA32F, width, height);
+    m_framebuffer = Framebuffer::create();
+    glNamedFramebufferTexture(m_framebuffer.id(), GL_COLOR_ATTACHMENT0, m_color.id(), 0);
+    glNamedFramebufferDrawBuffer(m_framebuffer.id(), GL_COLOR_ATTACHMENT0);
+    checkFramebuffer(m_framebuffer, "transparency target");
+    if (m_mode == Transparency::KBuffer) {
+        m_kbuffer = makeBuffer(pixels * std::size_t(m_k) * 8);
+        clearBuffer64(m_kbuffer, ~std::uint64_t(0));  // the resolve pass leaves it empty again
+    }
+    if (m_mode == Transparency::DepthPeeling)
+        for (auto& b : m_peelKeys) b = makeBuffer(pixels * 8);
+}
+
+void TransparentRenderer::sortSegments(const FrameSetup& setup, StageTimer& timer) {
+    const Camera& cam = setup.camera;
+    if (m_sortedFor && m_sortedFor->eye == cam.eye && m_sortedFor->target == cam.target &&
+        m_sortedFor->projection == cam.projection)
+        return;  // the order depends on the eye (and the view direction for orthographic)
+    timer.begin("sort");
+    const std::size_t n = m_geometry.segmentCount();
+    m_sortKeys->compute(m_geometry.positionRadiusBuffer(), m_geometry.segmentVerticesBuffer(), n, cam.eye,
+                        cam.projection == Projection::Orthographic, cam.forward(), m_sortKeyBuffer, m_drawOrder);
+    m_radixSort->sort(m_sortKeyBuffer, m_drawOrder, n);
+    timer.setItems(n);
+    timer.end();
+    m_sortedFor = cam;
+}
+
+void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup) const {
+    m_geometry.setCameraUniforms(p, setup);
+    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
+    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
+    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
+                       m_lighting.specular, m_lighting.shininess);
+    glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
+    glProgramUniform1ui(p, uniformLocation(p, "uImageWidth"), GLuint(setup.width));
+}
+
+void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+    resize(setup.width, setup.height);
+    m_geometry.computeBillboards(setup, timer);
+    if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
+    if (m_mode != Transparency::DepthPeeling) sortSegments(setup, timer);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
+    glViewport(0, 0, setup.width, setup.height);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 0, zero);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    // Front-to-back "under" compositing of premultiplied colour: dst += (1 - dst.a) * src.
+    // Blending also keeps llvmpipe's per-pixel primitive order for the read-modify-write passes.
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+
+    switch (m_mode) {
+    case Transparency::ObjectOrder: renderObjectOrder(setup, timer); break;
+    case Transparency::KBuffer: renderKBuffer(setup, timer); break;
+    case Transparency::DepthPeeling: renderDepthPeeling(setup, timer); break;
+    case Transparency::Opaque: TC_CHECK(false);
+    }
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+
+    timer.begin("readback");
+    const int w = setup.width, h = setup.height;
+    out.width = w;
+    out.height = h;
+    out.rgba.resize(4 * std::size_t(w) * h);
+    readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), out.rgba.data());
+    if (m_gbuffer) {
+        m_gbuffer->readAovs(out);
+    } else {
+        const std::size_t n = std::size_t(w) * h;
+        out.depth.assign(n, std::numeric_limits<float>::infinity());
+        out.normal.assign(3 * n, 0.0f);
+        out.id.assign(n, kBackgroundId);
+    }
+    out.ao.clear();
+    timer.end();
+}
+
+void TransparentRenderer::renderObjectOrder(const FrameSetup& setup, StageTimer& timer) {
+    timer.begin("blend");
+    const GLuint p = m_blendProgram.id();
+    setFragmentUniforms(p, setup);
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawOrderBinding, m_drawOrder.id());
+    m_geometry.draw(0, m_geometry.segmentCount());
+    timer.setItems(m_geometry.segmentCount());
+    timer.end();
+}
+
+void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageTimer& timer) {
+    timer.begin("kbuffer");
+    const GLuint p = m_blendProgram.id();
+    setFragmentUniforms(p, setup);
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawOrderBinding, m_drawOrder.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
+    m_geometry.draw(0, m_geometry.segmentCount());
+    timer.setItems(m_geometry.segmentCount());
+    timer.end();
+
+    timer.begin("resolve");
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    const GLuint r = m_resolveProgram.id();
+    glProgramUniform1ui(r, uniformLocation(r, "uImageWidth"), GLuint(setup.width));
+    glUseProgram(r);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
+    glBindVertexArray(m_emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    timer.end();
+}
+
+void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageTimer& timer) {
+    timer.begin("peel");
+    const GLuint pMin = m_peelMinProgram.id(), pShade = m_peelShadeProgram.id();
+    setFragmentUniforms(pMin, setup);
+    setFragmentUniforms(pShade, setup);
+    int previous = 0;
+    clearBuffer64(m_peelKeys[previous], 0);  // every fragment's key is > 0 (depth > 0)
+    clearBuffer64(m_peelKeys[1 - previous], ~std::uint64_t(0));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCandidatesBinding, m_candidates.id());
+    int layers = 0;
+    while (m_maxPeelLayers == 0 || layers < m_maxPeelLayers) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPreviousLayerBinding, m_peelKeys[previous].id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCurrentLayerBinding, m_peelKeys[1 - previous].id());
+        const GLuint zeroCount = 0;
+        glNamedBufferSubData(m_candidates.id(), 0, sizeof(GLuint), &zeroCount);
+        glUseProgram(pMin);
+        m_geometry.draw(0, m_geometry.segmentCount());
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        GLuint candidates = 0;
+        glGetNamedBufferSubData(m_candidates.id(), 0, sizeof(GLuint), &candidates);
+        if (candidates == 0) break;
+        glUseProgram(pShade);
+        m_geometry.draw(0, m_geometry.segmentCount());
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        ++layers;
+        previous = 1 - previous;
+        clearBuffer64(m_peelKeys[1 - previous], ~std::uint64_t(0));
+    }
+    m_lastPeelLayers = layers;
+    timer.setItems(std::uint64_t(layers));
+    timer.end();
+}
+
+nlohmann::json TransparentRenderer::describe() const {
+    const BillboardPath path = m_geometry.billboardPath();
+    nlohmann::json j = {{"technique", "rasterized"},
+                        {"transparency", mode(m_mode)},
+                        {"cap_clipping", m_capClipping},
+                        {"billboards", path == BillboardPath::Compute  ? "compute pre-pass, vertex pulling"
+                                       : path == BillboardPath::Vertex ? "vertex shader, vertex pulling"
+                                                                       : "geometry shader"},
+                        {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
+    if (m_mode == Transparency::KBuffer) j["k"] = m_k;
+    if (m_mode != Transparency::ObjectOrder) j["synchronisation"] = m_synchronisation;
+    if (m_mode != Transparency::DepthPeeling) j["sort"] = "GPU radix sort of segment distance keys";
+    return j;
+}
+
+}  // namespace tc::gl

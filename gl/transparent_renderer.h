@@ -1,0 +1,63 @@
+#pragma once
+// Transparent rounded cones (Groß & Gumhold 2020, Sect. 3-4): object order (sorted segments,
+// plain blending), the k-buffer (sorted segments, per-pixel sorted lists of k fragments) and depth
+// peeling (the exact ground truth), all blending premultiplied colour front to back with the
+// "under" operator into a float target cleared to 0. Fragments come from shaders/
+// transparent_fragment.glsl: one per tube entry after cap clipping (Sect. 5.4).
+#include <optional>
+
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "gl/gbuffer_pass.h"
+#include "gl/line_geometry.h"
+#include "gl/objects.h"
+#include "gl/radix_sort.h"
+#include "gl/sort_keys.h"
+#include "gl/technique.h"
+
+namespace tc::gl {
+
+class TransparentRenderer final : public Technique {
+public:
+    static std::unique_ptr<TransparentRenderer> create(const Scene& scene, const StyledLines& lines);
+
+    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    nlohmann::json describe() const override;
+
+    // Layers peeled in the last frame (depth peeling), for tests and timings.
+    int lastPeelLayers() const { return m_lastPeelLayers; }
+
+private:
+    TransparentRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
+    void resize(int width, int height);
+    void sortSegments(const FrameSetup& setup, StageTimer& timer);
+    void setFragmentUniforms(GLuint program, const FrameSetup& setup) const;
+    void renderObjectOrder(const FrameSetup& setup, StageTimer& timer);
+    void renderKBuffer(const FrameSetup& setup, StageTimer& timer);
+    void renderDepthPeeling(const FrameSetup& setup, StageTimer& timer);
+
+    Transparency m_mode = Transparency::KBuffer;
+    int m_k = 8;
+    bool m_capClipping = true;
+    int m_maxPeelLayers = 0;
+    std::size_t m_memoryBudgetBytes = 0;
+    LightingSpec m_lighting;
+    std::string m_synchronisation;  // which ordering guarantee the per-pixel lists rely on
+
+    LineGeometry m_geometry;
+    std::optional<GBufferPass> m_gbuffer;  // for the depth / normal / id AOVs, when requested
+    std::optional<SegmentSortKeys> m_sortKeys;
+    std::optional<RadixSort> m_radixSort;
+    Buffer m_sortKeyBuffer, m_drawOrder;
+    std::optional<Camera> m_sortedFor;  // the camera the draw order was sorted for
+
+    Program m_blendProgram, m_resolveProgram, m_peelMinProgram, m_peelShadeProgram;
+    VertexArray m_emptyVao;
+    int m_width = 0, m_height = 0;
+    Texture m_color;
+    Framebuffer m_framebuffer;
+    Buffer m_kbuffer, m_peelKeys[2], m_candidates;
+    int m_lastPeelLayers = 0;
+};
+
+}  // namespace tc::gl

@@ -1,0 +1,19 @@
+// The per-pixel k-buffer (Groß & Gumhold 2020, Sect. 4.2): KBUFFER_K entries per pixel, each a
+// 64-bit key: the float bits of the view depth in the high 32 bits (positive floats order like
+// unsigned integers) and the straight RGBA8 colour in the low 32 bits, kept sorted ascending.
+// kEmpty (all bits set) sorts after every fragment. GLSL 4.50 chunk; needs KBUFFER_K and, at the
+// top of the including shader, #extension GL_ARB_gpu_shader_int64.
+
+layout(std430, binding = 7) coherent buffer KBuffer { uint64_t kbuffer[]; };
+
+uniform uint uImageWidth;
+
+const uint64_t kEmpty = 0xFFFFFFFFFFFFFFFFul;
+
+uint kbufferBase(ivec2 pixel) { return (uint(pixel.y) * uImageWidth + uint(pixel.x)) * uint(KBUFFER_K); }
+
+uint64_t packFragment(float depth, vec4 straightColor) {
+    return (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(packUnorm4x8(straightColor));
+}
+
+vec4 unpackColor(uint64_t entry) { return unpackUnorm4x8(uint(entry & 0xFFFFFFFFul)); }

@@ -1,0 +1,63 @@
+// One transparent fragment of a segment: the ray-cast entry into its rounded cone after cap
+// clipping (core/cap_clipping.h has the rule; core/transparent_reference.cpp is the CPU twin),
+// shaded with Blinn-Phong, with the vertex alpha interpolated along the segment. Shared by the
+// object-order, k-buffer and depth-peeling fragment shaders. GLSL 4.50 chunk.
+#include "camera.glsl"
+#include "rounded_cone.glsl"
+#include "cap_clipping.glsl"
+#include "shading.glsl"
+#include "line_buffers.glsl"
+#include "frame_uniforms.glsl"
+
+uniform float uFarDepth;
+uniform bool uCapClipping;
+uniform vec3 uLightDir;    // world space, toward the light
+uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
+
+flat in uint vSegment;
+
+const uint kFirstOfPolyline = 1u;
+const uint kLastOfPolyline = 2u;
+
+struct LineFragment {
+    float depth;  // view-space depth, > 0
+    vec4 color;   // shaded linear RGB, straight alpha
+    vec3 normal;  // outward world normal
+};
+
+bool lineFragment(out LineFragment f) {
+    uint v0 = segmentVertices[2u * vSegment];
+    uint v1 = segmentVertices[2u * vSegment + 1u];
+    vec4 a = positionRadius[v0];
+    vec4 b = positionRadius[v1];
+    Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
+    ConeInterval cone = intersectRoundedCone(ray, RoundedCone(a.xyz, a.w, b.xyz, b.w));
+    vec4 plane0 = vec4(0.0), plane1 = vec4(0.0);
+    bool clip0 = false, clip1 = false;
+    if (uCapClipping) {
+        // Polylines are contiguous in the vertex arrays: the neighbours are v0 - 1 and v1 + 1.
+        bool hasPrev = (vertexFlags[v0] & kFirstOfPolyline) == 0u;
+        bool hasNext = (vertexFlags[v1] & kLastOfPolyline) == 0u;
+        vec3 prev = hasPrev ? positionRadius[v0 - 1u].xyz : a.xyz;
+        vec3 next = hasNext ? positionRadius[v1 + 1u].xyz : b.xyz;
+        segmentClipPlanes(prev, a.xyz, b.xyz, next, hasPrev, hasNext, plane0, plane1, clip0, clip1);
+    }
+    float t;
+    vec3 n;
+    if (!segmentFragment(ray, cone, plane0, plane1, clip0, clip1, t, n)) return false;
+    f.depth = viewDepth(ray, t);
+    if (!(f.depth > 0.0)) return false;
+    vec3 p = ray.origin + t * ray.dir;
+    vec3 axis = b.xyz - a.xyz;
+    float len2 = dot(axis, axis);
+    float s = len2 > 0.0 ? clamp(dot(p - a.xyz, axis) / len2, 0.0, 1.0) : 0.0;
+    vec4 albedo = mix(vertexColor[v0], vertexColor[v1], s);
+    f.color = vec4(shadeBlinnPhong(albedo.rgb, n, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y, uLightTerms.z,
+                                   uLightTerms.w),
+                   albedo.a);
+    // Shaded colour is clamped to [0, 1] in every transparent path: the k-buffer stores RGBA8, and
+    // the references must blend the same values (core/transparent_reference.cpp does too).
+    f.color.rgb = clamp(f.color.rgb, 0.0, 1.0);
+    f.normal = n;
+    return true;
+}
