@@ -460,14 +460,3 @@ TEST_F(RoundedConeRendererTest, describe_names_the_technique) {
 
 }  // namespace
 }  // namespace tc::test
-#include "gl/shader_library.h"
-namespace tc::test { namespace {
-class MutTest : public GlTest { void TearDown() override { gl::ShaderLibrary::instance().setOverrideDir(""); } };
-TEST_F(MutTest, mut_billboard) {
-  gl::ShaderLibrary::instance().setOverrideDir(std::getenv("MUT_DIR"));
-  RandomSceneOptions o; o.polylines = 12; o.minSegments = 2; o.maxSegments = 4; o.radiusMin = 0.003f;
-  const StyledLines lines = randomLineScene(21, o);
-  const Comparison c = compareWithReference(lines, lookAt(eyeFromSeed(21, 4.0f), {0, 0, 0}), 128, 96);
-  std::printf("MUT thin: %s\n", c.summary().c_str());
-}
-}}
