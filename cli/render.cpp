@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "core/animation.h"
 #include "core/compositing.h"
 #include "core/error.h"
+#include "core/image_metrics.h"
 #include "core/scene.h"
 #include "core/styling.h"
 #include "gl/context.h"
@@ -145,6 +147,15 @@ void runRender(const RenderOptions& o) {
                   << context.info().renderer << ", " << styled.segmentCount() << " segments, " << todo.size()
                   << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
     auto technique = gl::createTechnique(scene, styled);
+    // render.reference: the same frames by depth peeling, compared per frame into quality.csv.
+    std::unique_ptr<gl::Technique> reference;
+    if (scene.render.referenceDepthPeeling) {
+        Scene refScene = scene;
+        refScene.render.transparency = Transparency::DepthPeeling;
+        refScene.render.maxPeelLayers = 0;
+        refScene.output.aovDepth = refScene.output.aovNormal = refScene.output.aovId = false;
+        reference = gl::createTechnique(refScene, styled);
+    }
 
     const float aspect = float(scene.image.width) / float(scene.image.height);
     const Camera base = fitCamera(scene.camera, styled.bounds, aspect);
@@ -169,6 +180,14 @@ void runRender(const RenderOptions& o) {
 
     std::unique_ptr<TimingsCsv> csv;
     if (out.timings) csv = std::make_unique<TimingsCsv>(timingsPath, o.resume && fs::exists(timingsPath));
+    std::unique_ptr<std::ofstream> quality;
+    if (reference) {
+        const std::string qualityPath = (fs::path(out.dir) / "quality.csv").string();
+        bool append = o.resume && fs::exists(qualityPath);
+        quality = std::make_unique<std::ofstream>(qualityPath, append ? std::ios::app : std::ios::trunc);
+        if (!*quality) throw OutputError(qualityPath + ": cannot open for writing");
+        if (!append) *quality << "frame,reference,rmse,psnr_db,max_error\n" << std::flush;
+    }
 
     ExrOptions exr;
     exr.depth = out.aovDepth;
@@ -187,6 +206,20 @@ void runRender(const RenderOptions& o) {
         FrameImages images;
         technique->render(setup, images, timer);
 
+        std::vector<TimingRow> rows;
+        for (const auto& st : timer.collect()) rows.push_back({plan.frame, st.stage, st.gpuMs, st.cpuMs, st.items});
+        if (reference) {
+            gl::StageTimer refTimer;
+            FrameImages refImages;
+            reference->render(setup, refImages, refTimer);
+            double refMs = 0;
+            for (const auto& st : refTimer.collect()) refMs += st.cpuMs;
+            rows.push_back({plan.frame, "reference", -1.0, refMs, 0});
+            ImageMetrics m = compareRgba(images.rgba, refImages.rgba);
+            *quality << plan.frame << ",depth_peeling," << m.rmse << "," << m.psnr << "," << m.maxError << "\n"
+                     << std::flush;
+        }
+
         auto writeStart = std::chrono::steady_clock::now();
         compositeUnder(images, scene.image.background);
         for (const auto& path : plan.paths) {
@@ -195,8 +228,6 @@ void runRender(const RenderOptions& o) {
         }
         double writeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - writeStart).count();
 
-        std::vector<TimingRow> rows;
-        for (const auto& st : timer.collect()) rows.push_back({plan.frame, st.stage, st.gpuMs, st.cpuMs, st.items});
         rows.push_back({plan.frame, "write", -1.0, writeMs, plan.paths.size()});
         double frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count();
         rows.push_back({plan.frame, "frame", -1.0, frameMs, styled.segmentCount()});

@@ -43,7 +43,9 @@ void collectFragments(const StyledLines& lines, const Ray& ray, const Camera& ca
         f.t = t;
         f.segment = std::uint32_t(s);
         f.normal = n;
-        f.rgb = shadeBlinnPhong(glm::vec3(base), n, ray.dir, lightDir, light);
+        // Clamped like the GPU fragment (shaders/transparent_fragment.glsl): the k-buffer stores
+        // RGBA8, so every transparent path blends colours in [0, 1].
+        f.rgb = glm::clamp(shadeBlinnPhong(glm::vec3(base), n, ray.dir, lightDir, light), 0.0f, 1.0f);
         f.alpha = base.w;
         out.push_back(f);
     }

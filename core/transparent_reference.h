@@ -20,7 +20,7 @@ struct TransparentFragment {
     float t;                 // ray parameter, > 0
     std::uint32_t segment;   // index into segmentVertices / 2
     glm::vec3 normal;        // outward world normal of the tube
-    glm::vec3 rgb;           // shaded, linear, not premultiplied
+    glm::vec3 rgb;           // shaded, clamped to [0, 1], linear, not premultiplied
     float alpha;             // straight
 };
 
@@ -28,8 +28,9 @@ struct TransparentFragment {
 // segmentFragment (core/cap_clipping.h) with segmentClipPlanes when capClipping, else with no
 // planes (tIn if > 0, else tOut if > 0: an eye inside a tube sees its inner wall). Colour and
 // alpha are the vertex RGBA interpolated linearly by the hit's clamped projection parameter on
-// the segment (as renderReferenceOpaque), colour shaded two-sided Blinn-Phong. `out` is cleared
-// and reused (no allocation once it has grown).
+// the segment (as renderReferenceOpaque), colour shaded two-sided Blinn-Phong and clamped to
+// [0, 1] (as the GPU transparent fragment: the k-buffer stores RGBA8). `out` is cleared and reused
+// (no allocation once it has grown).
 void collectFragments(const StyledLines& lines, const Ray& ray, const Camera& camera, const LightingSpec& light,
                       bool capClipping, std::vector<TransparentFragment>& out);
 
