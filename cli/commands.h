@@ -12,6 +12,7 @@ void addRenderCommand(CLI::App& app);
 void addValidateCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
+void addConvertCommand(CLI::App& app);
 
 // Set by subcommands that end with a non-zero code without an exception (compare --fail).
 extern int g_exitCode;

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     tc::cli::addValidateCommand(app);
     tc::cli::addInfoCommand(app);
     tc::cli::addCompareCommand(app);
+    tc::cli::addConvertCommand(app);
 
     try {
         app.parse(argc, argv);

@@ -176,6 +176,16 @@ void runRender(const RenderOptions& o) {
     run["technique"] = technique->describe();
     run["image"] = {{"width", scene.image.width}, {"height", scene.image.height}};
     run["frames_planned"] = frames;
+    {
+        // The camera of the first planned frame (after fit), so other tools can match the view.
+        Camera c = cameraAtFrame(scene.animation, base, todo.front().frame);
+        run["camera_first_frame"] = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+                                     {"target", {c.target.x, c.target.y, c.target.z}},
+                                     {"up", {c.up.x, c.up.y, c.up.z}},
+                                     {"fov_deg", c.fovYDeg},
+                                     {"projection", c.projection == Projection::Orthographic ? "orthographic" : "perspective"},
+                                     {"ortho_height", c.orthoHeight}};
+    }
     if (out.timings) writeJsonFile(runPath, run);
 
     std::unique_ptr<TimingsCsv> csv;

@@ -1,0 +1,41 @@
+// tubecast convert IN OUT.vtp: writes a dataset (a file, or the dataset of a scene file, e.g. a
+// generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
+// scripts/bench/) see exactly the lines tubecast renders.
+#include <iostream>
+
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/scene.h"
+#include "io/dataset.h"
+#include "io/line_reader.h"
+
+namespace tc::cli {
+
+void addConvertCommand(CLI::App& app) {
+    struct Options {
+        std::string in, out;
+        std::vector<std::string> overrides;
+    };
+    auto options = std::make_shared<Options>();
+    CLI::App* cmd = app.add_subcommand("convert", "Write a dataset (or a scene's dataset) as .vtp");
+    cmd->add_option("input", options->in, "Dataset file, or a scene .json whose dataset to write")->required();
+    cmd->add_option("output", options->out, "Output .vtp file")->required();
+    cmd->add_option("--set", options->overrides, "Override a scene key (scene input only)");
+    cmd->callback([options] {
+        if (!options->out.ends_with(".vtp"))
+            throw InputError(options->out + ": only .vtp output is supported (VTK XML polydata)");
+        DatasetLoad data;
+        if (options->in.ends_with(".json")) {
+            data = loadDataset(loadScene(options->in, options->overrides).dataset);
+        } else {
+            DatasetSpec spec;
+            spec.path = options->in;
+            data = loadDataset(spec);
+        }
+        writeLineSetVtp(data.lines, options->out);
+        std::cerr << "tubecast: wrote " << options->out << " (" << data.lines.polylineCount() << " polylines, "
+                  << data.lines.segmentCount() << " segments)\n";
+    });
+}
+
+}  // namespace tc::cli

@@ -1,0 +1,450 @@
+// The transparent paths (gl/transparent_renderer.cpp: object order, k-buffer, depth peeling) against
+// their ground truths: depth peeling against the CPU reference compositor
+// (core/transparent_reference.h), the k-buffer and object order against depth peeling, and cap
+// clipping (Groß & Gumhold 2020, Sect. 5.4) against analytic tubes and the CPU reference.
+//
+// Every path shades the same fragments (shaders/transparent_fragment.glsl: one per segment entry
+// after cap clipping, colour clamped to [0, 1]) and blends them "under" in fp32 into an RGBA32F
+// target; they differ only in the order fragments are blended and in the k-buffer's RGBA8
+// storage. The tolerances below follow from that; each says why.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/image_metrics.h"
+#include "core/rounded_cone.h"
+#include "core/scene.h"
+#include "core/transparent_reference.h"
+#include "gl/gpu_timer.h"
+#include "gl/technique.h"
+#include "gl/transparent_renderer.h"
+#include "gl_fixture.h"
+#include "test_scenes.h"
+
+namespace tc::test {
+namespace {
+
+// --- Tolerances ------------------------------------------------------------------------------
+
+// CPU reference vs depth peeling, colour (linear, premultiplied), absolute, on pixels whose CPU
+// fragment set is the same in their whole 3x3 neighbourhood. Both sides cast the same rays
+// through the same intersector and shading, and accumulate "under" in fp32; the differences are
+// llvmpipe's contracted multiply-adds, pow/rsqrt approximations (specular pow(x, 32) amplifies a
+// 1e-6 relative error of the half vector ~32x) and the blend's (1 - A) * (a c) vs the CPU's
+// ((1 - A) a) c. 2e-4 is ~100x the fp32 noise of a 16-fragment composite and >= 10x below
+// anything a wrong fragment, order or clip produces (one 0.2-alpha fragment is >= 0.02).
+constexpr double kCpuColorTolerance = 2e-4;
+// Alpha does not depend on shading, only on the interpolated vertex alpha at the hit (s differs
+// by float ulps) and on fp32 accumulation of 1 - prod(1 - a_i): 2e-6 is ~16 ulps at 1.
+constexpr double kCpuAlphaTolerance = 2e-6;
+// Two CPU fragments of one pixel within this relative depth are a depth tie: the GPU's depths
+// differ from the CPU's by ~1e-6 relative, so their order may flip. Colour is not compared there
+// when flipping changes it by more than a quarter of the tolerance (a1 a2 |c1 - c2|); alpha is
+// order independent and is still compared.
+constexpr double kTieRelDepth = 1e-4;
+// One RGBA8 level's rounding: packUnorm4x8 stores round(255 x) / 255 (llvmpipe: half to even),
+// so every stored channel is within 0.5 / 255 of the float value.
+constexpr double kQuantum = 0.5 / 255.0;
+// fp32 accumulation slack on top of the analytic quantisation bounds (k-buffer vs peeling).
+constexpr double kFloatSlack = 1e-5;
+
+// --- Rendering -------------------------------------------------------------------------------
+
+struct TransparentSettings {
+    Transparency mode = Transparency::DepthPeeling;
+    int k = 8;
+    bool capClipping = true;
+    int maxPeelLayers = 0;
+    int memoryBudgetMb = 4096;
+};
+
+struct GpuFrame {
+    FrameImages images;
+    int peelLayers = 0;
+};
+
+Scene transparentScene(const TransparentSettings& s) {
+    Scene scene;
+    scene.render.transparency = s.mode;
+    scene.render.kbufferK = s.k;
+    scene.render.capClipping = s.capClipping;
+    scene.render.maxPeelLayers = s.maxPeelLayers;
+    scene.render.memoryBudgetMb = s.memoryBudgetMb;
+    // No AOVs: no G-buffer pass (faster; these tests look at RGBA only).
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    return scene;
+}
+
+GpuFrame renderGpu(const StyledLines& lines, const Camera& cam, int w, int h, const TransparentSettings& s) {
+    std::unique_ptr<gl::Technique> technique = gl::createTechnique(transparentScene(s), lines);
+    auto* renderer = dynamic_cast<gl::TransparentRenderer*>(technique.get());
+    EXPECT_NE(renderer, nullptr) << "createTechnique did not pick the transparent renderer";
+    gl::StageTimer timer;
+    GpuFrame f;
+    technique->render(gl::FrameSetup{0, cam, w, h}, f.images, timer);
+    timer.collect();
+    if (renderer) f.peelLayers = renderer->lastPeelLayers();
+    return f;
+}
+
+TransparentSettings peeling(bool capClipping = true) { return {Transparency::DepthPeeling, 8, capClipping}; }
+TransparentSettings kbuffer(int k, bool capClipping = true) { return {Transparency::KBuffer, k, capClipping}; }
+TransparentSettings objectOrder(bool capClipping = true) { return {Transparency::ObjectOrder, 8, capClipping}; }
+
+// --- CPU side: the reference image and what each pixel's fragment list says -------------------
+
+struct CpuFrame {
+    int width = 0, height = 0;
+    FrameImages images;             // renderReferenceTransparent
+    std::vector<int> count;         // fragments per pixel (depth complexity)
+    std::vector<std::uint64_t> segmentSet;   // hash of the pixel's sorted segment ids
+    std::vector<std::uint64_t> polylineSet;  // hash of the pixel's sorted polyline ids (multiset)
+    std::vector<char> colorTie;     // a depth tie whose order changes the colour
+    // Analytic bounds of |k-buffer - exact| for this pixel's fragments when each straight channel
+    // is rounded to 8 bits (first order, see kbufferBounds), and the largest fragment alpha.
+    std::vector<double> quantColorBound, quantAlphaBound;
+    int maxCount = 0;
+
+    std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
+
+    // Any pixel of the 3x3 neighbourhood with another value of `key`: the pixel lies on a
+    // silhouette (of the set of fragments), where one ray more or less through a rim legitimately
+    // changes the fragment list between CPU and GPU.
+    bool edge(const std::vector<std::uint64_t>& key, int x, int y) const {
+        const std::uint64_t k = key[index(x, y)];
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int u = x + dx, v = y + dy;
+                if (u >= 0 && v >= 0 && u < width && v < height && key[index(u, v)] != k) return true;
+            }
+        return false;
+    }
+    double neighbourhoodMax(const std::vector<double>& values, int x, int y) const {
+        double m = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int u = x + dx, v = y + dy;
+                if (u >= 0 && v >= 0 && u < width && v < height) m = std::max(m, values[index(u, v)]);
+            }
+        return m;
+    }
+};
+
+std::uint64_t hashIds(std::vector<std::uint32_t>& ids) {
+    std::sort(ids.begin(), ids.end());
+    std::uint64_t h = 1469598103934665603ull ^ ids.size();
+    for (std::uint32_t id : ids) h = (h ^ (id + 0x9e3779b9u)) * 1099511628211ull;
+    return h;
+}
+
+// The k-buffer stores each fragment's straight colour c_i and alpha a_i rounded to 8 bits
+// (|error| <= q = kQuantum). With T_i = prod_{j<i} (1 - a_j), the composite is
+// C = sum T_i a_i c_i and A = 1 - prod (1 - a_i), so to first order
+//   |dC| <= q sum_i T_i (a_i + 1)        (dC/dc_i = T_i a_i; |dC/da_i| = T_i |c_i - behind_i| <= T_i)
+//   |dA| <= q sum_i prod_{j != i} (1 - a_j) = q sum_i (1 - A) / (1 - a_i).
+// Second-order terms are bounded by q^2 n^2 (n fragments), added as they are.
+void kbufferBounds(const std::vector<TransparentFragment>& frags, double& colorBound, double& alphaBound) {
+    double transmittance = 1, sumColor = 0;
+    for (const TransparentFragment& f : frags) {
+        sumColor += transmittance * (f.alpha + 1.0);
+        transmittance *= 1.0 - f.alpha;
+    }
+    double sumAlpha = 0;
+    for (const TransparentFragment& f : frags) sumAlpha += f.alpha < 1.0f ? transmittance / (1.0 - f.alpha) : 1.0;
+    const double n = double(frags.size());
+    colorBound = kQuantum * sumColor + kQuantum * kQuantum * n * n;
+    alphaBound = kQuantum * sumAlpha + kQuantum * kQuantum * n * n;
+}
+
+CpuFrame cpuReference(const StyledLines& lines, const Camera& cam, int w, int h, bool capClipping) {
+    CpuFrame c;
+    c.width = w;
+    c.height = h;
+    const LightingSpec light;  // the default, as transparentScene's
+    c.images = renderReferenceTransparent(lines, cam, light, w, h, capClipping, &c.count);
+    const std::size_t n = std::size_t(w) * h;
+    c.segmentSet.assign(n, 0);
+    c.polylineSet.assign(n, 0);
+    c.colorTie.assign(n, 0);
+    c.quantColorBound.assign(n, 0.0);
+    c.quantAlphaBound.assign(n, 0.0);
+    std::vector<TransparentFragment> frags;
+    std::vector<std::uint32_t> ids;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = c.index(x, y);
+            collectFragments(lines, pixelRay(cam, w, h, float(x), float(y)), cam, light, capClipping, frags);
+            ids.clear();
+            for (const auto& f : frags) ids.push_back(f.segment);
+            c.segmentSet[i] = hashIds(ids);
+            ids.clear();
+            for (const auto& f : frags) ids.push_back(lines.polylineId[lines.segmentVertices[2 * f.segment]]);
+            c.polylineSet[i] = hashIds(ids);
+            for (std::size_t j = 1; j < frags.size(); ++j) {
+                const auto &a = frags[j - 1], &b = frags[j];
+                if (b.depth - a.depth <= kTieRelDepth * a.depth &&
+                    double(a.alpha) * b.alpha * glm::length(a.rgb - b.rgb) > 0.25 * kCpuColorTolerance)
+                    c.colorTie[i] = 1;
+            }
+            kbufferBounds(frags, c.quantColorBound[i], c.quantAlphaBound[i]);
+            c.maxCount = std::max(c.maxCount, int(frags.size()));
+        }
+    return c;
+}
+
+// --- Scenes ----------------------------------------------------------------------------------
+
+// Straight alpha per vertex, uniform in [lo, hi], from mt19937's raw output (deterministic).
+void setRandomAlpha(StyledLines& lines, std::uint32_t seed, float lo, float hi) {
+    std::mt19937 rng(seed);
+    for (glm::vec4& c : lines.color) c.a = lo + (hi - lo) * float(rng() >> 8) * (1.0f / 16777216.0f);
+}
+
+void setAlpha(StyledLines& lines, float a) {
+    for (glm::vec4& c : lines.color) c.a = a;
+}
+
+Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up = {0, 1, 0}, float fovYDeg = 40.0f) {
+    Camera cam;
+    cam.eye = eye;
+    cam.target = target;
+    cam.up = up;
+    cam.fovYDeg = fovYDeg;
+    return cam;
+}
+
+Camera orthographic(glm::vec3 eye, glm::vec3 target, float height, glm::vec3 up = {0, 1, 0}) {
+    Camera cam = lookAt(eye, target, up);
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = height;
+    return cam;
+}
+
+glm::vec3 eyeFromSeed(std::uint32_t seed, float distance) {
+    const float phi = 2.399963f * float(seed), z = std::fmod(0.618034f * float(seed), 1.6f) - 0.8f;
+    const float s = std::sqrt(1.0f - z * z);
+    return distance * glm::vec3(s * std::cos(phi), z, s * std::sin(phi));
+}
+
+// Small random transparent scenes: bent polylines, radii varying 5x per vertex, alpha 0.2-0.6.
+StyledLines smallTransparentScene(std::uint32_t seed) {
+    RandomSceneOptions o;
+    o.polylines = 5;
+    o.minSegments = 2;
+    o.maxSegments = 6;
+    o.radiusMin = 0.04f;
+    o.radiusRatio = 5.0f;
+    o.maxBendDeg = 60.0f;
+    StyledLines lines = randomLineScene(seed, o);
+    setRandomAlpha(lines, seed * 7919u, 0.2f, 0.6f);
+    return lines;
+}
+
+// Many overlapping tubes in a small ball: depth complexity well over 16 in the middle.
+StyledLines denseScene(std::uint32_t seed, int polylines, float alphaLo, float alphaHi) {
+    RandomSceneOptions o;
+    o.polylines = polylines;
+    o.minSegments = 3;
+    o.maxSegments = 6;
+    o.radiusMin = 0.04f;
+    o.radiusRatio = 2.5f;
+    o.stepMin = 0.15f;
+    o.stepMax = 0.3f;
+    o.maxBendDeg = 50.0f;
+    o.extent = 0.3f;
+    StyledLines lines = randomLineScene(seed, o);
+    setRandomAlpha(lines, seed * 104729u, alphaLo, alphaHi);
+    return lines;
+}
+
+// --- Comparisons -----------------------------------------------------------------------------
+
+struct CpuGpuComparison {
+    std::size_t pixels = 0, covered = 0, compared = 0, edge = 0, ties = 0;
+    std::size_t colorOver = 0, alphaOver = 0, coverageOffEdge = 0, edgeMismatch = 0;
+    double maxColor = 0, maxAlpha = 0;
+    std::string problems;
+    void note(int x, int y, const std::string& what) {
+        if (std::count(problems.begin(), problems.end(), '\n') < 8)
+            problems += "  (" + std::to_string(x) + "," + std::to_string(y) + ") " + what + "\n";
+    }
+    std::string summary() const {
+        char s[400];
+        std::snprintf(s, sizeof s,
+                      "%zu px, covered %zu, compared %zu (colour ties %zu), edge %zu (differing %zu); max colour %.3g, "
+                      "max alpha %.3g; over: colour %zu, alpha %zu, coverage off edges %zu",
+                      pixels, covered, compared, ties, edge, edgeMismatch, maxColor, maxAlpha, colorOver, alphaOver,
+                      coverageOffEdge);
+        return s;
+    }
+};
+
+// GPU image vs CPU reference, pixel by pixel, off the edges of the CPU's `key` (segment or
+// polyline set).
+CpuGpuComparison compareWithCpu(const FrameImages& gpu, const CpuFrame& cpu, const std::vector<std::uint64_t>& key) {
+    CpuGpuComparison c;
+    c.pixels = cpu.images.pixelCount();
+    if (gpu.rgba.size() != cpu.images.rgba.size()) {
+        ADD_FAILURE() << "image sizes differ";
+        return c;
+    }
+    for (int y = 0; y < cpu.height; ++y)
+        for (int x = 0; x < cpu.width; ++x) {
+            const std::size_t i = cpu.index(x, y);
+            const float* g = &gpu.rgba[4 * i];
+            const float* r = &cpu.images.rgba[4 * i];
+            c.covered += cpu.count[i] > 0;
+            double dc = 0;
+            for (int ch = 0; ch < 3; ++ch) dc = std::max(dc, double(std::abs(g[ch] - r[ch])));
+            const double da = std::abs(double(g[3]) - double(r[3]));
+            if (cpu.edge(key, x, y)) {
+                ++c.edge;
+                c.edgeMismatch += dc > kCpuColorTolerance || da > kCpuAlphaTolerance;
+                continue;
+            }
+            if ((g[3] > 0) != (r[3] > 0)) {
+                ++c.coverageOffEdge;
+                c.note(x, y, "coverage: gpu alpha " + std::to_string(g[3]) + ", cpu " + std::to_string(r[3]));
+                continue;
+            }
+            if (cpu.count[i] == 0) continue;
+            ++c.compared;
+            c.maxAlpha = std::max(c.maxAlpha, da);
+            if (!(da <= kCpuAlphaTolerance)) {
+                ++c.alphaOver;
+                c.note(x, y, "alpha gpu " + std::to_string(g[3]) + " cpu " + std::to_string(r[3]));
+            }
+            if (cpu.colorTie[i]) {
+                ++c.ties;
+                continue;
+            }
+            c.maxColor = std::max(c.maxColor, dc);
+            if (!(dc <= kCpuColorTolerance)) {
+                ++c.colorOver;
+                c.note(x, y, "colour error " + std::to_string(dc) + " (" + std::to_string(cpu.count[i]) + " fragments)");
+            }
+        }
+    return c;
+}
+
+void expectMatchesCpu(const FrameImages& gpu, const CpuFrame& cpu, const std::string& label, std::size_t minCompared) {
+    const CpuGpuComparison c = compareWithCpu(gpu, cpu, cpu.segmentSet);
+    std::printf("[ measured ] %s: %s, max depth complexity %d\n", label.c_str(), c.summary().c_str(), cpu.maxCount);
+    EXPECT_GE(c.compared, minCompared) << label << ": too few pixels compared to mean anything";
+    EXPECT_EQ(c.coverageOffEdge, 0u) << label << ": " << c.summary() << "\n" << c.problems;
+    EXPECT_EQ(c.alphaOver, 0u) << label << ": " << c.summary() << "\n" << c.problems;
+    EXPECT_EQ(c.colorOver, 0u) << label << ": " << c.summary() << "\n" << c.problems;
+    // Colour ties are where tubes interpenetrate (a curve per pair) and joint spheres without cap
+    // clipping: few pixels. Most pixels must get the full check.
+    EXPECT_LE(c.ties, c.compared / 10) << label << ": " << c.summary();
+}
+
+struct PairStats {
+    double maxColorOver = 0;   // max over pixels of |a - b| / bound (colour); <= 1 passes
+    double maxAlphaOver = 0;
+    double maxColor = 0, maxAlpha = 0;
+    std::size_t compared = 0, ties = 0;
+};
+
+// GPU vs GPU with per-pixel bounds: colour within colourBound(i), alpha within alphaBound(i);
+// colour ties (CPU) are skipped for colour only.
+PairStats compareGpuPair(const FrameImages& a, const FrameImages& b, const CpuFrame& cpu,
+                         const std::function<double(int, int)>& colorBound,
+                         const std::function<double(int, int)>& alphaBound, const std::string& label) {
+    PairStats s;
+    int reported = 0;
+    for (int y = 0; y < cpu.height; ++y)
+        for (int x = 0; x < cpu.width; ++x) {
+            const std::size_t i = cpu.index(x, y);
+            const float* pa = &a.rgba[4 * i];
+            const float* pb = &b.rgba[4 * i];
+            const double da = std::abs(double(pa[3]) - double(pb[3]));
+            const double ab = alphaBound(x, y);
+            s.maxAlpha = std::max(s.maxAlpha, da);
+            s.maxAlphaOver = std::max(s.maxAlphaOver, da / ab);
+            if (!(da <= ab) && reported++ < 5)
+                ADD_FAILURE() << label << ": alpha at (" << x << "," << y << ") " << pa[3] << " vs " << pb[3]
+                              << ", bound " << ab << ", " << cpu.count[i] << " CPU fragments";
+            ++s.compared;
+            if (cpu.colorTie[i]) {
+                ++s.ties;
+                continue;
+            }
+            double dc = 0;
+            for (int ch = 0; ch < 3; ++ch) dc = std::max(dc, double(std::abs(pa[ch] - pb[ch])));
+            const double cb = colorBound(x, y);
+            s.maxColor = std::max(s.maxColor, dc);
+            s.maxColorOver = std::max(s.maxColorOver, dc / cb);
+            if (!(dc <= cb) && reported++ < 5)
+                ADD_FAILURE() << label << ": colour at (" << x << "," << y << ") differs by " << dc << ", bound " << cb
+                              << ", " << cpu.count[i] << " CPU fragments";
+        }
+    return s;
+}
+
+double rmse(const FrameImages& a, const FrameImages& b) { return compareRgba(a.rgba, b.rgba).rmse; }
+
+// --- Tests -----------------------------------------------------------------------------------
+
+using TransparencyTest = GlTest;
+
+TEST_F(TransparencyTest, depth_peeling_matches_cpu_reference_on_random_scenes) {
+    const int w = 96, h = 72;
+    for (std::uint32_t seed : {1u, 2u, 3u}) {
+        const StyledLines lines = smallTransparentScene(seed);
+        const Camera cam = seed == 3 ? orthographic(eyeFromSeed(seed, 3.0f), {0, 0, 0}, 2.2f)
+                                     : lookAt(eyeFromSeed(seed, 3.0f), {0, 0, 0});
+        for (bool clip : {true, false}) {
+            const std::string label =
+                "seed " + std::to_string(seed) + (clip ? ", cap clipping" : ", no cap clipping");
+            SCOPED_TRACE(label);
+            const CpuFrame cpu = cpuReference(lines, cam, w, h, clip);
+            const GpuFrame gpu = renderGpu(lines, cam, w, h, peeling(clip));
+            expectMatchesCpu(gpu.images, cpu, "peel vs cpu, " + label, 800);
+            // Peeling stops at the first pass without fragments: the layer count is the depth
+            // complexity (+-1 where a rim pixel has a fragment more or less on the GPU).
+            EXPECT_NEAR(gpu.peelLayers, cpu.maxCount, 1) << label;
+        }
+    }
+}
+
+TEST_F(TransparencyTest, kbuffer_matches_depth_peeling_when_k_exceeds_depth_complexity) {
+    const int w = 96, h = 72;
+    int tested = 0;
+    for (std::uint32_t seed : {1u, 2u, 4u}) {
+        const StyledLines lines = smallTransparentScene(seed);
+        const Camera cam = lookAt(eyeFromSeed(seed, 3.0f), {0, 0, 0});
+        for (bool clip : {true, false}) {
+            const CpuFrame cpu = cpuReference(lines, cam, w, h, clip);
+            // GPU rims can add one fragment to the CPU's count.
+            const int k = cpu.maxCount + 1;
+            if (k > 16) continue;
+            ++tested;
+            const std::string label = "seed " + std::to_string(seed) + ", k " + std::to_string(k) +
+                                      (clip ? ", cap clipping" : ", no cap clipping");
+            const GpuFrame peel = renderGpu(lines, cam, w, h, peeling(clip));
+            const GpuFrame kb = renderGpu(lines, cam, w, h, kbuffer(k, clip));
+            ASSERT_LE(peel.peelLayers, k) << label;
+            // Bounds: kbufferBounds of the pixel's CPU fragments (neighbourhood max, for rims
+            // where the GPU list differs by one fragment) + fp32 slack.
+            const PairStats s = compareGpuPair(
+                kb.images, peel.images, cpu,
+                [&](int x, int y) { return cpu.neighbourhoodMax(cpu.quantColorBound, x, y) + kFloatSlack; },
+                [&](int x, int y) { return cpu.neighbourhoodMax(cpu.quantAlphaBound, x, y) + kFloatSlack; }, label);
+            std::printf("[ measured ] kbuffer vs peel, %s: max colour %.3g (%.2f of bound), max alpha %.3g (%.2f of "
+                        "bound), colour ties %zu\n",
+                        label.c_str(), s.maxColor, s.maxColorOver, s.maxAlpha, s.maxAlphaOver, s.ties);
+        }
+    }
+    EXPECT_GE(tested, 4) << "the scenes are too deep for k <= 16";
+}
+
+}  // namespace
+}  // namespace tc::test
