@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs every build and test dependency of tubecast from Debian 12 packages.
 # Idempotent: packages already installed are skipped. Works as root, or through sudo otherwise.
+#   scripts/install-deps.sh          build, test and run
+#   scripts/install-deps.sh --bench  also what scripts/bench/ compares against (VTK's Python
+#                                    bindings under Xvfb, as a ParaView user would render)
 set -euo pipefail
 
 packages=(
@@ -14,6 +17,9 @@ packages=(
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+if [ "${1:-}" = "--bench" ]; then
+  packages+=(python3-vtk9 python3-numpy xvfb xauth gnuplot-nox)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

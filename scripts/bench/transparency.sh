@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# M2's performance table: the 1M-segment tornado (configs/tornado_1m.json) at 1920x1080, opacity
+# 0.3: opaque, object order, k-buffer k = 2/4/8/16 and depth peeling (layers peeled), and the same
+# data through VTK (vtkTubeFilter, 8 sides, depth peeling without limit) under Xvfb on the same
+# llvmpipe. Quality (PSNR vs depth peeling) on a 480x270 view of the same scene.
+#   scripts/install-deps.sh --bench && scripts/build.sh && scripts/bench/transparency.sh [FRAMES]
+# Writes a Markdown table to stdout; raw outputs stay in $OUT (default /tmp/tubecast-bench).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+frames=${1:-3}
+OUT=${OUT:-/tmp/tubecast-bench}
+mkdir -p "$OUT"
+scene=configs/tornado_1m.json
+tc=build/cli/tubecast
+common=(--set 'style.opacity=0.3' --set 'output.aovs=[]' --set 'output.formats=["png"]')
+
+median_frame() {  # median "frame" wall time (ms) over the frames after the first
+  awk -F, '$2 == "frame" && $1 > 0 { v[++n] = $4 } $2 == "frame" && $1 == 0 && first == "" { first = $4 }
+    END { if (n == 0) { printf "%.0f", first; exit } asort(v); printf "%.0f", (n % 2) ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2 }' "$1"
+}
+stage() {  # median of a stage's cpu_ms
+  awk -F, -v s="$2" '$2 == s && $1 > 0 { v[++n] = $4 } END { if (n == 0) { print "-"; exit } asort(v); printf "%.0f", v[int((n + 1) / 2)] }' "$1"
+}
+
+run() {  # name, frames, extra args...
+  local name=$1 n=$2; shift 2
+  rm -rf "$OUT/$name"
+  "$tc" render "$scene" -o "$OUT/$name" -q --overwrite "${common[@]}" \
+    --set "animation={\"type\":\"orbit\",\"frames\":$n,\"degrees\":10}" --set 'output.name=f.####' "$@"
+}
+
+echo "| configuration | ms/frame (median) | notes |"
+echo "|---|---|---|"
+run opaque "$frames" --set render.transparency=opaque
+echo "| opaque | $(median_frame "$OUT/opaque/timings.csv") | |"
+run object_order "$frames" --set render.transparency=object_order
+echo "| object order | $(median_frame "$OUT/object_order/timings.csv") | sort $(stage "$OUT/object_order/timings.csv" sort) ms |"
+for k in 2 4 8 16; do
+  run "kbuffer$k" "$frames" --set render.transparency=kbuffer --set "render.kbuffer.k=$k"
+  echo "| k-buffer k=$k | $(median_frame "$OUT/kbuffer$k/timings.csv") | sort $(stage "$OUT/kbuffer$k/timings.csv" sort) ms |"
+done
+run peel 1 --set render.transparency=depth_peeling
+layers=$(awk -F, '$2 == "peel" { print $5 }' "$OUT/peel/timings.csv")
+echo "| depth peeling | $(median_frame "$OUT/peel/timings.csv") | $layers layers, 1 frame |"
+
+# Quality against depth peeling on a 480x270 view of the same scene.
+for k in 2 4 8 16; do
+  rm -rf "$OUT/q$k"
+  "$tc" render "$scene" -o "$OUT/q$k" -q --overwrite "${common[@]}" --set image.width=480 --set image.height=270 \
+    --set render.transparency=kbuffer --set "render.kbuffer.k=$k" --set render.reference=depth_peeling
+  echo "| quality 480x270, k-buffer k=$k | | PSNR $(awk -F, 'NR == 2 { printf "%.1f", $4 }' "$OUT/q$k/quality.csv") dB vs depth peeling |"
+done
+rm -rf "$OUT/qoo"
+"$tc" render "$scene" -o "$OUT/qoo" -q --overwrite "${common[@]}" --set image.width=480 --set image.height=270 \
+  --set render.transparency=object_order --set render.reference=depth_peeling
+echo "| quality 480x270, object order | | PSNR $(awk -F, 'NR == 2 { printf "%.1f", $4 }' "$OUT/qoo/quality.csv") dB vs depth peeling |"
+
+# VTK, as a ParaView user renders it.
+if command -v xvfb-run >/dev/null && python3 -c "import vtk" 2>/dev/null; then
+  "$tc" convert "$scene" "$OUT/tornado_1m.vtp" 2>/dev/null
+  xvfb-run -a -s "-screen 0 1920x1080x24" python3 scripts/bench/vtk_tubes.py "$OUT/tornado_1m.vtp" \
+    "$OUT/kbuffer8/run.json" --radius 0.0025 --opacity 0.3 --frames "$frames" > "$OUT/vtk_peel.txt" 2>&1 || true
+  xvfb-run -a -s "-screen 0 1920x1080x24" python3 scripts/bench/vtk_tubes.py "$OUT/tornado_1m.vtp" \
+    "$OUT/kbuffer8/run.json" --radius 0.0025 --opaque --frames "$frames" > "$OUT/vtk_opaque.txt" 2>&1 || true
+  echo "| VTK vtkTubeFilter opaque | $(awk '/median/ { printf "%.0f", $NF * 1000 }' "$OUT/vtk_opaque.txt") | $OUT/vtk_opaque.txt |"
+  echo "| VTK vtkTubeFilter + depth peeling (no limit) | $(awk '/median/ { printf "%.0f", $NF * 1000 }' "$OUT/vtk_peel.txt") | $OUT/vtk_peel.txt |"
+else
+  echo "| VTK | - | not run: scripts/install-deps.sh --bench installs python3-vtk9 and xvfb |"
+fi
