@@ -3,12 +3,16 @@
 #include <limits>
 
 #include "gl/gpu_timer.h"
+#include "gl/shader_library.h"
 
 namespace tc::gl {
 
 GBufferPass GBufferPass::create(const LineGeometry& geometry) {
     GBufferPass pass;
-    pass.m_program = geometry.compileDrawProgram("rounded_cone_gbuffer.frag");
+    pass.m_visibilityProgram = geometry.compileDrawProgram("rounded_cone_gbuffer.frag");
+    pass.m_attributesProgram =
+        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}});
+    pass.m_emptyVao = VertexArray::create();
     return pass;
 }
 
@@ -16,44 +20,57 @@ void GBufferPass::resize(int width, int height) {
     if (width == m_width && height == m_height) return;
     m_width = width;
     m_height = height;
+    m_segments = makeTexture2D(GL_R32UI, width, height);
+    m_depth = makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
+    m_visibility = Framebuffer::create();
+    glNamedFramebufferTexture(m_visibility.id(), GL_COLOR_ATTACHMENT0, m_segments.id(), 0);
+    glNamedFramebufferTexture(m_visibility.id(), GL_DEPTH_ATTACHMENT, m_depth.id(), 0);
+    glNamedFramebufferDrawBuffer(m_visibility.id(), GL_COLOR_ATTACHMENT0);
+    checkFramebuffer(m_visibility, "visibility buffer");
+
     m_albedo = makeTexture2D(GL_RGBA16F, width, height);       // linear straight RGBA
     m_normalDepth = makeTexture2D(GL_RGBA32F, width, height);  // world normal xyz, view depth w
     m_id = makeTexture2D(GL_R32UI, width, height);
-    m_depth = makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
-    m_framebuffer = Framebuffer::create();
-    glNamedFramebufferTexture(m_framebuffer.id(), GL_COLOR_ATTACHMENT0, m_albedo.id(), 0);
-    glNamedFramebufferTexture(m_framebuffer.id(), GL_COLOR_ATTACHMENT1, m_normalDepth.id(), 0);
-    glNamedFramebufferTexture(m_framebuffer.id(), GL_COLOR_ATTACHMENT2, m_id.id(), 0);
-    glNamedFramebufferTexture(m_framebuffer.id(), GL_DEPTH_ATTACHMENT, m_depth.id(), 0);
+    m_attributes = Framebuffer::create();
+    glNamedFramebufferTexture(m_attributes.id(), GL_COLOR_ATTACHMENT0, m_albedo.id(), 0);
+    glNamedFramebufferTexture(m_attributes.id(), GL_COLOR_ATTACHMENT1, m_normalDepth.id(), 0);
+    glNamedFramebufferTexture(m_attributes.id(), GL_COLOR_ATTACHMENT2, m_id.id(), 0);
     const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glNamedFramebufferDrawBuffers(m_framebuffer.id(), 3, buffers);
-    checkFramebuffer(m_framebuffer, "G-buffer");
+    glNamedFramebufferDrawBuffers(m_attributes.id(), 3, buffers);
+    checkFramebuffer(m_attributes, "surface attributes");
 }
 
 void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer) {
     resize(setup.width, setup.height);
     timer.begin("gbuffer");
     glViewport(0, 0, setup.width, setup.height);
-    glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
-    const float zero[4] = {0, 0, 0, 0};
-    const float normalDepthClear[4] = {0, 0, 0, std::numeric_limits<float>::infinity()};
-    const GLuint idClear[4] = {kBackgroundId, 0, 0, 0};
+    glBindFramebuffer(GL_FRAMEBUFFER, m_visibility.id());
+    const GLuint noSegment[4] = {kBackgroundId, 0, 0, 0};
     const float depthClear = 1.0f;
-    glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 1, normalDepthClear);
-    glClearNamedFramebufferuiv(m_framebuffer.id(), GL_COLOR, 2, idClear);
-    glClearNamedFramebufferfv(m_framebuffer.id(), GL_DEPTH, 0, &depthClear);
+    glClearNamedFramebufferuiv(m_visibility.id(), GL_COLOR, 0, noSegment);
+    glClearNamedFramebufferfv(m_visibility.id(), GL_DEPTH, 0, &depthClear);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
-    const GLuint p = m_program.id();
+    const GLuint p = m_visibilityProgram.id();
     geometry.setCameraUniforms(p, setup);
     glUseProgram(p);
     geometry.draw(0, geometry.segmentCount());
     glDisable(GL_DEPTH_TEST);
     timer.setItems(geometry.segmentCount());
+    timer.end();
+
+    timer.begin("surface");
+    glBindFramebuffer(GL_FRAMEBUFFER, m_attributes.id());
+    const GLuint a = m_attributesProgram.id();
+    geometry.setCameraUniforms(a, setup);
+    glUseProgram(a);
+    geometry.bind();
+    glBindTextureUnit(0, m_segments.id());
+    glBindVertexArray(m_emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
     timer.end();
 }
 

@@ -1,7 +1,8 @@
 #pragma once
-// The G-buffer pass of the rasterized line techniques: ray-cast rounded cones write the first
-// visible surface (linear albedo, outward world normal, view depth, polyline id) with a depth
-// test on gl_FragDepth. The opaque technique shades it (deferred); the transparent techniques use
+// The G-buffer pass of the rasterized line techniques, as a visibility buffer: the draw ray-casts
+// rounded cones and writes only depth (gl_FragDepth, depth-tested) and the segment id; one
+// full-screen pass then re-intersects each pixel's visible segment and writes linear albedo,
+// outward world normal + view depth, and polyline id. The opaque technique shades it (deferred); the transparent techniques use
 // it for the depth / normal / id AOVs, which are the first surface of the union of all tubes.
 #include "core/frame_images.h"
 #include "gl/line_geometry.h"
@@ -27,10 +28,11 @@ private:
     GBufferPass() = default;
     void resize(int width, int height);
 
-    Program m_program;
+    Program m_visibilityProgram, m_attributesProgram;
+    VertexArray m_emptyVao;
     int m_width = 0, m_height = 0;
-    Texture m_albedo, m_normalDepth, m_id, m_depth;
-    Framebuffer m_framebuffer;
+    Texture m_segments, m_depth, m_albedo, m_normalDepth, m_id;
+    Framebuffer m_visibility, m_attributes;
 };
 
 }  // namespace tc::gl

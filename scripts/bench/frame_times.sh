@@ -9,7 +9,7 @@ scene=$1; shift
 frames=${1:-5}; [ $# -gt 0 ] && shift
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-build/cli/tubecast render "$scene" -o "$out" -q --overwrite \
+"${TUBECAST:-build/cli/tubecast}" render "$scene" -o "$out" -q --overwrite \
   --set "animation={\"type\":\"orbit\",\"frames\":$frames,\"degrees\":30}" \
   --set "output.name=bench.####" --set 'output.formats=["png"]' "$@"
 awk -F, 'NR > 1 && $1 > 0 { v = ($3 != "" ? $3 : $4); t[$2] = t[$2] " " v; if (!($2 in seen)) { order[++n] = $2; seen[$2] = 1 } }

@@ -11,15 +11,18 @@ frames=${1:-3}
 OUT=${OUT:-/tmp/tubecast-bench}
 mkdir -p "$OUT"
 scene=configs/tornado_1m.json
-tc=build/cli/tubecast
+tc=${TUBECAST:-build/cli/tubecast}
 common=(--set 'style.opacity=0.3' --set 'output.aovs=[]' --set 'output.formats=["png"]')
 
-median_frame() {  # median "frame" wall time (ms) over the frames after the first
-  awk -F, '$2 == "frame" && $1 > 0 { v[++n] = $4 } $2 == "frame" && $1 == 0 && first == "" { first = $4 }
-    END { if (n == 0) { printf "%.0f", first; exit } asort(v); printf "%.0f", (n % 2) ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2 }' "$1"
+# mawk (Debian's awk) has no asort: sort with sort(1), then pick the median.
+median_of() { sort -n | awk '{ v[++n] = $1 } END { if (n == 0) { print "-"; exit } printf "%.0f", (n % 2) ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2 }'; }
+median_frame() {  # median "frame" wall time (ms) over the frames after the first (first if only one)
+  local n; n=$(awk -F, '$2 == "frame"' "$1" | wc -l)
+  if [ "$n" -le 1 ]; then awk -F, '$2 == "frame" { print $4 }' "$1" | median_of
+  else awk -F, '$2 == "frame" && $1 > 0 { print $4 }' "$1" | median_of; fi
 }
-stage() {  # median of a stage's cpu_ms
-  awk -F, -v s="$2" '$2 == s && $1 > 0 { v[++n] = $4 } END { if (n == 0) { print "-"; exit } asort(v); printf "%.0f", v[int((n + 1) / 2)] }' "$1"
+stage() {  # median of a stage's cpu_ms over the frames after the first
+  awk -F, -v s="$2" '$2 == s && $1 > 0 { print $4 }' "$1" | median_of
 }
 
 run() {  # name, frames, extra args...

@@ -1,0 +1,26 @@
+// The visible surface of one segment along a ray for the opaque path: the entry point, or the
+// exit point when the ray starts inside the tube (the eye inside a tube sees the inner wall).
+// tc::renderReferenceOpaque applies the same rule. GLSL 4.50 chunk, after rounded_cone.glsl.
+bool visibleHit(Ray ray, RoundedCone cone, out float t, out vec3 n) {
+    ConeInterval hit = intersectRoundedCone(ray, cone);
+    t = 0.0;
+    n = vec3(0.0);
+    if (!hit.hit) return false;
+    if (hit.tIn > 0.0) {
+        t = hit.tIn;
+        n = hit.nIn;
+        return true;
+    }
+    if (hit.tOut > 0.0) {
+        t = hit.tOut;
+        n = hit.nOut;
+        return true;
+    }
+    return false;
+}
+
+RoundedCone segmentCone(uint segment) {
+    vec4 a = positionRadius[segmentVertices[2u * segment]];
+    vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
+    return RoundedCone(a.xyz, a.w, b.xyz, b.w);
+}
