@@ -137,7 +137,11 @@ void runRender(const RenderOptions& o) {
     gl::ContextConfig config;
     config.backend = gl::parseBackend(o.backend);
     config.device = o.device;
+#ifdef NDEBUG
     config.debug = o.glDebug;
+#else
+    config.debug = true;  // debug builds always route KHR_debug messages to the log
+#endif
     config.verbose = o.verbose;
     gl::Context context = gl::Context::create(config);
     if (!o.shaderDir.empty()) gl::ShaderLibrary::instance().setOverrideDir(o.shaderDir);
