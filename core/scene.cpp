@@ -249,6 +249,16 @@ void readRender(SpecReader r, RenderSpec& rs) {
     }
     rs.memoryBudgetMb = r.getInt("memory_budget_mb", rs.memoryBudgetMb, 1, 1 << 30);
     rs.referenceDepthPeeling = r.getEnum("reference", "none", {"none", "depth_peeling"}) == "depth_peeling";
+    if (r.has("ao")) {
+        SpecReader a = r.child("ao");
+        rs.ao.enabled = a.getBool("enabled", true);
+        rs.ao.resolution = a.getInt("resolution", rs.ao.resolution, 8, 1024);
+        rs.ao.cones = a.getInt("cones", rs.ao.cones, 1, 16);
+        rs.ao.apertureDeg = a.getFloat("aperture_deg", rs.ao.apertureDeg, 10.0f, 90.0f);
+        rs.ao.distance = a.getFloat("distance", rs.ao.distance, 1e-4f, 10.0f);
+        rs.ao.strength = a.getFloat("strength", rs.ao.strength, 0.0f, 100.0f);
+        a.finish();
+    }
     r.finish();
 }
 
@@ -272,9 +282,10 @@ void readOutput(SpecReader r, OutputSpec& o) {
     if (formats.empty()) r.fail("formats", "expected at least one of \"png\", \"exr\"");
     o.png = o.exr = false;
     for (const auto& f : formats) (f == "png" ? o.png : o.exr) = true;
-    auto aovs = r.getStringList("aovs", {"depth", "normal"}, {"depth", "normal", "id"});
-    o.aovDepth = o.aovNormal = o.aovId = false;
-    for (const auto& a : aovs) (a == "depth" ? o.aovDepth : a == "normal" ? o.aovNormal : o.aovId) = true;
+    auto aovs = r.getStringList("aovs", {"depth", "normal"}, {"depth", "normal", "id", "ao"});
+    o.aovDepth = o.aovNormal = o.aovId = o.aovAo = false;
+    for (const auto& a : aovs)
+        (a == "depth" ? o.aovDepth : a == "normal" ? o.aovNormal : a == "id" ? o.aovId : o.aovAo) = true;
     o.timings = r.getBool("timings", o.timings);
     r.finish();
 }
@@ -338,6 +349,10 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);
         o.fail("name", "\"" + scene.output.name + "\" has no frame token ('####' or '{frame:04}') but the animation has " +
                            std::to_string(scene.frameCount()) + " frames");
+    }
+    if (scene.output.aovAo && !scene.render.ao.enabled) {
+        SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);
+        o.fail("aovs", "\"ao\" needs ambient occlusion: set render.ao.enabled to true");
     }
     scene.resolved = doc;
     return scene;

@@ -89,6 +89,17 @@ enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling };
 // vertex shader (vertex pulling, once per quad corner) or a geometry shader (the paper's layout).
 enum class BillboardPath { Compute, Vertex, Geometry };
 
+// render.ao: voxel cone traced ambient occlusion from a line density volume (Groß & Gumhold 2020,
+// Sect. 5.3), shared by every technique that shades surfaces.
+struct AoSpec {
+    bool enabled = false;
+    int resolution = 256;     // voxels along the longest axis of the data
+    int cones = 3;
+    float apertureDeg = 50;   // full apex angle of each cone, 10..90
+    float distance = 0.25f;   // cone length as a fraction of the bounding-box diagonal
+    float strength = 1;
+};
+
 struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
@@ -98,6 +109,7 @@ struct RenderSpec {
     int maxPeelLayers = 0;         // render.depth_peeling.max_layers; 0 = until a pass produces nothing
     int memoryBudgetMb = 4096;     // render.memory_budget_mb: per-pixel buffers must fit
     bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv
+    AoSpec ao;
 };
 
 // Blinn-Phong. direction is in camera space and points from the surface toward the light.
@@ -117,6 +129,7 @@ struct OutputSpec {
     bool aovDepth = true;
     bool aovNormal = true;
     bool aovId = false;
+    bool aovAo = false;
     bool timings = true;
 };
 
