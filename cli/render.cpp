@@ -207,6 +207,7 @@ void runRender(const RenderOptions& o) {
     exr.depth = out.aovDepth;
     exr.normal = out.aovNormal;
     exr.id = out.aovId;
+    exr.ao = out.aovAo;
     exr.metadata["tubecast:version"] = TUBECAST_VERSION;
     exr.metadata["tubecast:renderer"] = info.renderer;
 

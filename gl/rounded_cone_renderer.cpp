@@ -13,8 +13,13 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
     GBufferPass gbuffer = GBufferPass::create(geometry);
     std::unique_ptr<RoundedConeRenderer> r(new RoundedConeRenderer(std::move(geometry), std::move(gbuffer)));
     r->m_lighting = scene.lighting;
-    r->m_shadingProgram =
-        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "deferred_shading.frag"}});
+    std::vector<std::string> defines;
+    if (scene.render.ao.enabled) {
+        r->m_ao = AmbientOcclusion::create(scene.render.ao, lines);
+        defines.push_back("AMBIENT_OCCLUSION");
+    }
+    r->m_shadingProgram = compileProgram(
+        {{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "deferred_shading.frag"}}, defines);
     return r;
 }
 
@@ -24,9 +29,12 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
         m_width = w;
         m_height = h;
         m_color = makeTexture2D(GL_RGBA32F, w, h);
+        m_aoFactor = makeTexture2D(GL_R32F, w, h);
         m_shaded = Framebuffer::create();
         glNamedFramebufferTexture(m_shaded.id(), GL_COLOR_ATTACHMENT0, m_color.id(), 0);
-        glNamedFramebufferDrawBuffer(m_shaded.id(), GL_COLOR_ATTACHMENT0);
+        glNamedFramebufferTexture(m_shaded.id(), GL_COLOR_ATTACHMENT1, m_aoFactor.id(), 0);
+        const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(m_shaded.id(), 2, buffers);
         checkFramebuffer(m_shaded, "shading target");
     }
     m_geometry.computeBillboards(setup, timer);
@@ -43,6 +51,7 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     glProgramUniform3fv(s, uniformLocation(s, "uLightDir"), 1, &lightWorld[0]);
     glProgramUniform4f(s, uniformLocation(s, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
                        m_lighting.specular, m_lighting.shininess);
+    if (m_ao) m_ao->apply(s);
     glBindTextureUnit(0, m_gbuffer.albedo().id());
     glBindTextureUnit(1, m_gbuffer.normalDepth().id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -53,6 +62,10 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), out.rgba.data());
     m_gbuffer.readAovs(out);
     out.ao.clear();
+    if (m_ao) {
+        out.ao.resize(std::size_t(w) * h);
+        readTextureFlipped(m_aoFactor.id(), GL_RED, GL_FLOAT, w, h, 1, sizeof(float), out.ao.data());
+    }
     timer.end();
 }
 
@@ -63,7 +76,8 @@ nlohmann::json RoundedConeRenderer::describe() const {
             {"billboards", path == BillboardPath::Compute  ? "compute pre-pass, vertex pulling"
                            : path == BillboardPath::Vertex ? "vertex shader, vertex pulling"
                                                            : "geometry shader"},
-            {"shading", "deferred"}};
+            {"shading", "deferred"},
+            {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
 }
 
 std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {

@@ -4,6 +4,9 @@
 // one deferred full-screen shading pass, so shading (and AO later) runs once per visible pixel.
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include <optional>
+
+#include "gl/ambient_occlusion.h"
 #include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
@@ -28,7 +31,9 @@ private:
     LightingSpec m_lighting;
     Program m_shadingProgram;
     int m_width = 0, m_height = 0;
+    std::optional<AmbientOcclusion> m_ao;
     Texture m_color;  // premultiplied linear result
+    Texture m_aoFactor;
     Framebuffer m_shaded;
 };
 

@@ -63,6 +63,10 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     // Per-pixel read-modify-write must be ordered: interlock where the GPU has it, llvmpipe's
     // in-order per-pixel shading with blending on (../shared/notes/llvmpipe.md), else a warning.
     std::vector<std::string> syncDefines;
+    if (rs.ao.enabled) {
+        r->m_ao = AmbientOcclusion::create(rs.ao, lines);
+        syncDefines.push_back("AMBIENT_OCCLUSION");
+    }
     if (hasExtension("GL_ARB_fragment_shader_interlock")) {
         syncDefines.push_back("USE_INTERLOCK");
         r->m_synchronisation = "ARB_fragment_shader_interlock";
@@ -77,7 +81,9 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
 
     switch (r->m_mode) {
     case Transparency::ObjectOrder:
-        r->m_blendProgram = r->m_geometry.compileDrawProgram("object_order.frag", {"DRAW_ORDER"});
+        r->m_blendProgram = r->m_geometry.compileDrawProgram(
+            "object_order.frag", rs.ao.enabled ? std::vector<std::string>{"DRAW_ORDER", "AMBIENT_OCCLUSION"}
+                                               : std::vector<std::string>{"DRAW_ORDER"});
         break;
     case Transparency::KBuffer: {
         std::vector<std::string> defines = syncDefines;
@@ -92,7 +98,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     case Transparency::DepthPeeling: {
         std::vector<std::string> defines = syncDefines;
         if (hasExtension("GL_ARB_shader_atomic_int64")) {
-            defines = {"USE_ATOMIC64"};
+            std::erase(defines, std::string("USE_INTERLOCK"));
+            defines.push_back("USE_ATOMIC64");
             r->m_synchronisation = "ARB_shader_atomic_int64 (atomicMin)";
         }
         auto minDefines = defines, shadeDefines = defines;
@@ -111,6 +118,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         r->m_radixSort = RadixSort::create();
     }
     r->m_emptyVao = VertexArray::create();
+    // Allocate (and check the memory budget) now, before the frame loop writes any output.
+    r->resize(scene.image.width, scene.image.height);
     return r;
 }
 
@@ -163,6 +172,7 @@ void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup)
                        m_lighting.specular, m_lighting.shininess);
     glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
     glProgramUniform1ui(p, uniformLocation(p, "uImageWidth"), GLuint(setup.width));
+    if (m_ao) m_ao->apply(p);
 }
 
 void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
@@ -286,6 +296,7 @@ nlohmann::json TransparentRenderer::describe() const {
                         {"billboards", path == BillboardPath::Compute  ? "compute pre-pass, vertex pulling"
                                        : path == BillboardPath::Vertex ? "vertex shader, vertex pulling"
                                                                        : "geometry shader"},
+                        {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)},
                         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_mode == Transparency::KBuffer) j["k"] = m_k;
     if (m_mode != Transparency::ObjectOrder) j["synchronisation"] = m_synchronisation;

@@ -8,6 +8,7 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "gl/ambient_occlusion.h"
 #include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
@@ -45,6 +46,7 @@ private:
     std::string m_synchronisation;  // which ordering guarantee the per-pixel lists rely on
 
     LineGeometry m_geometry;
+    std::optional<AmbientOcclusion> m_ao;
     std::optional<GBufferPass> m_gbuffer;  // for the depth / normal / id AOVs, when requested
     std::optional<SegmentSortKeys> m_sortKeys;
     std::optional<RadixSort> m_radixSort;

@@ -1,8 +1,10 @@
-// Deferred shading of the opaque path: once per pixel, Blinn-Phong on the G-buffer, written as
-// premultiplied linear RGBA into a float target (alpha 1 where a tube is visible, 0 elsewhere).
+// Deferred shading of the opaque path: once per pixel, Blinn-Phong on the G-buffer (ambient and
+// diffuse scaled by cone traced ambient occlusion when enabled), written as premultiplied linear
+// RGBA into a float target (alpha 1 where a tube is visible, 0 elsewhere), and the AO factor.
 #include "camera.glsl"
 #include "shading.glsl"
 #include "frame_uniforms.glsl"
+#include "ambient_occlusion.glsl"
 
 layout(binding = 0) uniform sampler2D uAlbedo;
 layout(binding = 1) uniform sampler2D uNormalDepth;
@@ -10,17 +12,22 @@ uniform vec3 uLightDir;    // world space, toward the light
 uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 
 layout(location = 0) out vec4 outColor;
+layout(location = 1) out float outAo;
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec4 nd = texelFetch(uNormalDepth, pixel, 0);
+    outAo = 1.0;
     if (isinf(nd.w)) {
         outColor = vec4(0.0);
         return;
     }
     vec4 albedo = texelFetch(uAlbedo, pixel, 0);
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
-    vec3 rgb = shadeBlinnPhong(albedo.rgb, nd.xyz, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y,
+    float t = uOrthographic ? nd.w : nd.w / dot(ray.dir, uForward);
+    vec3 facing = dot(nd.xyz, ray.dir) <= 0.0 ? nd.xyz : -nd.xyz;
+    outAo = ambientOcclusion(ray.origin + t * ray.dir, facing);
+    vec3 rgb = shadeBlinnPhong(albedo.rgb * outAo, nd.xyz, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y,
                                uLightTerms.z, uLightTerms.w);
     outColor = vec4(rgb, 1.0);
 }

@@ -36,16 +36,19 @@ namespace {
 // CPU reference vs depth peeling, colour (linear, premultiplied), absolute, on pixels whose CPU
 // fragment set is the same in their whole 3x3 neighbourhood. Both sides cast the same rays
 // through the same intersector and shading, and accumulate "under" in fp32; the differences are
-// llvmpipe's contracted multiply-adds, pow/rsqrt approximations (specular pow(x, 32) amplifies a
-// 1e-6 relative error of the half vector ~32x) and the blend's (1 - A) * (a c) vs the CPU's
-// ((1 - A) a) c. 2e-4 is ~100x the fp32 noise of a 16-fragment composite and >= 10x below
-// anything a wrong fragment, order or clip produces (one 0.2-alpha fragment is >= 0.02).
-constexpr double kCpuColorTolerance = 2e-4;
-// Alpha does not depend on shading, only on the interpolated vertex alpha at the hit (s differs
-// by float ulps) and on fp32 accumulation of 1 - prod(1 - a_i): 2e-6 is ~16 ulps at 1.
-constexpr double kCpuAlphaTolerance = 2e-6;
+// llvmpipe's contracted multiply-adds and pow/rsqrt approximations and the blend's
+// (1 - A) * (a c) vs the CPU's ((1 - A) a) c. 1e-5 is ~80 ulps at 1 and 10x the measured worst
+// (9.5e-7); a wrong fragment, order or clip is >= 1e-3 off (one 0.2-alpha fragment's colour
+// moves a pixel by >= 0.02, swapping two fragments by a1 a2 |c1 - c2|).
+constexpr double kCpuColorTolerance = 1e-5;
+// Alpha does not depend on shading, only on the interpolated vertex alpha at the hit (the
+// interpolation parameter differs by float ulps) and on fp32 accumulation of 1 - prod(1 - a_i):
+// 1e-6 is ~8 ulps at 1, 5x the measured worst (2.1e-7).
+constexpr double kCpuAlphaTolerance = 1e-6;
 // Two CPU fragments of one pixel within this relative depth are a depth tie: the GPU's depths
-// differ from the CPU's by ~1e-6 relative, so their order may flip. Colour is not compared there
+// differ from the CPU's by up to ~1e-5 relative (rounded_cone_renderer_test.cpp measures 7.8e-6),
+// so their order may flip (joint spheres without cap clipping are exact ties: both segments hit
+// the same sphere). Colour is not compared there
 // when flipping changes it by more than a quarter of the tolerance (a1 a2 |c1 - c2|); alpha is
 // order independent and is still compared.
 constexpr double kTieRelDepth = 1e-4;
@@ -108,7 +111,7 @@ struct CpuFrame {
     std::vector<std::uint64_t> polylineSet;  // hash of the pixel's sorted polyline ids (multiset)
     std::vector<char> colorTie;     // a depth tie whose order changes the colour
     // Analytic bounds of |k-buffer - exact| for this pixel's fragments when each straight channel
-    // is rounded to 8 bits (first order, see kbufferBounds), and the largest fragment alpha.
+    // is rounded to 8 bits (see kbufferBounds).
     std::vector<double> quantColorBound, quantAlphaBound;
     int maxCount = 0;
 
@@ -204,11 +207,7 @@ CpuFrame cpuReference(const StyledLines& lines, const Camera& cam, int w, int h,
 // Straight alpha per vertex, uniform in [lo, hi], from mt19937's raw output (deterministic).
 void setRandomAlpha(StyledLines& lines, std::uint32_t seed, float lo, float hi) {
     std::mt19937 rng(seed);
-    for (glm::vec4& c : lines.color) c.a = lo + (hi - lo) * float(rng() >> 8) * (1.0f / 16777216.0f);
-}
-
-void setAlpha(StyledLines& lines, float a) {
-    for (glm::vec4& c : lines.color) c.a = a;
+    for (glm::vec4& c : lines.color) c.w = lo + (hi - lo) * float(rng() >> 8) * (1.0f / 16777216.0f);
 }
 
 Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up = {0, 1, 0}, float fovYDeg = 40.0f) {
@@ -233,14 +232,14 @@ glm::vec3 eyeFromSeed(std::uint32_t seed, float distance) {
     return distance * glm::vec3(s * std::cos(phi), z, s * std::sin(phi));
 }
 
-// Small random transparent scenes: bent polylines, radii varying 5x per vertex, alpha 0.2-0.6.
+// Small random transparent scenes: bent polylines, radii varying 3x per vertex, alpha 0.2-0.6.
 StyledLines smallTransparentScene(std::uint32_t seed) {
     RandomSceneOptions o;
-    o.polylines = 5;
+    o.polylines = 7;
     o.minSegments = 2;
     o.maxSegments = 6;
-    o.radiusMin = 0.04f;
-    o.radiusRatio = 5.0f;
+    o.radiusMin = 0.06f;
+    o.radiusRatio = 3.0f;
     o.maxBendDeg = 60.0f;
     StyledLines lines = randomLineScene(seed, o);
     setRandomAlpha(lines, seed * 7919u, 0.2f, 0.6f);
@@ -341,12 +340,16 @@ void expectMatchesCpu(const FrameImages& gpu, const CpuFrame& cpu, const std::st
     const CpuGpuComparison c = compareWithCpu(gpu, cpu, cpu.segmentSet);
     std::printf("[ measured ] %s: %s, max depth complexity %d\n", label.c_str(), c.summary().c_str(), cpu.maxCount);
     EXPECT_GE(c.compared, minCompared) << label << ": too few pixels compared to mean anything";
+    EXPECT_GE(c.compared, c.covered / 4) << label << ": too many covered pixels are edges";
     EXPECT_EQ(c.coverageOffEdge, 0u) << label << ": " << c.summary() << "\n" << c.problems;
+    // On edges a rim ray may gain or lose a fragment by rounding: rare (measured <= 1 % of the
+    // covered pixels), or the edge rule would hide a real difference.
+    EXPECT_LE(c.edgeMismatch, c.covered / 50) << label << ": " << c.summary();
     EXPECT_EQ(c.alphaOver, 0u) << label << ": " << c.summary() << "\n" << c.problems;
     EXPECT_EQ(c.colorOver, 0u) << label << ": " << c.summary() << "\n" << c.problems;
-    // Colour ties are where tubes interpenetrate (a curve per pair) and joint spheres without cap
-    // clipping: few pixels. Most pixels must get the full check.
-    EXPECT_LE(c.ties, c.compared / 10) << label << ": " << c.summary();
+    // Colour ties are where tubes interpenetrate (a curve per pair) and, without cap clipping,
+    // joint spheres (a fraction of each joint's disc). Most pixels must get the full check.
+    EXPECT_LE(c.ties, c.compared / 3) << label << ": " << c.summary();
 }
 
 struct PairStats {
@@ -402,15 +405,15 @@ TEST_F(TransparencyTest, depth_peeling_matches_cpu_reference_on_random_scenes) {
     const int w = 96, h = 72;
     for (std::uint32_t seed : {1u, 2u, 3u}) {
         const StyledLines lines = smallTransparentScene(seed);
-        const Camera cam = seed == 3 ? orthographic(eyeFromSeed(seed, 3.0f), {0, 0, 0}, 2.2f)
-                                     : lookAt(eyeFromSeed(seed, 3.0f), {0, 0, 0});
+        const Camera cam = seed == 3 ? orthographic(eyeFromSeed(seed, 3.0f), {0, 0, 0}, 1.8f)
+                                     : lookAt(eyeFromSeed(seed, 2.5f), {0, 0, 0});
         for (bool clip : {true, false}) {
             const std::string label =
                 "seed " + std::to_string(seed) + (clip ? ", cap clipping" : ", no cap clipping");
             SCOPED_TRACE(label);
             const CpuFrame cpu = cpuReference(lines, cam, w, h, clip);
             const GpuFrame gpu = renderGpu(lines, cam, w, h, peeling(clip));
-            expectMatchesCpu(gpu.images, cpu, "peel vs cpu, " + label, 800);
+            expectMatchesCpu(gpu.images, cpu, "peel vs cpu, " + label, 500);
             // Peeling stops at the first pass without fragments: the layer count is the depth
             // complexity (+-1 where a rim pixel has a fragment more or less on the GPU).
             EXPECT_NEAR(gpu.peelLayers, cpu.maxCount, 1) << label;
@@ -488,40 +491,42 @@ DenseErrors denseErrors(const StyledLines& lines, const Camera& cam, int w, int 
     return e;
 }
 
-// Monotonic up to this absolute RMSE: once k approaches the depth complexity of most pixels the
-// remaining error is the RGBA8 quantisation of each fragment (uniform +-q: RMSE ~ q / sqrt(3) per
-// fragment, partly averaging out over a composite), and k and 2k round different fragments, so
-// neighbouring k may swap by a fraction of that floor. 2e-4 is ~0.2 q, far below the differences
-// between orders (measured steps >= 1e-3 until k reaches the floor).
-constexpr double kMonotonicSlack = 2e-4;
+// Monotonic up to this absolute RMSE: once k reaches the depth complexity of most pixels the
+// remaining error is the RGBA8 rounding of each fragment (the floor: measured 5e-4 RMSE at alpha
+// 0.2-0.5, 2e-3 at alpha 0.05), and k and 2k blend the same rounded values in slightly different
+// orders, so neighbouring k may differ by a small fraction of that floor (measured: 2e-5). 1e-4
+// is 1/5 of the lower floor; the steps while k is below the depth complexity of most pixels are
+// >= 6.8e-4 (measured).
+constexpr double kMonotonicSlack = 1e-4;
 
 void expectErrorDecreasesWithK(const DenseErrors& e, const std::string& label) {
     for (std::size_t i = 1; i < e.kbuffer.size(); ++i)
         EXPECT_LE(e.kbuffer[i], e.kbuffer[i - 1] + kMonotonicSlack)
             << label << ": k=" << kDenseKs[i] << " is worse than k=" << kDenseKs[i - 1];
-    // Object order blends whole segments in sorted order: the k-buffer with k = 1 already
-    // reorders each pixel's nearest pair, so object order must be at least as bad.
-    EXPECT_GE(e.objectOrder, e.kbuffer[0]) << label << ": object order beats k=1";
-    // Not vacuous: the scene must be hard for small k.
-    EXPECT_GT(e.kbuffer[0], e.kbuffer.back() + 10 * kMonotonicSlack) << label << ": k barely matters in this scene";
 }
 
 TEST_F(TransparencyTest, kbuffer_error_decreases_with_k_and_object_order_is_worst_on_dense_scene) {
     const int w = 80, h = 60;
-    const StyledLines lines = denseScene(31, 40, 0.2f, 0.5f);
+    const StyledLines lines = denseScene(31, 70, 0.2f, 0.5f);
     const Camera cam = lookAt(eyeFromSeed(31, 2.6f), {0, 0, 0});
     for (bool clip : {true, false}) {
         const std::string label = std::string("dense, alpha 0.2-0.5, ") + (clip ? "cap clipping" : "no cap clipping");
         SCOPED_TRACE(label);
         const DenseErrors e = denseErrors(lines, cam, w, h, clip, label);
         EXPECT_GT(e.maxDepthComplexity, 16) << "not dense enough to exceed the largest k";
+        EXPECT_NEAR(e.peelLayers, e.maxDepthComplexity, 1);
         expectErrorDecreasesWithK(e, label);
+        // Not vacuous: the order matters in this scene (k = 1 at least twice the floor of k = 16).
+        EXPECT_GT(e.kbuffer.front(), 2.0 * e.kbuffer.back()) << label << ": k barely matters in this scene";
+        // Object order blends whole segments in sorted order; the k-buffer with k = 1 already
+        // reorders each pixel's nearest pair, so object order must be at least as bad.
+        EXPECT_GE(e.objectOrder, e.kbuffer.front()) << label << ": object order beats k=1";
     }
 }
 
 TEST_F(TransparencyTest, kbuffer_error_decreases_with_k_at_opacity_0_05_with_over_50_layers) {
     const int w = 64, h = 48;
-    StyledLines lines = denseScene(41, 110, 0.05f, 0.05f);
+    const StyledLines lines = denseScene(41, 220, 0.05f, 0.05f);
     const Camera cam = lookAt(eyeFromSeed(41, 2.2f), {0, 0, 0});
     const std::string label = "dense, alpha 0.05, cap clipping";
     const DenseErrors e = denseErrors(lines, cam, w, h, true, label);
@@ -529,8 +534,15 @@ TEST_F(TransparencyTest, kbuffer_error_decreases_with_k_at_opacity_0_05_with_ove
     EXPECT_GE(e.peelLayers, 50);
     EXPECT_NEAR(e.peelLayers, e.maxDepthComplexity, 1);
     expectErrorDecreasesWithK(e, label);
+    // At alpha 0.05 swapping two fragments changes a pixel by only a1 a2 |c1 - c2| <= 0.0025, while
+    // every k-buffer entry stores alpha 0.05 as 13/255 = 0.0510 (+2 %, the same way for every
+    // fragment: a bias, not noise). So here the k-buffer's error vs depth peeling is its RGBA8
+    // floor for every k, and object order (float, no rounding) is closer to depth peeling than
+    // any k (measured: object order 1.2e-3, k-buffer 2.6e-3 for every k). Checked: the k-buffer
+    // stays at that floor (k = 1 within 1.5x of k = 16), and object order's error is not zero.
+    EXPECT_LE(e.kbuffer.front(), 1.5 * e.kbuffer.back()) << label;
+    EXPECT_GT(e.objectOrder, 0.0) << label << ": object order equals depth peeling: the order never matters here";
 }
-
 
 TEST_F(TransparencyTest, alpha_is_order_independent_across_techniques) {
     // Alpha = 1 - prod(1 - a_i) whatever the order. Object order and depth peeling blend the same
@@ -549,7 +561,7 @@ TEST_F(TransparencyTest, alpha_is_order_independent_across_techniques) {
         for (bool clip : {true, false})
             cases.push_back({smallTransparentScene(seed), lookAt(eyeFromSeed(seed, 3.0f), {0, 0, 0}), clip,
                              "seed " + std::to_string(seed) + (clip ? ", cap clipping" : ", no cap clipping")});
-    cases.push_back({denseScene(31, 40, 0.2f, 0.5f), lookAt(eyeFromSeed(31, 2.6f), {0, 0, 0}), true, "dense"});
+    cases.push_back({denseScene(31, 70, 0.2f, 0.5f), lookAt(eyeFromSeed(31, 2.6f), {0, 0, 0}), true, "dense"});
     for (const Case& c : cases) {
         SCOPED_TRACE(c.label);
         const CpuFrame cpu = cpuReference(c.lines, c.cam, w, h, c.clip);
@@ -572,13 +584,14 @@ TEST_F(TransparencyTest, alpha_is_order_independent_across_techniques) {
 
 TEST_F(TransparencyTest, depth_peeling_stops_after_max_layers_and_its_alpha_is_at_most_the_full_peel) {
     const int w = 96, h = 72;
-    const StyledLines lines = smallTransparentScene(2);
-    const Camera cam = lookAt(eyeFromSeed(2, 3.0f), {0, 0, 0});
-    const CpuFrame cpu = cpuReference(lines, cam, w, h, true);
-    const GpuFrame full = renderGpu(lines, cam, w, h, peeling());
+    // Without cap clipping: joint spheres add layers (6 here).
+    const StyledLines lines = smallTransparentScene(3);
+    const Camera cam = lookAt(eyeFromSeed(3, 2.5f), {0, 0, 0});
+    const CpuFrame cpu = cpuReference(lines, cam, w, h, false);
+    const GpuFrame full = renderGpu(lines, cam, w, h, peeling(false));
     ASSERT_GT(full.peelLayers, 3) << "the scene must be deeper than the limits tested";
     for (int limit : {1, 3}) {
-        TransparentSettings s = peeling();
+        TransparentSettings s = peeling(false);
         s.maxPeelLayers = limit;
         const GpuFrame part = renderGpu(lines, cam, w, h, s);
         EXPECT_EQ(part.peelLayers, limit);
@@ -606,7 +619,7 @@ TEST_F(TransparencyTest, depth_peeling_stops_after_max_layers_and_its_alpha_is_a
             }
         std::printf("[ measured ] max_layers %d of %d: %zu px with lower alpha, %zu/%zu shallow px identical\n", limit,
                     full.peelLayers, lower, identical, shallow);
-        EXPECT_GT(lower, 50u) << "the limit changed (almost) nothing";
+        EXPECT_GE(lower, 20u) << "the limit changed (almost) nothing";
         EXPECT_EQ(identical, shallow);
     }
 }
@@ -629,6 +642,82 @@ TEST_F(TransparencyTest, kbuffer_over_memory_budget_is_an_input_error_naming_the
     }
     // 64 x 48 x 144 B = 0.42 MiB fits.
     EXPECT_NO_THROW(renderGpu(lines, cam, 64, 48, s));
+}
+
+TEST_F(TransparencyTest, transparent_modes_write_first_surface_aovs_only_when_requested) {
+    // With output.aov* set, depth / normal / id come from the same G-buffer pass as the opaque
+    // technique's (the first surface of the union of tubes, whatever its alpha): bit-identical.
+    // Without, the transparent path skips that pass and leaves them background.
+    const int w = 64, h = 48;
+    const StyledLines lines = smallTransparentScene(2);
+    const Camera cam = lookAt(eyeFromSeed(2, 2.5f), {0, 0, 0});
+    Scene opaque;
+    opaque.output.aovDepth = opaque.output.aovNormal = opaque.output.aovId = true;
+    gl::StageTimer timer;
+    FrameImages reference;
+    gl::createTechnique(opaque, lines)->render(gl::FrameSetup{0, cam, w, h}, reference, timer);
+    timer.collect();
+    std::size_t hits = 0;
+    for (std::uint32_t id : reference.id) hits += id != kBackgroundId;
+    ASSERT_GT(hits, 300u);
+    for (Transparency mode : {Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling}) {
+        TransparentSettings s;
+        s.mode = mode;
+        Scene scene = transparentScene(s);
+        scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = true;
+        FrameImages with;
+        gl::createTechnique(scene, lines)->render(gl::FrameSetup{0, cam, w, h}, with, timer);
+        timer.collect();
+        EXPECT_EQ(with.depth, reference.depth) << int(mode);
+        EXPECT_EQ(with.normal, reference.normal) << int(mode);
+        EXPECT_EQ(with.id, reference.id) << int(mode);
+        const FrameImages without = renderGpu(lines, cam, w, h, s).images;
+        EXPECT_EQ(without.rgba, with.rgba) << int(mode) << ": the G-buffer pass changed the colour";
+        EXPECT_TRUE(std::all_of(without.depth.begin(), without.depth.end(), [](float d) { return std::isinf(d); }));
+        EXPECT_TRUE(std::all_of(without.id.begin(), without.id.end(), [](std::uint32_t id) { return id == kBackgroundId; }));
+    }
+}
+
+TEST_F(TransparencyTest, coincident_fragments_of_duplicated_tubes_are_all_blended) {
+    // Two identical polylines (duplicated data): every ray gets two fragments with bit-identical
+    // depths. Depth peeling orders them by (depth, segment id), the k-buffer keeps equal keys, so
+    // no fragment is lost or doubled: alpha 1 - (1 - a)^2 wherever the tube is seen once.
+    const float a = 0.3f;
+    const TestPolyline line = {{{-0.8f, -0.2f, 0.1f}, 0.2f, {0.8f, 0.3f, 0.2f, a}},
+                               {{0.1f, 0.25f, -0.1f}, 0.15f, {0.2f, 0.7f, 0.3f, a}},
+                               {{0.8f, -0.1f, 0.2f}, 0.22f, {0.3f, 0.3f, 0.9f, a}}};
+    const StyledLines lines = makeStyledLines({line, line});
+    const Camera cam = lookAt({0.3f, 0.4f, 3.0f}, {0, 0, 0});
+    const int w = 96, h = 72;
+    for (bool clip : {true, false}) {
+        const CpuFrame cpu = cpuReference(lines, cam, w, h, clip);
+        for (const TransparentSettings& s : {peeling(clip), kbuffer(4, clip), objectOrder(clip)}) {
+            const std::string label = std::string(s.mode == Transparency::DepthPeeling ? "depth peeling"
+                                                  : s.mode == Transparency::KBuffer   ? "k-buffer"
+                                                                                      : "object order") +
+                                      (clip ? ", cap clipping" : ", no cap clipping");
+            const GpuFrame frame = renderGpu(lines, cam, w, h, s);
+            const FrameImages& gpu = frame.images;
+            // One peel per fragment, even with equal depths (the segment id in the peel key).
+            if (s.mode == Transparency::DepthPeeling) {
+                EXPECT_EQ(frame.peelLayers, cpu.maxCount) << label;
+            }
+            // The k-buffer stores 0.3 as 77/255 (0.30196): alpha within 2 q of the float value.
+            const double tolerance = s.mode == Transparency::KBuffer ? 2 * kQuantum + kFloatSlack : kCpuAlphaTolerance;
+            std::size_t twoLayers = 0, wrong = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const std::size_t i = cpu.index(x, y);
+                    if (cpu.count[i] != 2 || cpu.edge(cpu.segmentSet, x, y)) continue;
+                    ++twoLayers;
+                    wrong += std::abs(gpu.rgba[4 * i + 3] - (1.0 - (1.0 - a) * (1.0 - a))) > tolerance;
+                }
+            std::printf("[ measured ] duplicated tubes, %s: %zu px with two coincident fragments, %zu wrong\n",
+                        label.c_str(), twoLayers, wrong);
+            EXPECT_GT(twoLayers, 500u) << label;
+            EXPECT_EQ(wrong, 0u) << label;
+        }
+    }
 }
 
 // --- Cap clipping ------------------------------------------------------------------------------
@@ -703,12 +792,13 @@ TEST_F(TransparencyTest, cap_clipped_straight_polyline_has_the_alpha_of_one_long
         std::printf("[ measured ] straight tube, %s: %zu px compared (%zu rim px skipped): clipped vs single max |dA| "
                     "%.3g; unclipped: %zu bead px, max +%.3f\n",
                     view.c_str(), compared, rims, maxDiff, beads, maxBead);
-        EXPECT_GT(compared, 1500u);
+        EXPECT_GT(compared, 500u);
         EXPECT_EQ(mismatched, 0u) << "cap-clipped joints differ from one long segment";
         EXPECT_EQ(notA, 0u) << "the cap-clipped tube is not a single layer of alpha " << kTubeAlpha;
-        // Without cap clipping every joint sphere is a second layer: 1 - 0.6^2 = 0.64 vs 0.4.
+        // Without cap clipping every joint sphere is at least a second layer: 1 - 0.6^2 = 0.64 vs
+        // 0.4 (joints closer than a radius stack more: up to 4 layers here, +0.47).
         EXPECT_GT(beads, 12u * 10u) << "without cap clipping the joints should show";
-        EXPECT_NEAR(maxBead, 0.24, 1e-3);
+        EXPECT_GE(maxBead, 0.24 - 1e-3);
     }
 }
 
@@ -795,7 +885,7 @@ TEST_F(TransparencyTest, cap_clipped_bent_polylines_match_cpu_reference_and_show
             EXPECT_EQ(c->colorOver, 0u) << c->summary() << "\n" << c->problems;
         }
         // Not vacuous: most joint pixels are compared, not skipped as edges.
-        EXPECT_GE(on.markedCompared, jointTotal * 3 / 4) << on.summary();
+        EXPECT_GE(on.markedCompared, jointTotal / 2) << on.summary();
         EXPECT_EQ(jointNotA, 0u);
         EXPECT_GE(jointSingle, jointTotal / 2);
         // And the joints do show without cap clipping, on both sides.

@@ -1,0 +1,54 @@
+#include "gl/ambient_occlusion.h"
+
+#include <chrono>
+
+#include "core/voxel_density.h"
+#include "gl/line_geometry.h"
+
+namespace tc::gl {
+
+AmbientOcclusion AmbientOcclusion::create(const AoSpec& spec, const StyledLines& lines) {
+    AmbientOcclusion ao;
+    ao.m_spec = spec;
+    auto t0 = std::chrono::steady_clock::now();
+    DensityGrid grid = makeDensityGrid(lines.bounds, spec.resolution);
+    voxelizeLines(lines, grid);
+    auto t1 = std::chrono::steady_clock::now();
+    ao.m_volume = DensityVolume::create(grid);
+    glFinish();
+    auto t2 = std::chrono::steady_clock::now();
+    ao.m_voxelizeMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    ao.m_uploadMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    ao.m_clampedSegments = grid.clampedSegments;
+    ao.m_distance = spec.distance * glm::length(lines.bounds.extent());
+    // A tube must not occlude itself: start past its own radius and the voxel it deposited into.
+    ao.m_startOffset = lines.maxRadius + grid.voxelSize;
+    return ao;
+}
+
+void AmbientOcclusion::apply(GLuint p) const {
+    m_volume.bind();
+    m_volume.setUniforms(p);
+    glProgramUniform1i(p, uniformLocation(p, "uAoCones"), m_spec.cones);
+    glProgramUniform1f(p, uniformLocation(p, "uAoAperture"), glm::radians(m_spec.apertureDeg));
+    glProgramUniform1f(p, uniformLocation(p, "uAoDistance"), m_distance);
+    glProgramUniform1f(p, uniformLocation(p, "uAoStrength"), m_spec.strength);
+    glProgramUniform1f(p, uniformLocation(p, "uAoStartOffset"), m_startOffset);
+}
+
+nlohmann::json AmbientOcclusion::describe() const {
+    const glm::ivec3 s = m_volume.size();
+    return {{"method", "voxel cone tracing"},
+            {"grid", {s.x, s.y, s.z}},
+            {"voxel_size", m_volume.voxelSize()},
+            {"levels", m_volume.levels()},
+            {"cones", m_spec.cones},
+            {"aperture_deg", m_spec.apertureDeg},
+            {"distance_world", m_distance},
+            {"voxelize_ms", m_voxelizeMs},
+            {"upload_and_mips_ms", m_uploadMs},
+            {"volume_mb", double(std::size_t(s.x) * s.y * s.z * 4) / (1024.0 * 1024.0)},
+            {"clamped_segments", m_clampedSegments}};
+}
+
+}  // namespace tc::gl

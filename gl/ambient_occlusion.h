@@ -1,0 +1,33 @@
+#pragma once
+// Line ambient occlusion for the rasterized techniques (Groß & Gumhold 2020, Sect. 5.3): the
+// density volume is voxelized on the CPU once per dataset (core/voxel_density.h), uploaded with a
+// mip pyramid (gl/density_volume.h) and cone traced per shaded point (shaders/cone_tracing.glsl).
+// Programs that trace cones are compiled with the define AMBIENT_OCCLUSION.
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "gl/density_volume.h"
+
+namespace tc::gl {
+
+class AmbientOcclusion {
+public:
+    // Voxelizes `lines` at spec.resolution and uploads the volume. Needs a current context.
+    static AmbientOcclusion create(const AoSpec& spec, const StyledLines& lines);
+
+    // Binds the volume and sets the cone tracing uniforms of `program` (uAoCones, uAoAperture,
+    // uAoDistance, uAoStrength, uAoStartOffset and the density uniforms).
+    void apply(GLuint program) const;
+    nlohmann::json describe() const;
+
+private:
+    AoSpec m_spec;
+    DensityVolume m_volume;
+    float m_distance = 0;     // world units
+    float m_startOffset = 0;  // world units: past the tube's own density
+    double m_voxelizeMs = 0, m_uploadMs = 0;
+    std::size_t m_clampedSegments = 0;
+};
+
+}  // namespace tc::gl
