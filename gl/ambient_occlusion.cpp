@@ -22,7 +22,7 @@ AmbientOcclusion AmbientOcclusion::create(const AoSpec& spec, const StyledLines&
     ao.m_clampedSegments = grid.clampedSegments;
     ao.m_distance = spec.distance * glm::length(lines.bounds.extent());
     // A tube must not occlude itself: start past its own radius and the voxel it deposited into.
-    ao.m_startOffset = lines.maxRadius + grid.voxelSize;
+    ao.m_startOffset = lines.maxRadius + 2.0f * grid.voxelSize;
     return ao;
 }
 
