@@ -73,8 +73,10 @@ struct GpuFrame {
     int peelLayers = 0;
 };
 
-Scene transparentScene(const TransparentSettings& s) {
+Scene transparentScene(const TransparentSettings& s, int width, int height) {
     Scene scene;
+    scene.image.width = width;  // the technique checks its memory budget for this size up front
+    scene.image.height = height;
     scene.render.transparency = s.mode;
     scene.render.kbufferK = s.k;
     scene.render.capClipping = s.capClipping;
@@ -86,7 +88,7 @@ Scene transparentScene(const TransparentSettings& s) {
 }
 
 GpuFrame renderGpu(const StyledLines& lines, const Camera& cam, int w, int h, const TransparentSettings& s) {
-    std::unique_ptr<gl::Technique> technique = gl::createTechnique(transparentScene(s), lines);
+    std::unique_ptr<gl::Technique> technique = gl::createTechnique(transparentScene(s, w, h), lines);
     auto* renderer = dynamic_cast<gl::TransparentRenderer*>(technique.get());
     EXPECT_NE(renderer, nullptr) << "createTechnique did not pick the transparent renderer";
     gl::StageTimer timer;
@@ -663,7 +665,7 @@ TEST_F(TransparencyTest, transparent_modes_write_first_surface_aovs_only_when_re
     for (Transparency mode : {Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling}) {
         TransparentSettings s;
         s.mode = mode;
-        Scene scene = transparentScene(s);
+        Scene scene = transparentScene(s, w, h);
         scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = true;
         FrameImages with;
         gl::createTechnique(scene, lines)->render(gl::FrameSetup{0, cam, w, h}, with, timer);

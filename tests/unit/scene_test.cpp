@@ -341,7 +341,7 @@ TEST(Scene, BadEnumValuesListTheValidOnes) {
     EXPECT_EQ(errorOf(with(R"({"render": {"technique": "kbuffer"}})")),
               "scene.json: render.technique: expected one of \"rasterized\", got \"kbuffer\"");
     EXPECT_EQ(errorOf(with(R"({"render": {"transparency": "weighted"}})")),
-              "scene.json: render.transparency: expected one of \"opaque\", got \"weighted\"");
+              "scene.json: render.transparency: expected one of \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", got \"weighted\"");
     EXPECT_EQ(errorOf(with(R"({"camera": {"projection": "fisheye"}})")),
               "scene.json: camera.projection: expected one of \"perspective\", \"orthographic\", got \"fisheye\"");
     EXPECT_EQ(errorOf(with(R"({"animation": {"type": "spin"}})")),
@@ -352,7 +352,7 @@ TEST(Scene, BadEnumValuesListTheValidOnes) {
     EXPECT_EQ(errorOf(with(R"({"output": {"formats": ["png", "tiff"]}})")),
               "scene.json: output.formats[1]: expected an array of strings from \"png\", \"exr\", got \"tiff\"");
     EXPECT_EQ(errorOf(with(R"({"output": {"aovs": ["ao"]}})")),
-              "scene.json: output.aovs[0]: expected an array of strings from \"depth\", \"normal\", \"id\", got \"ao\"");
+              "scene.json: output.aovs: \"ao\" needs ambient occlusion: set render.ao.enabled to true");
     EXPECT_EQ(errorOf(with(R"({"output": {"formats": []}})")),
               "scene.json: output.formats: expected at least one of \"png\", \"exr\"");
 }
