@@ -12,14 +12,13 @@ trap 'rm -rf "$out"' EXIT
 "${TUBECAST:-build/cli/tubecast}" render "$scene" -o "$out" -q --overwrite \
   --set "animation={\"type\":\"orbit\",\"frames\":$frames,\"degrees\":30}" \
   --set "output.name=bench.####" --set 'output.formats=["png"]' "$@"
-awk -F, 'NR > 1 && $1 > 0 { v = ($3 != "" ? $3 : $4); t[$2] = t[$2] " " v; if (!($2 in seen)) { order[++n] = $2; seen[$2] = 1 } }
-  END {
-    printf "| stage | median ms (gpu, else cpu) | frames |\n|---|---|---|\n";
-    for (i = 1; i <= n; ++i) {
-      s = order[i]; m = split(substr(t[s], 2), a, " ");
-      # insertion sort, then the median
-      for (j = 2; j <= m; ++j) { x = a[j]; k = j - 1; while (k > 0 && a[k] + 0 > x + 0) { a[k + 1] = a[k]; k-- } a[k + 1] = x }
-      med = (m % 2) ? a[(m + 1) / 2] : (a[m / 2] + a[m / 2 + 1]) / 2;
-      printf "| %s | %.1f | %d |\n", s, med, m
-    }
-  }' "$out/timings.csv"
+# Medians per stage of gpu_ms and cpu_ms (mawk has no asort: sort(1) per column).
+median() { sort -n | awk '{ v[++n] = $1 } END { if (n == 0) { printf "-"; exit } printf "%.1f", (n % 2) ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2 }'; }
+echo "| stage | gpu ms (median) | cpu ms (median) | frames |"
+echo "|---|---|---|---|"
+for stage in $(awk -F, 'NR > 1 && !seen[$2]++ { print $2 }' "$out/timings.csv"); do
+  gpu=$(awk -F, -v s="$stage" '$1 > 0 && $2 == s && $3 != "" { print $3 }' "$out/timings.csv" | median)
+  cpu=$(awk -F, -v s="$stage" '$1 > 0 && $2 == s { print $4 }' "$out/timings.csv" | median)
+  n=$(awk -F, -v s="$stage" '$1 > 0 && $2 == s' "$out/timings.csv" | wc -l)
+  echo "| $stage | $gpu | $cpu | $n |"
+done
