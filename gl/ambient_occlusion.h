@@ -17,7 +17,7 @@ public:
     static AmbientOcclusion create(const AoSpec& spec, const StyledLines& lines);
 
     // Binds the volume and sets the cone tracing uniforms of `program` (uAoCones, uAoAperture,
-    // uAoDistance, uAoStrength, uAoStartOffset and the density uniforms).
+    // uAoDistance, uAoStrength, uAoStartOffset, uConeOwnArea and the density uniforms).
     void apply(GLuint program) const;
     nlohmann::json describe() const;
 
@@ -25,7 +25,8 @@ private:
     AoSpec m_spec;
     DensityVolume m_volume;
     float m_distance = 0;     // world units
-    float m_startOffset = 0;  // world units: past the tube's own density
+    float m_startOffset = 0;  // world units: one voxel (see create)
+    float m_ownArea = 0;      // pi maxRadius^2 / voxelSize^2 (uConeOwnArea)
     double m_voxelizeMs = 0, m_uploadMs = 0;
     std::size_t m_clampedSegments = 0;
 };
