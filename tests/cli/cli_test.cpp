@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_fixture.h"
 #include "io/image_io.h"
 #include "io/line_reader.h"
 
@@ -21,44 +22,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct RunResult {
-    int code = -1;
-    std::string out, err;
-};
+using namespace tc::test;
 
-std::string readText(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void writeText(const fs::path& p, const std::string& text) {
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-}
-
-// A fresh directory per test under the build tree.
-class Cli : public ::testing::Test {
+// A fresh directory per test under the build tree (cli_fixture.h).
+class Cli : public CliFixture {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = fs::path(TUBECAST_TEST_TMP) / "cli" / (std::string(info->test_suite_name()) + "." + info->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-
-    RunResult run(const std::string& args, const std::string& env = "") {
-        std::string cmd = "cd '" + dir.string() + "' && " + env + (env.empty() ? "" : " ") + TUBECAST_BINARY + " " +
-                          args + " > stdout.txt 2> stderr.txt";
-        int status = std::system(cmd.c_str());
-        RunResult r;
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = readText(dir / "stdout.txt");
-        r.err = readText(dir / "stderr.txt");
-        return r;
-    }
-
     // A tiny but real scene: 20 tornado streamlines, 32x24 pixels.
     fs::path writeScene(const std::string& extra = "", const std::string& name = "scene.json") {
         std::string text = R"({
@@ -69,8 +37,6 @@ protected:
         writeText(dir / name, text);
         return dir / name;
     }
-
-    fs::path dir;
 };
 
 TEST_F(Cli, VersionPrintsTheVersionAndExitsZero) {

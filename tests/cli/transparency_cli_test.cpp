@@ -11,50 +11,18 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_fixture.h"
 #include "io/image_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct RunResult {
-    int code = -1;
-    std::string out, err;
-};
+using namespace tc::test;
 
-std::string readText(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void writeText(const fs::path& p, const std::string& text) {
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-}
-
-// A fresh directory per test under the build tree (the Cli fixture of cli_test.cpp).
-class TransparencyCli : public ::testing::Test {
+// A fresh directory per test under the build tree (cli_fixture.h, shared with cli_test.cpp).
+class TransparencyCli : public CliFixture {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = fs::path(TUBECAST_TEST_TMP) / "cli" / (std::string(info->test_suite_name()) + "." + info->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-
-    RunResult run(const std::string& args, const std::string& env = "") {
-        std::string cmd = "cd '" + dir.string() + "' && " + env + (env.empty() ? "" : " ") + TUBECAST_BINARY + " " +
-                          args + " > stdout.txt 2> stderr.txt";
-        int status = std::system(cmd.c_str());
-        RunResult r;
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = readText(dir / "stdout.txt");
-        r.err = readText(dir / "stderr.txt");
-        return r;
-    }
-
     // Tornado streamlines with constant opacity; `render` is the body of the "render" object.
     fs::path writeScene(const std::string& render, int lines = 30, int width = 48, int height = 36,
                         float opacity = 0.3f, const std::string& extra = "") {
@@ -74,8 +42,6 @@ protected:
         writeText(dir / "scene.json", text.str());
         return dir / "scene.json";
     }
-
-    fs::path dir;
 };
 
 TEST_F(TransparencyCli, KbufferOverTheMemoryBudgetIsExit2NamingTheKey) {

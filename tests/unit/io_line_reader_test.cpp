@@ -9,21 +9,14 @@
 
 #include "core/error.h"
 #include "io/line_reader.h"
+#include "test_tmp.h"
 
 namespace fs = std::filesystem;
 
 namespace tc {
 namespace {
 
-// A fresh directory per test under the build tree.
-std::string testDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir =
-        fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir.string();
-}
+using tc::test::testDir;  // a fresh directory per test (test_tmp.h)
 
 std::string writeText(const std::string& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;

@@ -6,20 +6,14 @@
 #include "core/error.h"
 #include "io/json_file.h"
 #include "io/timings_csv.h"
+#include "test_tmp.h"
 
 namespace fs = std::filesystem;
 
 namespace tc {
 namespace {
 
-std::string testDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir =
-        fs::path(TUBECAST_TEST_TMP) / (std::string(info->test_suite_name()) + "." + info->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir.string();
-}
+using tc::test::testDir;  // a fresh directory per test (test_tmp.h)
 
 std::string readText(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
