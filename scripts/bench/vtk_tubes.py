@@ -1,8 +1,8 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The same lines rendered the way a VTK/ParaView user would: vtkTubeFilter (8 sides) and
 depth peeling (no peel limit, occlusion ratio 0), offscreen under Xvfb on the same llvmpipe.
 
-    xvfb-run -a -s "-screen 0 1920x1080x24" python3 scripts/bench/vtk_tubes.py \
+    xvfb-run -a -s "-screen 0 1920x1080x24" /usr/bin/python3 scripts/bench/vtk_tubes.py \
         LINES.vtp RUN.json --radius 0.0025 --opacity 0.3 --frames 3 [--opaque] [--png out.png]
 
 LINES.vtp comes from `tubecast convert SCENE LINES.vtp`; RUN.json from a `tubecast render` of the
