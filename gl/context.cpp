@@ -200,6 +200,11 @@ void BackendContext::bind() {
     }
 }
 
+const ContextInfo& currentContextInfo() {
+    TC_CHECK(g_current != nullptr);
+    return g_current->info;
+}
+
 void BackendContext::unbind() {
     if (backend == Backend::Egl)
         eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);

@@ -62,4 +62,8 @@ private:
 
 Backend parseBackend(const std::string& name);  // throws InputError
 
+// The info of the Context that is current on this thread (techniques choose code paths by the
+// extensions it lists). Checks that one is current.
+const ContextInfo& currentContextInfo();
+
 }  // namespace tc::gl

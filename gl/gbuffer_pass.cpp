@@ -22,22 +22,12 @@ void GBufferPass::resize(int width, int height) {
     m_height = height;
     m_segments = makeTexture2D(GL_R32UI, width, height);
     m_depth = makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
-    m_visibility = Framebuffer::create();
-    glNamedFramebufferTexture(m_visibility.id(), GL_COLOR_ATTACHMENT0, m_segments.id(), 0);
-    glNamedFramebufferTexture(m_visibility.id(), GL_DEPTH_ATTACHMENT, m_depth.id(), 0);
-    glNamedFramebufferDrawBuffer(m_visibility.id(), GL_COLOR_ATTACHMENT0);
-    checkFramebuffer(m_visibility, "visibility buffer");
+    m_visibility = makeFramebuffer({&m_segments}, &m_depth, "visibility buffer");
 
     m_albedo = makeTexture2D(GL_RGBA16F, width, height);       // linear straight RGBA
     m_normalDepth = makeTexture2D(GL_RGBA32F, width, height);  // world normal xyz, view depth w
     m_id = makeTexture2D(GL_R32UI, width, height);
-    m_attributes = Framebuffer::create();
-    glNamedFramebufferTexture(m_attributes.id(), GL_COLOR_ATTACHMENT0, m_albedo.id(), 0);
-    glNamedFramebufferTexture(m_attributes.id(), GL_COLOR_ATTACHMENT1, m_normalDepth.id(), 0);
-    glNamedFramebufferTexture(m_attributes.id(), GL_COLOR_ATTACHMENT2, m_id.id(), 0);
-    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glNamedFramebufferDrawBuffers(m_attributes.id(), 3, buffers);
-    checkFramebuffer(m_attributes, "surface attributes");
+    m_attributes = makeFramebuffer({&m_albedo, &m_normalDepth, &m_id}, nullptr, "surface attributes");
 }
 
 void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer) {

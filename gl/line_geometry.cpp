@@ -61,6 +61,15 @@ void LineGeometry::bind() const {
     if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBillboardCornerBinding, m_billboardCorners.id());
 }
 
+const char* LineGeometry::describeBillboards() const {
+    switch (m_path) {
+    case BillboardPath::Compute: return "compute pre-pass, vertex pulling";
+    case BillboardPath::Vertex: return "vertex shader, vertex pulling";
+    case BillboardPath::Geometry: return "geometry shader";
+    }
+    return "?";
+}
+
 float LineGeometry::farDepth(const FrameSetup& setup) const {
     // Beyond everything the data can reach. A 32-bit float depth buffer holding view depth / far
     // keeps ~1e-7 relative precision over the whole range.

@@ -22,6 +22,8 @@ public:
 
     std::size_t segmentCount() const { return m_segmentCount; }
     BillboardPath billboardPath() const { return m_path; }
+    // Where billboards are built, for run.json.
+    const char* describeBillboards() const;
 
     const Buffer& positionRadiusBuffer() const { return m_positionRadius; }
     const Buffer& segmentVerticesBuffer() const { return m_segmentVertices; }

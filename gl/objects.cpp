@@ -1,5 +1,7 @@
 #include "gl/objects.h"
 
+#include <vector>
+
 #include <cstdio>
 #include <string>
 
@@ -56,6 +58,20 @@ void checkFramebuffer(const Framebuffer& framebuffer, const char* what) {
     if (status != GL_FRAMEBUFFER_COMPLETE)
         throw Error(ExitCode::Internal, std::string("framebuffer '") + what +
                                             "' is incomplete: " + framebufferStatusName(status));
+}
+
+Framebuffer makeFramebuffer(std::initializer_list<const Texture*> colors, const Texture* depth, const char* what) {
+    Framebuffer framebuffer = Framebuffer::create();
+    std::vector<GLenum> buffers;
+    for (const Texture* color : colors) {
+        const GLenum attachment = GL_COLOR_ATTACHMENT0 + GLenum(buffers.size());
+        glNamedFramebufferTexture(framebuffer.id(), attachment, color->id(), 0);
+        buffers.push_back(attachment);
+    }
+    if (depth) glNamedFramebufferTexture(framebuffer.id(), GL_DEPTH_ATTACHMENT, depth->id(), 0);
+    glNamedFramebufferDrawBuffers(framebuffer.id(), GLsizei(buffers.size()), buffers.data());
+    checkFramebuffer(framebuffer, what);
+    return framebuffer;
 }
 
 }  // namespace tc::gl

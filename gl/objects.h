@@ -3,6 +3,7 @@
 // A default-constructed object is empty (id 0) and its destructor does nothing; otherwise the
 // destructor deletes the GL object, so it must run while the owning context is current.
 #include <cstddef>
+#include <initializer_list>
 #include <utility>
 
 #include "gl/gl_api.h"
@@ -95,6 +96,10 @@ Buffer makeBuffer(std::size_t bytes, const void* data = nullptr, GLbitfield flag
 // A single-level 2D texture with immutable storage (glTextureStorage2D), nearest filtering and
 // clamp-to-edge wrapping: render targets and lookup tables are read texel-exact.
 Texture makeTexture2D(GLenum internalFormat, int width, int height);
+
+// A framebuffer drawing to `colors` (attachments 0, 1, ... in order, all set as draw buffers)
+// and, if not null, the depth texture `depth`; checked for completeness (naming `what`).
+Framebuffer makeFramebuffer(std::initializer_list<const Texture*> colors, const Texture* depth, const char* what);
 
 // Throws tc::Error(ExitCode::Internal) naming `what` and the status (GL_FRAMEBUFFER_INCOMPLETE_*)
 // unless the framebuffer is complete. Call once after attaching, not per frame.

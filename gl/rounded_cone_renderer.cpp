@@ -30,12 +30,7 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
         m_height = h;
         m_color = makeTexture2D(GL_RGBA32F, w, h);
         m_aoFactor = makeTexture2D(GL_R32F, w, h);
-        m_shaded = Framebuffer::create();
-        glNamedFramebufferTexture(m_shaded.id(), GL_COLOR_ATTACHMENT0, m_color.id(), 0);
-        glNamedFramebufferTexture(m_shaded.id(), GL_COLOR_ATTACHMENT1, m_aoFactor.id(), 0);
-        const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-        glNamedFramebufferDrawBuffers(m_shaded.id(), 2, buffers);
-        checkFramebuffer(m_shaded, "shading target");
+        m_shaded = makeFramebuffer({&m_color, &m_aoFactor}, nullptr, "shading target");
     }
     m_geometry.computeBillboards(setup, timer);
     m_gbuffer.render(m_geometry, setup, timer);
@@ -70,12 +65,9 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
 }
 
 nlohmann::json RoundedConeRenderer::describe() const {
-    const BillboardPath path = m_geometry.billboardPath();
     return {{"technique", "rasterized"},
             {"transparency", "opaque"},
-            {"billboards", path == BillboardPath::Compute  ? "compute pre-pass, vertex pulling"
-                           : path == BillboardPath::Vertex ? "vertex shader, vertex pulling"
-                                                           : "geometry shader"},
+            {"billboards", m_geometry.describeBillboards()},
             {"shading", "deferred"},
             {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
 }

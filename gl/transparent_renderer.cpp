@@ -1,11 +1,11 @@
 #include "gl/transparent_renderer.h"
 
-#include <cstring>
 #include <iostream>
 #include <limits>
 
 #include "core/error.h"
 #include "core/shading.h"
+#include "gl/context.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 
@@ -17,19 +17,6 @@ constexpr GLuint kKBufferBinding = 7;
 constexpr GLuint kPreviousLayerBinding = 8;
 constexpr GLuint kCurrentLayerBinding = 9;
 constexpr GLuint kCandidatesBinding = 10;
-
-bool hasExtension(const char* name) {
-    GLint count = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
-    for (GLint i = 0; i < count; ++i)
-        if (std::strcmp(reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i))), name) == 0) return true;
-    return false;
-}
-
-bool isLlvmpipe() {
-    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    return renderer && std::strstr(renderer, "llvmpipe");
-}
 
 void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
     glClearNamedBufferData(buffer.id(), GL_RG32UI, GL_RG_INTEGER, GL_UNSIGNED_INT, &value);
@@ -67,10 +54,11 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         r->m_ao = AmbientOcclusion::create(rs.ao, lines);
         syncDefines.push_back("AMBIENT_OCCLUSION");
     }
-    if (hasExtension("GL_ARB_fragment_shader_interlock")) {
+    const ContextInfo& context = currentContextInfo();
+    if (context.hasExtension("GL_ARB_fragment_shader_interlock")) {
         syncDefines.push_back("USE_INTERLOCK");
         r->m_synchronisation = "ARB_fragment_shader_interlock";
-    } else if (isLlvmpipe()) {
+    } else if (context.renderer.find("llvmpipe") != std::string::npos) {
         r->m_synchronisation = "llvmpipe per-pixel primitive order (blending on)";
     } else {
         r->m_synchronisation = "none (unordered: results may race)";
@@ -97,7 +85,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     }
     case Transparency::DepthPeeling: {
         std::vector<std::string> defines = syncDefines;
-        if (hasExtension("GL_ARB_shader_atomic_int64")) {
+        if (context.hasExtension("GL_ARB_shader_atomic_int64")) {
             std::erase(defines, std::string("USE_INTERLOCK"));
             defines.push_back("USE_ATOMIC64");
             r->m_synchronisation = "ARB_shader_atomic_int64 (atomicMin)";
@@ -137,10 +125,7 @@ void TransparentRenderer::resize(int width, int height) {
     m_width = width;
     m_height = height;
     m_color = makeTexture2D(GL_RGBA32F, width, height);
-    m_framebuffer = Framebuffer::create();
-    glNamedFramebufferTexture(m_framebuffer.id(), GL_COLOR_ATTACHMENT0, m_color.id(), 0);
-    glNamedFramebufferDrawBuffer(m_framebuffer.id(), GL_COLOR_ATTACHMENT0);
-    checkFramebuffer(m_framebuffer, "transparency target");
+    m_framebuffer = makeFramebuffer({&m_color}, nullptr, "transparency target");
     if (m_mode == Transparency::KBuffer) {
         m_kbuffer = makeBuffer(pixels * std::size_t(m_k) * 8);
         clearBuffer64(m_kbuffer, ~std::uint64_t(0));  // the resolve pass leaves it empty again
@@ -289,13 +274,10 @@ void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageTimer
 }
 
 nlohmann::json TransparentRenderer::describe() const {
-    const BillboardPath path = m_geometry.billboardPath();
     nlohmann::json j = {{"technique", "rasterized"},
                         {"transparency", mode(m_mode)},
                         {"cap_clipping", m_capClipping},
-                        {"billboards", path == BillboardPath::Compute  ? "compute pre-pass, vertex pulling"
-                                       : path == BillboardPath::Vertex ? "vertex shader, vertex pulling"
-                                                                       : "geometry shader"},
+                        {"billboards", m_geometry.describeBillboards()},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)},
                         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_mode == Transparency::KBuffer) j["k"] = m_k;
