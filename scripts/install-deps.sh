@@ -13,7 +13,11 @@ packages=(
   libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libgbm-dev
   # libraries
   libglm-dev libopenimageio-dev openimageio-tools libopenexr-dev libvtk9-dev
-  nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev
+  nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev libembree-dev
+  # sanitizer and libFuzzer build of core/ and io/ (ctest label fuzz)
+  clang libclang-rt-14-dev
+  # a real single-machine Slurm for the batch tests (ctest label slurm)
+  slurm-wlm munge
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )
