@@ -249,6 +249,15 @@ void readRender(SpecReader r, RenderSpec& rs) {
     }
     rs.memoryBudgetMb = r.getInt("memory_budget_mb", rs.memoryBudgetMb, 1, 1 << 30);
     rs.referenceDepthPeeling = r.getEnum("reference", "none", {"none", "depth_peeling"}) == "depth_peeling";
+    if (r.has("culling")) {
+        SpecReader c = r.child("culling");
+        rs.culling.enabled = c.getBool("enabled", true);
+        rs.culling.slices = c.getInt("slices", rs.culling.slices, 1, 1024);
+        rs.culling.opacityThreshold = c.getFloat("opacity_threshold", rs.culling.opacityThreshold, 0.0f, 1.0f);
+        rs.culling.resortAngleDeg = c.getFloat("resort_angle_deg", rs.culling.resortAngleDeg, 0.0f, 180.0f);
+        rs.culling.resortDistance = c.getFloat("resort_distance", rs.culling.resortDistance, 0.0f, 100.0f);
+        c.finish();
+    }
     if (r.has("ao")) {
         SpecReader a = r.child("ao");
         rs.ao.enabled = a.getBool("enabled", true);

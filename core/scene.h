@@ -100,6 +100,19 @@ struct AoSpec {
     float strength = 1;
 };
 
+// render.culling: draw the sorted segments in depth slices and skip what is already hidden
+// (Groß & Gumhold 2020, Sect. 4.3): a max-depth pyramid (opaque) or a min-opacity pyramid
+// (transparent) rebuilt after each slice, tested per billboard and per fragment.
+struct CullingSpec {
+    bool enabled = false;
+    int slices = 10;
+    float opacityThreshold = 0.95f;  // transparent: cull behind accumulated opacity above this
+    // Opaque: the draw order is re-sorted only when the camera turns by more than this angle
+    // around the data's centre or its eye moves by more than this fraction of its distance.
+    float resortAngleDeg = 10.0f;
+    float resortDistance = 0.1f;
+};
+
 struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
@@ -110,6 +123,7 @@ struct RenderSpec {
     int memoryBudgetMb = 4096;     // render.memory_budget_mb: per-pixel buffers must fit
     bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv
     AoSpec ao;
+    CullingSpec culling;
 };
 
 // Blinn-Phong. direction is in camera space and points from the surface toward the light.

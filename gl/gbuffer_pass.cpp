@@ -2,14 +2,18 @@
 
 #include <limits>
 
+#include "core/error.h"
 #include "gl/gpu_timer.h"
+#include "gl/hierarchical_culling.h"
+#include "gl/segment_order.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
 
-GBufferPass GBufferPass::create(const LineGeometry& geometry) {
+GBufferPass GBufferPass::create(const LineGeometry& geometry, const HierarchicalCulling* culling) {
     GBufferPass pass;
-    pass.m_visibilityProgram = geometry.compileDrawProgram("rounded_cone_gbuffer.frag");
+    pass.m_visibilityProgram =
+        geometry.compileDrawProgram("rounded_cone_gbuffer.frag", culling ? culling->drawDefines() : std::vector<std::string>{});
     pass.m_attributesProgram =
         compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}});
     pass.m_emptyVao = VertexArray::create();
@@ -30,7 +34,8 @@ void GBufferPass::resize(int width, int height) {
     m_attributes = makeFramebuffer({&m_albedo, &m_normalDepth, &m_id}, nullptr, "surface attributes");
 }
 
-void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer) {
+void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer,
+                         HierarchicalCulling* culling, const SegmentOrder* order) {
     resize(setup.width, setup.height);
     timer.begin("gbuffer");
     glViewport(0, 0, setup.width, setup.height);
@@ -46,11 +51,17 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
     glDisable(GL_CULL_FACE);
     const GLuint p = m_visibilityProgram.id();
     geometry.setCameraUniforms(p, setup);
-    glUseProgram(p);
-    geometry.draw(0, geometry.segmentCount());
+    if (culling) {
+        TC_CHECK(order);
+        culling->drawSliced(geometry, *order, p, m_depth, setup);
+    } else {
+        glUseProgram(p);
+        geometry.draw(0, geometry.segmentCount());
+    }
     glDisable(GL_DEPTH_TEST);
     timer.setItems(geometry.segmentCount());
     timer.end();
+    if (culling) culling->readCulled(timer);
 
     timer.begin("surface");
     glBindFramebuffer(GL_FRAMEBUFFER, m_attributes.id());

@@ -10,12 +10,19 @@
 
 namespace tc::gl {
 
+class HierarchicalCulling;
+class SegmentOrder;
+
 class GBufferPass {
 public:
-    static GBufferPass create(const LineGeometry& geometry);
+    // `culling`: draw in depth slices of the sorted order and cull what is hidden (opaque path,
+    // render.culling); then render() needs the order and the culling.
+    static GBufferPass create(const LineGeometry& geometry, const HierarchicalCulling* culling = nullptr);
 
-    // Renders the G-buffer for this frame (stage "gbuffer"); billboards must be computed.
-    void render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer);
+    // Renders the G-buffer for this frame (stage "gbuffer"). Without culling the billboards must
+    // be computed; with it, `order` is the segment order and the billboards are built per slice.
+    void render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer,
+                HierarchicalCulling* culling = nullptr, const SegmentOrder* order = nullptr);
     // Copies depth, normal and id into `out` (rows flipped to top-first); `out` is resized.
     void readAovs(FrameImages& out) const;
 

@@ -115,20 +115,23 @@ Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector
 void LineGeometry::computeBillboards(const FrameSetup& setup, StageTimer& timer) const {
     if (m_path != BillboardPath::Compute) return;
     timer.begin("billboards");
-    const GLuint b = m_billboardProgram.id();
-    setCameraUniforms(b, setup);
-    glProgramUniform1ui(b, uniformLocation(b, "uSegmentCount"), GLuint(m_segmentCount));
-    glUseProgram(b);
-    bind();
-    const std::size_t perDispatch = std::size_t(kMaxGroupsPerDispatch) * kBillboardGroupSize;
-    for (std::size_t first = 0; first < m_segmentCount; first += perDispatch) {
-        std::size_t count = std::min(perDispatch, m_segmentCount - first);
-        glProgramUniform1ui(b, uniformLocation(b, "uFirstSegment"), GLuint(first));
-        glDispatchCompute(GLuint((count + kBillboardGroupSize - 1) / kBillboardGroupSize), 1, 1);
-    }
+    setCameraUniforms(m_billboardProgram.id(), setup);
+    buildBillboards(m_billboardProgram.id(), 0, m_segmentCount);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     timer.setItems(m_segmentCount);
     timer.end();
+}
+
+void LineGeometry::buildBillboards(GLuint program, std::size_t firstSlot, std::size_t count) const {
+    glProgramUniform1ui(program, uniformLocation(program, "uSlotEnd"), GLuint(firstSlot + count));
+    glUseProgram(program);
+    bind();
+    const std::size_t perDispatch = std::size_t(kMaxGroupsPerDispatch) * kBillboardGroupSize;
+    for (std::size_t first = firstSlot; first < firstSlot + count; first += perDispatch) {
+        std::size_t n = std::min(perDispatch, firstSlot + count - first);
+        glProgramUniform1ui(program, uniformLocation(program, "uFirstSlot"), GLuint(first));
+        glDispatchCompute(GLuint((n + kBillboardGroupSize - 1) / kBillboardGroupSize), 1, 1);
+    }
 }
 
 void LineGeometry::draw(std::size_t first, std::size_t count) const {

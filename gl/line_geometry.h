@@ -41,6 +41,9 @@ public:
     // Builds this frame's billboards (BillboardPath::Compute; no-op otherwise) as stage
     // "billboards" of `timer`.
     void computeBillboards(const FrameSetup& setup, StageTimer& timer) const;
+    // Dispatches the billboard compute `program` (billboard_pass.comp, camera uniforms set) over
+    // the draw slots [firstSlot, firstSlot + count); the caller adds the memory barrier.
+    void buildBillboards(GLuint program, std::size_t firstSlot, std::size_t count) const;
     // Draws `count` segments starting at draw slot `first` with the bound program. When the
     // program was compiled with DRAW_ORDER, slot i draws segment drawOrder[i] (binding 5).
     void draw(std::size_t first, std::size_t count) const;

@@ -10,8 +10,15 @@ namespace tc::gl {
 
 std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& scene, const StyledLines& lines) {
     LineGeometry geometry = LineGeometry::create(lines, scene.render.billboards);
-    GBufferPass gbuffer = GBufferPass::create(geometry);
-    std::unique_ptr<RoundedConeRenderer> r(new RoundedConeRenderer(std::move(geometry), std::move(gbuffer)));
+    std::optional<HierarchicalCulling> culling;
+    if (scene.render.culling.enabled)
+        culling = HierarchicalCulling::create(HierarchicalCulling::Target::MaxDepth, scene.render.culling, geometry);
+    GBufferPass gbuffer = GBufferPass::create(geometry, culling ? &*culling : nullptr);
+    std::unique_ptr<RoundedConeRenderer> r(
+        new RoundedConeRenderer(std::move(geometry), std::move(gbuffer), std::move(culling)));
+    if (r->m_culling)
+        r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::LargeChange, scene.render.culling,
+                                          lines.bounds.center());
     r->m_lighting = scene.lighting;
     std::vector<std::string> defines;
     if (scene.render.ao.enabled) {
@@ -32,8 +39,13 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
         m_aoFactor = makeTexture2D(GL_R32F, w, h);
         m_shaded = makeFramebuffer({&m_color, &m_aoFactor}, nullptr, "shading target");
     }
-    m_geometry.computeBillboards(setup, timer);
-    m_gbuffer.render(m_geometry, setup, timer);
+    if (m_culling) {
+        m_order->update(m_geometry, setup.camera, timer);
+        m_gbuffer.render(m_geometry, setup, timer, &*m_culling, &*m_order);
+    } else {
+        m_geometry.computeBillboards(setup, timer);
+        m_gbuffer.render(m_geometry, setup, timer);
+    }
 
     timer.begin("shading");
     glBindFramebuffer(GL_FRAMEBUFFER, m_shaded.id());
@@ -65,11 +77,17 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
 }
 
 nlohmann::json RoundedConeRenderer::describe() const {
-    return {{"technique", "rasterized"},
-            {"transparency", "opaque"},
-            {"billboards", m_geometry.describeBillboards()},
-            {"shading", "deferred"},
-            {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
+    nlohmann::json j = {{"technique", "rasterized"},
+                        {"transparency", "opaque"},
+                        {"billboards", m_geometry.describeBillboards()},
+                        {"shading", "deferred"},
+                        {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)},
+                        {"culling", m_culling ? m_culling->describe() : nlohmann::json(false)}};
+    if (m_order) {
+        j["sort"] = "GPU radix sort of segment distance keys, re-sorted only after large camera changes";
+        j["sorts_performed"] = m_order->sortsPerformed();
+    }
+    return j;
 }
 
 std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {

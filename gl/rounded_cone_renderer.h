@@ -8,6 +8,8 @@
 
 #include "gl/ambient_occlusion.h"
 #include "gl/gbuffer_pass.h"
+#include "gl/hierarchical_culling.h"
+#include "gl/segment_order.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
 #include "gl/technique.h"
@@ -23,11 +25,13 @@ public:
     nlohmann::json describe() const override;
 
 private:
-    RoundedConeRenderer(LineGeometry geometry, GBufferPass gbuffer)
-        : m_geometry(std::move(geometry)), m_gbuffer(std::move(gbuffer)) {}
+    RoundedConeRenderer(LineGeometry geometry, GBufferPass gbuffer, std::optional<HierarchicalCulling> culling)
+        : m_geometry(std::move(geometry)), m_gbuffer(std::move(gbuffer)), m_culling(std::move(culling)) {}
 
     LineGeometry m_geometry;
     GBufferPass m_gbuffer;
+    std::optional<HierarchicalCulling> m_culling;  // render.culling: sliced sorted draw
+    std::optional<SegmentOrder> m_order;           // the draw order, with culling
     LightingSpec m_lighting;
     Program m_shadingProgram;
     int m_width = 0, m_height = 0;

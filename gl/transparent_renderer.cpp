@@ -67,15 +67,22 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
                       << mode(rs.transparency) << " per-pixel updates are not ordered and may race\n";
     }
 
+    // Depth slices with culling apply to the sorted draws; depth peeling has no order to slice.
+    std::vector<std::string> sortedDefines{"DRAW_ORDER"};
+    if (rs.culling.enabled && r->m_mode != Transparency::DepthPeeling) {
+        r->m_culling = HierarchicalCulling::create(HierarchicalCulling::Target::MinOpacity, rs.culling, r->m_geometry);
+        sortedDefines = r->m_culling->drawDefines();
+    }
     switch (r->m_mode) {
-    case Transparency::ObjectOrder:
-        r->m_blendProgram = r->m_geometry.compileDrawProgram(
-            "object_order.frag", rs.ao.enabled ? std::vector<std::string>{"DRAW_ORDER", "AMBIENT_OCCLUSION"}
-                                               : std::vector<std::string>{"DRAW_ORDER"});
+    case Transparency::ObjectOrder: {
+        std::vector<std::string> defines = sortedDefines;
+        if (rs.ao.enabled) defines.push_back("AMBIENT_OCCLUSION");
+        r->m_blendProgram = r->m_geometry.compileDrawProgram("object_order.frag", defines);
         break;
+    }
     case Transparency::KBuffer: {
         std::vector<std::string> defines = syncDefines;
-        defines.push_back("DRAW_ORDER");
+        defines.insert(defines.end(), sortedDefines.begin(), sortedDefines.end());
         defines.push_back("KBUFFER_K " + std::to_string(r->m_k));
         r->m_blendProgram = r->m_geometry.compileDrawProgram("kbuffer_insert.frag", defines);
         r->m_resolveProgram = compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"},
@@ -101,10 +108,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     case Transparency::Opaque:
         TC_CHECK(false);
     }
-    if (r->m_mode != Transparency::DepthPeeling) {
-        r->m_sortKeys = SegmentSortKeys::create();
-        r->m_radixSort = RadixSort::create();
-    }
+    if (r->m_mode != Transparency::DepthPeeling)
+        r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::EveryChange, rs.culling, lines.bounds.center());
     r->m_emptyVao = VertexArray::create();
     // Allocate (and check the memory budget) now, before the frame loop writes any output.
     r->resize(scene.image.width, scene.image.height);
@@ -134,19 +139,14 @@ void TransparentRenderer::resize(int width, int height) {
         for (auto& b : m_peelKeys) b = makeBuffer(pixels * 8);
 }
 
-void TransparentRenderer::sortSegments(const FrameSetup& setup, StageTimer& timer) {
-    const Camera& cam = setup.camera;
-    if (m_sortedFor && m_sortedFor->eye == cam.eye && m_sortedFor->target == cam.target &&
-        m_sortedFor->projection == cam.projection)
-        return;  // the order depends on the eye (and the view direction for orthographic)
-    timer.begin("sort");
-    const std::size_t n = m_geometry.segmentCount();
-    m_sortKeys->compute(m_geometry.positionRadiusBuffer(), m_geometry.segmentVerticesBuffer(), n, cam.eye,
-                        cam.projection == Projection::Orthographic, cam.forward(), m_sortKeyBuffer, m_drawOrder);
-    m_radixSort->sort(m_sortKeyBuffer, m_drawOrder, n);
-    timer.setItems(n);
-    timer.end();
-    m_sortedFor = cam;
+void TransparentRenderer::drawSorted(GLuint program, const FrameSetup& setup) {
+    if (m_culling) {
+        m_culling->drawSliced(m_geometry, *m_order, program, m_color, setup);
+        return;
+    }
+    glUseProgram(program);
+    m_order->bind();
+    m_geometry.draw(0, m_geometry.segmentCount());
 }
 
 void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup) const {
@@ -162,9 +162,11 @@ void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup)
 
 void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
     resize(setup.width, setup.height);
-    m_geometry.computeBillboards(setup, timer);
+    // With culling the billboards are built per depth slice; the G-buffer pass of the AOVs
+    // needs them all.
+    if (!m_culling || m_gbuffer) m_geometry.computeBillboards(setup, timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
-    if (m_mode != Transparency::DepthPeeling) sortSegments(setup, timer);
+    if (m_order) m_order->update(m_geometry, setup.camera, timer);
 
     glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
     glViewport(0, 0, setup.width, setup.height);
@@ -210,23 +212,21 @@ void TransparentRenderer::renderObjectOrder(const FrameSetup& setup, StageTimer&
     timer.begin("blend");
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
-    glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawOrderBinding, m_drawOrder.id());
-    m_geometry.draw(0, m_geometry.segmentCount());
+    drawSorted(p, setup);
     timer.setItems(m_geometry.segmentCount());
     timer.end();
+    if (m_culling) m_culling->readCulled(timer);
 }
 
 void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageTimer& timer) {
     timer.begin("kbuffer");
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
-    glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawOrderBinding, m_drawOrder.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
-    m_geometry.draw(0, m_geometry.segmentCount());
+    drawSorted(p, setup);
     timer.setItems(m_geometry.segmentCount());
     timer.end();
+    if (m_culling) m_culling->readCulled(timer);
 
     timer.begin("resolve");
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -283,6 +283,7 @@ nlohmann::json TransparentRenderer::describe() const {
     if (m_mode == Transparency::KBuffer) j["k"] = m_k;
     if (m_mode != Transparency::ObjectOrder) j["synchronisation"] = m_synchronisation;
     if (m_mode != Transparency::DepthPeeling) j["sort"] = "GPU radix sort of segment distance keys";
+    j["culling"] = m_culling ? m_culling->describe() : nlohmann::json(false);
     return j;
 }
 

@@ -12,8 +12,8 @@
 #include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
-#include "gl/radix_sort.h"
-#include "gl/sort_keys.h"
+#include "gl/hierarchical_culling.h"
+#include "gl/segment_order.h"
 #include "gl/technique.h"
 
 namespace tc::gl {
@@ -31,7 +31,9 @@ public:
 private:
     TransparentRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
     void resize(int width, int height);
-    void sortSegments(const FrameSetup& setup, StageTimer& timer);
+    // Draws every segment with `program` in the sorted order: one draw, or depth slices with
+    // culling (render.culling).
+    void drawSorted(GLuint program, const FrameSetup& setup);
     void setFragmentUniforms(GLuint program, const FrameSetup& setup) const;
     void renderObjectOrder(const FrameSetup& setup, StageTimer& timer);
     void renderKBuffer(const FrameSetup& setup, StageTimer& timer);
@@ -48,10 +50,8 @@ private:
     LineGeometry m_geometry;
     std::optional<AmbientOcclusion> m_ao;
     std::optional<GBufferPass> m_gbuffer;  // for the depth / normal / id AOVs, when requested
-    std::optional<SegmentSortKeys> m_sortKeys;
-    std::optional<RadixSort> m_radixSort;
-    Buffer m_sortKeyBuffer, m_drawOrder;
-    std::optional<Camera> m_sortedFor;  // the camera the draw order was sorted for
+    std::optional<SegmentOrder> m_order;            // object order and k-buffer
+    std::optional<HierarchicalCulling> m_culling;  // render.culling (object order and k-buffer)
 
     Program m_blendProgram, m_resolveProgram, m_peelMinProgram, m_peelShadeProgram;
     VertexArray m_emptyVao;

@@ -15,15 +15,27 @@ uniform mat4 uViewProj;
 uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
-uniform uint uSegmentCount;
-uniform uint uFirstSegment;  // dispatches are split to stay under the work-group count limit
+uniform vec2 uViewport;
+uniform uint uSlotEnd;    // draw slots [uFirstSlot, uSlotEnd); slot = segment without DRAW_ORDER
+uniform uint uFirstSlot;  // dispatches are split to stay under the work-group count limit
+
+#include "hierarchical_culling.glsl"
 
 void main() {
-    uint segment = uFirstSegment + gl_GlobalInvocationID.x;
-    if (segment >= uSegmentCount) return;
+    uint slot = uFirstSlot + gl_GlobalInvocationID.x;
+    if (slot >= uSlotEnd) return;
+    uint segment = segmentOfSlot(slot);
     vec4 a = positionRadius[segmentVertices[2u * segment]];
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
     Billboard bb = computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uOrthographic, uForward);
+#ifdef CULLING
+    // Depth slices (Groß & Gumhold 2020, Sect. 4.3): a hidden segment gets the zero-area quad of
+    // a culled billboard and rasterizes nothing.
+    if (!bb.culled && !bb.fullscreen && cullBillboard(bb.ndc, cullNearestDepth(a, b))) {
+        for (int k = 0; k < 4; ++k) bb.ndc[k] = vec2(-2.0);
+        atomicCounterIncrement(uCulledSegments);
+    }
+#endif
     billboardCorners[2u * segment] = vec4(bb.ndc[0], bb.ndc[1]);
     billboardCorners[2u * segment + 1u] = vec4(bb.ndc[2], bb.ndc[3]);
 }

@@ -11,6 +11,9 @@ uniform mat4 uViewProj;
 uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
+uniform vec2 uViewport;
+
+#include "hierarchical_culling.glsl"
 
 flat in uint vSegmentIn[];
 flat out uint vSegment;
@@ -21,6 +24,13 @@ void main() {
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
     Billboard bb = computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uOrthographic, uForward);
     if (bb.culled) return;
+#ifdef CULLING
+    // Depth slices (Groß & Gumhold 2020, Sect. 4.3): a hidden segment emits nothing.
+    if (!bb.fullscreen && cullBillboard(bb.ndc, cullNearestDepth(a, b))) {
+        atomicCounterIncrement(uCulledSegments);
+        return;
+    }
+#endif
     for (int k = 0; k < 4; ++k) {
         vSegment = segment;
         gl_Position = vec4(bb.ndc[k], 0.0, 1.0);

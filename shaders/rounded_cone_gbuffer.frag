@@ -7,6 +7,7 @@
 #include "line_buffers.glsl"
 #include "frame_uniforms.glsl"
 #include "visible_hit.glsl"
+#include "hierarchical_culling.glsl"
 
 uniform float uFarDepth;  // gl_FragDepth = view depth / uFarDepth (linear, float depth buffer)
 
@@ -15,6 +16,14 @@ flat in uint vSegment;
 layout(location = 0) out uint outSegment;
 
 void main() {
+#ifdef CULLING
+    // Depth slices: skip the intersection where earlier slices already cover this pixel nearer
+    // than anything of this segment.
+    if (cullFragment(ivec2(gl_FragCoord.xy),
+                     cullNearestDepth(positionRadius[segmentVertices[2u * vSegment]],
+                                      positionRadius[segmentVertices[2u * vSegment + 1u]])))
+        discard;
+#endif
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
     float t;
     vec3 n;

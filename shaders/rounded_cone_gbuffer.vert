@@ -10,6 +10,9 @@ uniform mat4 uViewProj;
 uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
+uniform vec2 uViewport;
+
+#include "hierarchical_culling.glsl"
 
 #ifdef BILLBOARDS_PRECOMPUTED
 layout(std430, binding = 4) readonly buffer BillboardCorners { vec4 billboardCorners[]; };
@@ -32,6 +35,14 @@ void main() {
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
     vec2 corners[4];
     computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uForward, uOrthographic, corners);
+#ifdef CULLING
+    // Depth slices: every corner of a hidden segment collapses to one point off screen. The
+    // BILLBOARDS_PRECOMPUTED path culls in billboard_pass.comp instead.
+    if (cullBillboard(corners, cullNearestDepth(a, b))) {
+        corners[corner] = vec2(-2.0);
+        if (gl_VertexID % 6 == 0) atomicCounterIncrement(uCulledSegments);
+    }
+#endif
     gl_Position = vec4(corners[corner], 0.0, 1.0);
 #endif
 }

@@ -9,6 +9,7 @@
 #include "line_buffers.glsl"
 #include "frame_uniforms.glsl"
 #include "ambient_occlusion.glsl"
+#include "hierarchical_culling.glsl"
 
 uniform float uFarDepth;
 uniform bool uCapClipping;
@@ -31,6 +32,10 @@ bool lineFragment(out LineFragment f) {
     uint v1 = segmentVertices[2u * vSegment + 1u];
     vec4 a = positionRadius[v0];
     vec4 b = positionRadius[v1];
+#ifdef CULLING
+    // Depth slices: this pixel is already (nearly) opaque; skip the ray casting and shading.
+    if (cullFragment(ivec2(gl_FragCoord.xy), 0.0)) return false;
+#endif
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
     ConeInterval cone = intersectRoundedCone(ray, RoundedCone(a.xyz, a.w, b.xyz, b.w));
     vec4 plane0 = vec4(0.0), plane1 = vec4(0.0);

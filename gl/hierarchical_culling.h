@@ -1,0 +1,71 @@
+#pragma once
+// Depth slices with hierarchical culling (Groß & Gumhold 2020, Sect. 4.3): the sorted segments
+// are drawn as `slices` consecutive draw calls; after each, a mip pyramid of what is already
+// hidden is rebuilt from the render target (shaders/cull_pyramid.comp), and the next slice tests
+// every billboard where it is built and every fragment before its ray casting against it
+// (shaders/hierarchical_culling.glsl). Opaque: max view depth; transparent: min accumulated
+// opacity. Culled segments are counted with an atomic counter, read back once per frame.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "gl/line_geometry.h"
+#include "gl/objects.h"
+
+namespace tc::gl {
+
+class SegmentOrder;
+class StageTimer;
+
+class HierarchicalCulling {
+public:
+    enum class Target { MaxDepth, MinOpacity };
+
+    // Compiles the pyramid programs and, for the compute billboard path, the culling billboard
+    // program. Needs a current context.
+    static HierarchicalCulling create(Target target, const CullingSpec& spec, const LineGeometry& geometry);
+
+    // Defines for draw programs that cull per fragment (and per billboard on the vertex and
+    // geometry paths): DRAW_ORDER, CULLING, CULL_MAX_DEPTH | CULL_MIN_OPACITY.
+    std::vector<std::string> drawDefines() const;
+
+    // Draws all segments of `geometry` with `program` (compiled with drawDefines()) in slices of
+    // the order `order`, rebuilding the pyramid from `source` (the depth texture for MaxDepth,
+    // the accumulation target for MinOpacity) between slices. The caller has bound the target
+    // framebuffer and set the program's other uniforms; the billboards of the compute path are
+    // built here, per slice.
+    void drawSliced(const LineGeometry& geometry, const SegmentOrder& order, GLuint program, const Texture& source,
+                    const FrameSetup& setup);
+    // Segments culled by the last drawSliced(), read back as stage "culling" of `timer` (its
+    // items column). Waits for the draw to finish.
+    std::uint64_t readCulled(StageTimer& timer) const;
+
+    int slices() const { return m_slices; }
+    nlohmann::json describe() const;
+
+    // The pyramid alone, for tests: (re)allocates it for width x height, builds it from `source`
+    // (depth values are scaled by farDepth) and reads stored level `level` (pyramid level + 1) back (row 0 = GL's
+    // bottom row).
+    void build(const Texture& source, int width, int height, float farDepth);
+    std::vector<float> readLevel(int level, glm::ivec2& size) const;
+
+private:
+    HierarchicalCulling() = default;
+    void resize(int width, int height);
+    void reset();
+    void rebuild(const Texture& source, float farDepth);
+    void setUniforms(GLuint program) const;
+
+    Target m_target = Target::MaxDepth;
+    int m_slices = 10;
+    float m_threshold = 0.95f;
+    Program m_fromSource, m_fromLevel, m_billboards;
+    Buffer m_pyramid;                      // all levels, row by row
+    std::vector<glm::ivec2> m_levelSizes;  // index i = pyramid level i + 1
+    std::vector<GLint> m_levelOffsets;     // in floats
+    int m_width = 0, m_height = 0;
+    Buffer m_counter;
+};
+
+}  // namespace tc::gl

@@ -1,0 +1,48 @@
+#include "gl/segment_order.h"
+
+#include <cmath>
+
+#include "gl/gpu_timer.h"
+
+namespace tc::gl {
+
+SegmentOrder SegmentOrder::create(ResortPolicy policy, const CullingSpec& culling, const glm::vec3& centre) {
+    SegmentOrder order(SegmentSortKeys::create(), RadixSort::create());
+    order.m_policy = policy;
+    order.m_resortCos = std::cos(glm::radians(culling.resortAngleDeg));
+    order.m_resortDistance = culling.resortDistance;
+    order.m_centre = centre;
+    return order;
+}
+
+bool SegmentOrder::needsSort(const Camera& cam) const {
+    if (!m_sortedFor) return true;
+    const Camera& last = *m_sortedFor;
+    if (last.projection != cam.projection) return true;
+    if (m_policy == ResortPolicy::EveryChange)
+        // The order depends on the eye (and on the view direction for orthographic cameras).
+        return last.eye != cam.eye || last.target != cam.target;
+    const float lastDistance = glm::distance(last.eye, m_centre);
+    if (glm::distance(last.eye, cam.eye) > m_resortDistance * lastDistance) return true;
+    const glm::vec3 a = cam.projection == Projection::Orthographic ? last.forward() : glm::normalize(m_centre - last.eye);
+    const glm::vec3 b = cam.projection == Projection::Orthographic ? cam.forward() : glm::normalize(m_centre - cam.eye);
+    return glm::dot(a, b) < m_resortCos;
+}
+
+bool SegmentOrder::update(const LineGeometry& geometry, const Camera& cam, StageTimer& timer) {
+    if (!needsSort(cam)) return false;
+    timer.begin("sort");
+    const std::size_t n = geometry.segmentCount();
+    m_keys.compute(geometry.positionRadiusBuffer(), geometry.segmentVerticesBuffer(), n, cam.eye,
+                   cam.projection == Projection::Orthographic, cam.forward(), m_keyBuffer, m_drawOrder);
+    m_radixSort.sort(m_keyBuffer, m_drawOrder, n);
+    timer.setItems(n);
+    timer.end();
+    m_sortedFor = cam;
+    ++m_sorts;
+    return true;
+}
+
+void SegmentOrder::bind() const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawOrderBinding, m_drawOrder.id()); }
+
+}  // namespace tc::gl

@@ -1,0 +1,56 @@
+#pragma once
+// The front-to-back segment order of the rasterized line techniques (Groß & Gumhold 2020,
+// Sect. 4.1): per-segment distance keys (gl/sort_keys.h) sorted by the GPU radix sort
+// (gl/radix_sort.h) into the draw-order buffer that DRAW_ORDER programs read at binding 5.
+//
+// When to sort again: transparent blending needs the order of the current eye, so any camera
+// change re-sorts (ResortPolicy::EveryChange). Opaque rendering with culling only uses the order
+// to find occluders early — any order gives the same image — so, as in the paper, it re-sorts
+// only after a large camera change (ResortPolicy::LargeChange, render.culling.resort_*).
+#include <cstddef>
+#include <optional>
+
+#include "core/camera.h"
+#include "core/scene.h"
+#include "gl/line_geometry.h"
+#include "gl/objects.h"
+#include "gl/radix_sort.h"
+#include "gl/sort_keys.h"
+
+namespace tc::gl {
+
+class StageTimer;
+
+class SegmentOrder {
+public:
+    enum class ResortPolicy { EveryChange, LargeChange };
+
+    // `centre`: the point the LargeChange angle is measured around (the data's centre).
+    static SegmentOrder create(ResortPolicy policy, const CullingSpec& culling, const glm::vec3& centre);
+
+    // Sorts for `camera` as stage "sort" of `timer` if the policy asks for it; returns whether
+    // it did. The first call always sorts.
+    bool update(const LineGeometry& geometry, const Camera& camera, StageTimer& timer);
+    // Binds the draw order to binding 5 (kDrawOrderBinding).
+    void bind() const;
+    const Buffer& drawOrder() const { return m_drawOrder; }
+    // Sorts performed since creation (run.json, timings).
+    std::size_t sortsPerformed() const { return m_sorts; }
+    // Whether `camera` is far enough from the camera of the last sort to sort again.
+    bool needsSort(const Camera& camera) const;
+
+private:
+    SegmentOrder(SegmentSortKeys keys, RadixSort sort) : m_keys(std::move(keys)), m_radixSort(std::move(sort)) {}
+
+    SegmentSortKeys m_keys;
+    RadixSort m_radixSort;
+    ResortPolicy m_policy = ResortPolicy::EveryChange;
+    float m_resortCos = 1.0f;       // cos(resort angle)
+    float m_resortDistance = 0.0f;  // fraction of the eye's distance to m_centre
+    glm::vec3 m_centre{0.0f};
+    Buffer m_keyBuffer, m_drawOrder;
+    std::optional<Camera> m_sortedFor;
+    std::size_t m_sorts = 0;
+};
+
+}  // namespace tc::gl

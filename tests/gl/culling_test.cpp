@@ -1,0 +1,285 @@
+// Depth slices with hierarchical culling (Groß & Gumhold 2020, Sect. 4.3;
+// gl/hierarchical_culling.h) against the unculled renderers:
+// - opaque: culling only removes hidden work, so the image, depth and normal are the same with
+//   and without it, on every billboard path, and on a dense scene most segments are culled;
+// - transparent: a pixel is culled only once the opacity already blended into it exceeds the
+//   threshold T, and everything the k-buffer or object order would still add to it is blended
+//   *under* that, weighted by its transmittance < 1 - T. So every channel changes by at most
+//   1 - T against the unculled render (and, by the triangle inequality, moves at most that much
+//   further from depth peeling);
+// - slicing itself (threshold 1: nothing can be culled) leaves the k-buffer bit-identical.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "core/scene.h"
+#include "gl/gpu_timer.h"
+#include "gl/hierarchical_culling.h"
+#include "gl/line_geometry.h"
+#include "gl/technique.h"
+#include "gl_fixture.h"
+#include "test_scenes.h"
+
+namespace tc::test {
+namespace {
+
+struct Rendered {
+    FrameImages images;
+    std::uint64_t culled = 0;
+    bool hadCullingStage = false;
+    nlohmann::json description;
+};
+
+Rendered render(const Scene& scene, const StyledLines& lines, const std::vector<Camera>& cameras) {
+    std::unique_ptr<gl::Technique> technique = gl::createTechnique(scene, lines);
+    Rendered r;
+    gl::StageTimer timer;
+    for (std::size_t i = 0; i < cameras.size(); ++i) {
+        r.images = FrameImages{};
+        technique->render(gl::FrameSetup{int(i), cameras[i], scene.image.width, scene.image.height}, r.images, timer);
+        r.culled = 0;
+        for (const gl::StageTime& t : timer.collect())
+            if (t.stage == "culling") {
+                r.culled = t.items;
+                r.hadCullingStage = true;
+            }
+    }
+    r.description = technique->describe();
+    return r;
+}
+
+Rendered render(const Scene& scene, const StyledLines& lines, const Camera& camera) {
+    return render(scene, lines, std::vector<Camera>{camera});
+}
+
+Camera lookAt(glm::vec3 eye, glm::vec3 target = {0, 0, 0}) {
+    Camera cam;
+    cam.eye = eye;
+    cam.target = target;
+    cam.up = {0, 1, 0};
+    cam.fovYDeg = 40.0f;
+    return cam;
+}
+
+// Many opaque tubes packed in a small ball: most are hidden behind the front layers.
+StyledLines denseBall(std::uint32_t seed, int polylines, float alpha) {
+    RandomSceneOptions o;
+    o.polylines = polylines;
+    o.minSegments = 3;
+    o.maxSegments = 6;
+    o.radiusMin = 0.04f;
+    o.radiusRatio = 2.0f;
+    o.stepMin = 0.1f;
+    o.stepMax = 0.25f;
+    o.maxBendDeg = 50.0f;
+    o.extent = 0.35f;
+    StyledLines lines = randomLineScene(seed, o);
+    for (glm::vec4& c : lines.color) c.w = alpha;
+    return lines;
+}
+
+Scene baseScene(int w, int h) {
+    Scene scene;
+    scene.image.width = w;
+    scene.image.height = h;
+    return scene;
+}
+
+// CPU twin of shaders/cull_pyramid.comp: the last texel of an odd-sized row / column also takes
+// the leftover source texel.
+std::vector<float> reduceLevel(const std::vector<float>& src, glm::ivec2 srcSize, glm::ivec2 size, bool takeMax) {
+    std::vector<float> dst(std::size_t(size.x) * size.y);
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) {
+            const int x1 = x == size.x - 1 ? srcSize.x - 1 : std::min(2 * x + 1, srcSize.x - 1);
+            const int y1 = y == size.y - 1 ? srcSize.y - 1 : std::min(2 * y + 1, srcSize.y - 1);
+            float v = src[std::size_t(2 * y) * srcSize.x + 2 * x];
+            for (int v_ = 2 * y; v_ <= y1; ++v_)
+                for (int u = 2 * x; u <= x1; ++u) {
+                    const float s = src[std::size_t(v_) * srcSize.x + u];
+                    v = takeMax ? std::max(v, s) : std::min(v, s);
+                }
+            dst[std::size_t(y) * size.x + x] = v;
+        }
+    return dst;
+}
+
+TEST_F(GlTest, culling_pyramid_levels_are_the_exact_max_and_min_reductions_for_odd_sizes) {
+    const StyledLines lines = denseBall(9, 4, 1.0f);
+    for (glm::ivec2 size : {glm::ivec2(37, 23), glm::ivec2(64, 1), glm::ivec2(5, 80)}) {
+        // A source texture of random values in [0, 1): depth scaled by farDepth = 3 (max), or
+        // alpha (min).
+        std::mt19937 rng(size.x * 131 + size.y);
+        std::vector<float> rgba(4 * std::size_t(size.x) * size.y), red(std::size_t(size.x) * size.y);
+        for (std::size_t i = 0; i < red.size(); ++i) {
+            red[i] = float(rng() >> 8) / 16777216.0f;
+            rgba[4 * i + 0] = rgba[4 * i + 3] = red[i];
+        }
+        gl::Texture source = gl::makeTexture2D(GL_RGBA32F, size.x, size.y);
+        glTextureSubImage2D(source.id(), 0, 0, 0, size.x, size.y, GL_RGBA, GL_FLOAT, rgba.data());
+        const gl::LineGeometry geometry = gl::LineGeometry::create(lines, BillboardPath::Compute);
+        for (bool takeMax : {true, false}) {
+            SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + (takeMax ? " max" : " min"));
+            gl::HierarchicalCulling culling = gl::HierarchicalCulling::create(
+                takeMax ? gl::HierarchicalCulling::Target::MaxDepth : gl::HierarchicalCulling::Target::MinOpacity,
+                CullingSpec{}, geometry);
+            culling.build(source, size.x, size.y, 3.0f);
+            std::vector<float> expected = red;
+            if (takeMax)
+                for (float& v : expected) v *= 3.0f;
+            glm::ivec2 srcSize = size, levelSize{0};
+            for (int level = 0;; ++level) {
+                glm::ivec2 want = glm::max(srcSize / 2, glm::ivec2(1));
+                expected = reduceLevel(expected, srcSize, want, takeMax);
+                const std::vector<float> got = culling.readLevel(level, levelSize);
+                ASSERT_EQ(levelSize, want) << "level " << level;
+                EXPECT_TRUE(got == expected) << "level " << level;
+                srcSize = want;
+                if (want == glm::ivec2(1)) break;
+            }
+        }
+    }
+}
+
+TEST_F(GlTest, opaque_culling_gives_the_unculled_image_and_culls_most_of_a_dense_scene) {
+    const int w = 96, h = 72;
+    const StyledLines lines = denseBall(5, 1000, 1.0f);
+    const Camera cam = lookAt({0.3f, 0.4f, 2.0f});
+    for (BillboardPath path : {BillboardPath::Compute, BillboardPath::Vertex, BillboardPath::Geometry}) {
+        SCOPED_TRACE("billboard path " + std::to_string(int(path)));
+        Scene scene = baseScene(w, h);
+        scene.output.aovId = true;  // polyline id: tells a depth tie from a wrong surface
+        scene.render.billboards = path;
+        const Rendered off = render(scene, lines, cam);
+        scene.render.culling.enabled = true;
+        const Rendered on = render(scene, lines, cam);
+        EXPECT_FALSE(off.hadCullingStage);
+        ASSERT_TRUE(on.hadCullingStage);
+        // Not vacuous: at least half of the primitives are culled.
+        EXPECT_GE(on.culled, lines.segmentCount() / 2) << "of " << lines.segmentCount() << " segments";
+
+        // The same visible surface everywhere. Where two segments reach a pixel at the same depth
+        // (the joint sphere of two segments of a polyline, or where two tubes interpenetrate),
+        // the depth test keeps the one drawn first, and culling changes the draw order (sorted
+        // instead of as stored); the surface attributes are recomputed from the winning segment,
+        // so such a pixel may differ a little in colour and normal, but not in depth. A wrongly
+        // culled segment shows as a farther surface or a hole.
+        std::size_t covered = 0, ties = 0;
+        for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+            const bool hitOff = std::isfinite(off.images.depth[i]), hitOn = std::isfinite(on.images.depth[i]);
+            ASSERT_EQ(hitOff, hitOn) << "pixel " << i;
+            if (!hitOff) continue;
+            ++covered;
+            // The ray caster's float rounding between two segments' intersections of one surface
+            // (rounded_cone_renderer_test.cpp measures 7.8e-6 relative against the CPU).
+            EXPECT_NEAR(off.images.depth[i], on.images.depth[i], 1e-5 * off.images.depth[i]) << "pixel " << i;
+            bool same = off.images.depth[i] == on.images.depth[i] && off.images.id[i] == on.images.id[i];
+            for (int c = 0; c < 4; ++c) same = same && off.images.rgba[4 * i + c] == on.images.rgba[4 * i + c];
+            if (!same) ++ties;
+        }
+        EXPECT_GT(covered, std::size_t(w) * h / 4);
+        // Ties are rare: the rest is bit-identical.
+        EXPECT_LE(ties, covered / 50) << "of " << covered << " covered pixels";
+    }
+}
+
+TEST_F(GlTest, opaque_culling_resorts_only_after_large_camera_changes) {
+    const StyledLines lines = denseBall(6, 40, 1.0f);
+    Scene scene = baseScene(32, 24);
+    scene.render.culling.enabled = true;
+    // Orbit in 3-degree steps with only the angle rule: a re-sort when the turn since the last
+    // sort exceeds 10 degrees, i.e. at 12 degrees: frames 0, 4, 8, 12.
+    scene.render.culling.resortAngleDeg = 10.0f;
+    scene.render.culling.resortDistance = 100.0f;
+    std::vector<Camera> cams;
+    for (int i = 0; i < 13; ++i) {
+        const float a = glm::radians(3.0f * float(i));
+        cams.push_back(lookAt({2.0f * std::sin(a), 0.3f, 2.0f * std::cos(a)}));
+    }
+    const Rendered orbit = render(scene, lines, cams);
+    EXPECT_EQ(orbit.description["sorts_performed"].get<int>(), 4);
+    // Only the distance rule: moving the eye by 5 % of its distance keeps the order, 20 % sorts.
+    scene.render.culling.resortAngleDeg = 180.0f;
+    scene.render.culling.resortDistance = 0.1f;
+    const Rendered dolly =
+        render(scene, lines, std::vector<Camera>{lookAt({0, 0, 2.0f}), lookAt({0, 0, 1.9f}), lookAt({0, 0, 1.6f})});
+    EXPECT_EQ(dolly.description["sorts_performed"].get<int>(), 2);
+}
+
+void expectCulledWithinBound(const Rendered& culled, const Rendered& unculled, const FrameImages* peeled, float threshold,
+                             const std::string& label) {
+    const std::size_t n = culled.images.rgba.size();
+    ASSERT_EQ(n, unculled.images.rgba.size());
+    const double bound = 1.0 - threshold + 1e-5;  // fp32 accumulation slack
+    double worst = 0, worstVsPeel = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double d = std::abs(double(culled.images.rgba[i]) - unculled.images.rgba[i]);
+        worst = std::max(worst, d);
+        EXPECT_LE(d, bound) << label << ": channel " << i;
+        if (peeled) {
+            const double e = std::abs(double(culled.images.rgba[i]) - peeled->rgba[i]);
+            const double e0 = std::abs(double(unculled.images.rgba[i]) - peeled->rgba[i]);
+            worstVsPeel = std::max(worstVsPeel, e - e0);
+            EXPECT_LE(e, e0 + bound) << label << ": channel " << i << " vs depth peeling";
+        }
+    }
+    ::testing::Test::RecordProperty(label + "_max_change", std::to_string(worst));
+}
+
+TEST_F(GlTest, transparent_culling_changes_pixels_by_at_most_one_minus_threshold) {
+    const int w = 64, h = 48;
+    const StyledLines lines = denseBall(7, 600, 0.6f);
+    const Camera cam = lookAt({0.2f, -0.3f, 2.0f});
+    Scene scene = baseScene(w, h);
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    scene.render.transparency = Transparency::DepthPeeling;
+    const Rendered peeled = render(scene, lines, cam);
+    for (float threshold : {0.9f, 0.99f}) {
+        for (Transparency mode : {Transparency::KBuffer, Transparency::ObjectOrder}) {
+            const std::string label = std::string(mode == Transparency::KBuffer ? "kbuffer" : "object order") +
+                                      ", threshold " + std::to_string(threshold);
+            SCOPED_TRACE(label);
+            scene.render.transparency = mode;
+            scene.render.kbufferK = 8;
+            scene.render.culling.enabled = false;
+            const Rendered unculled = render(scene, lines, cam);
+            scene.render.culling.enabled = true;
+            scene.render.culling.opacityThreshold = threshold;
+            const Rendered culled = render(scene, lines, cam);
+            ASSERT_TRUE(culled.hadCullingStage);
+            // Not vacuous: the scene is dense enough that pixels pass the threshold and whole
+            // segments are culled.
+            EXPECT_GT(culled.culled, lines.segmentCount() / 50) << "of " << lines.segmentCount();
+            expectCulledWithinBound(culled, unculled, &peeled.images, threshold, label);
+        }
+    }
+}
+
+TEST_F(GlTest, slicing_without_culling_leaves_the_kbuffer_bit_identical) {
+    const int w = 80, h = 60;
+    const StyledLines lines = denseBall(8, 200, 0.4f);
+    const Camera cam = lookAt({-0.4f, 0.2f, 2.1f});
+    Scene scene = baseScene(w, h);
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    scene.render.transparency = Transparency::KBuffer;
+    scene.render.kbufferK = 4;
+    const Rendered single = render(scene, lines, cam);
+    // Opacity never exceeds 1, so with threshold 1 nothing is culled: only the slicing remains.
+    scene.render.culling.enabled = true;
+    scene.render.culling.opacityThreshold = 1.0f;
+    for (BillboardPath path : {BillboardPath::Compute, BillboardPath::Geometry}) {
+        scene.render.billboards = path;
+        for (int slices : {1, 7, 64}) {
+            scene.render.culling.slices = slices;
+            const Rendered sliced = render(scene, lines, cam);
+            EXPECT_EQ(sliced.culled, 0u);
+            EXPECT_TRUE(sliced.images.rgba == single.images.rgba) << slices << " slices, path " << int(path);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace tc::test
