@@ -13,6 +13,7 @@ void addValidateCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
+void addMergeTimingsCommand(CLI::App& app);  // cli/batch_commands.cpp
 
 // Set by subcommands that end with a non-zero code without an exception (compare --fail).
 extern int g_exitCode;

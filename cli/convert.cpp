@@ -1,12 +1,14 @@
-// tubecast convert IN OUT.vtp: writes a dataset (a file, or the dataset of a scene file, e.g. a
-// generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
-// scripts/bench/) see exactly the lines tubecast renders.
+// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (a file, or the dataset of a scene file,
+// e.g. a generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
+// scripts/bench/) see exactly the lines tubecast renders, or as .tcb (docs/formats.md) for fast
+// reloads.
 #include <iostream>
 
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/scene.h"
 #include "io/dataset.h"
+#include "io/line_formats.h"
 #include "io/line_reader.h"
 
 namespace tc::cli {
@@ -17,13 +19,14 @@ void addConvertCommand(CLI::App& app) {
         std::vector<std::string> overrides;
     };
     auto options = std::make_shared<Options>();
-    CLI::App* cmd = app.add_subcommand("convert", "Write a dataset (or a scene's dataset) as .vtp");
+    CLI::App* cmd = app.add_subcommand("convert", "Write a dataset (or a scene's dataset) as .vtp or .tcb");
     cmd->add_option("input", options->in, "Dataset file, or a scene .json whose dataset to write")->required();
-    cmd->add_option("output", options->out, "Output .vtp file")->required();
+    cmd->add_option("output", options->out, "Output .vtp (VTK XML polydata) or .tcb (tubecast binary) file")->required();
     cmd->add_option("--set", options->overrides, "Override a scene key (scene input only)");
     cmd->callback([options] {
-        if (!options->out.ends_with(".vtp"))
-            throw InputError(options->out + ": only .vtp output is supported (VTK XML polydata)");
+        const bool tcb = options->out.ends_with(".tcb");
+        if (!options->out.ends_with(".vtp") && !tcb)
+            throw InputError(options->out + ": output must end in .vtp (VTK XML polydata) or .tcb (tubecast binary)");
         DatasetLoad data;
         if (options->in.ends_with(".json")) {
             data = loadDataset(loadScene(options->in, options->overrides).dataset);
@@ -32,7 +35,11 @@ void addConvertCommand(CLI::App& app) {
             spec.path = options->in;
             data = loadDataset(spec);
         }
-        writeLineSetVtp(data.lines, options->out);
+        if (tcb) {
+            writeTcb(data.lines, options->out);
+        } else {
+            writeLineSetVtp(data.lines, options->out);
+        }
         std::cerr << "tubecast: wrote " << options->out << " (" << data.lines.polylineCount() << " polylines, "
                   << data.lines.segmentCount() << " segments)\n";
     });

@@ -21,12 +21,14 @@ int main(int argc, char** argv) {
         "  1  internal error (a bug: please report it)\n"
         "  2  invalid input: command line, scene spec or dataset\n"
         "  3  no usable OpenGL backend (EGL / OSMesa)\n"
-        "  4  cannot write output (directory, permissions, existing files without --overwrite/--resume)\n");
+        "  4  cannot write output (directory, permissions, existing files without --overwrite/--resume)\n"
+        "  5  some frames failed (render --keep-going: the others were written)\n");
     tc::cli::addRenderCommand(app);
     tc::cli::addValidateCommand(app);
     tc::cli::addInfoCommand(app);
     tc::cli::addCompareCommand(app);
     tc::cli::addConvertCommand(app);
+    tc::cli::addMergeTimingsCommand(app);
 
     try {
         app.parse(argc, argv);

@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/scene.h"
+#include "io/paraview_preset.h"
 
 namespace tc::cli {
 
@@ -20,6 +21,7 @@ void addValidateCommand(CLI::App& app) {
     cmd->add_option("--set", options->overrides, "Override a scene key: key.path=value (repeatable)");
     cmd->callback([options] {
         Scene scene = loadScene(options->scene, options->overrides);
+        loadStylePresets(scene.style, scene.file);
         if (!scene.dataset.path.empty() && !std::filesystem::exists(scene.dataset.path))
             throw InputError(options->scene + ": dataset.path: no such file: " + scene.dataset.path);
         std::cout << options->scene << ": ok (" << scene.frameCount() << " frame"

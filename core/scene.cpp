@@ -57,6 +57,17 @@ RangeSpec readRange(SpecReader& r, const std::string& key) {
     if (!r.has(key)) return range;
     const json& v = r.raw(key);
     if (v.is_string() && v.get<std::string>() == "auto") return range;
+    if (v.is_object() && v.size() == 1 && v.contains("percentiles")) {
+        const json& p = v["percentiles"];
+        if (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number() && p[0].get<double>() >= 0 &&
+            p[0].get<double>() < p[1].get<double>() && p[1].get<double>() <= 100) {
+            range.percentiles = true;
+            range.percentileLo = p[0].get<float>();
+            range.percentileHi = p[1].get<float>();
+            return range;
+        }
+        r.fail(key, "percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100, got " + describeJson(p));
+    }
     if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
         std::isfinite(v[0].get<double>()) && std::isfinite(v[1].get<double>()) &&
         v[0].get<double>() < v[1].get<double>()) {
@@ -65,7 +76,48 @@ RangeSpec readRange(SpecReader& r, const std::string& key) {
         range.hi = v[1].get<float>();
         return range;
     }
-    r.fail(key, "expected \"auto\" or [min, max] with min < max, got " + describeJson(v));
+    r.fail(key, "expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, got " +
+                    describeJson(v));
+}
+
+// dataset.trace (io/stream_tracer.h): streamlines of a vector field on the grid at dataset.path.
+void readTrace(SpecReader r, TraceSpec& t) {
+    if (!r.has("vector")) r.fail("vector", "missing: a 3-component point array name, or [\"vx\", \"vy\", \"vz\"]");
+    const json& v = r.raw("vector");
+    if (v.is_string() && !v.get<std::string>().empty()) {
+        t.vector = v.get<std::string>();
+    } else if (v.is_array() && v.size() == 3 && v[0].is_string() && v[1].is_string() && v[2].is_string() &&
+               !v[0].get<std::string>().empty() && !v[1].get<std::string>().empty() && !v[2].get<std::string>().empty()) {
+        for (int i = 0; i < 3; ++i) t.components[std::size_t(i)] = v[std::size_t(i)].get<std::string>();
+    } else {
+        r.fail("vector", "expected a point array name or three scalar array names [\"vx\", \"vy\", \"vz\"], got " +
+                             describeJson(v));
+    }
+    std::string seeding = r.getEnum("seeding", "random", {"random", "uniform", "line"});
+    t.seeding = seeding == "uniform" ? TraceSpec::Seeding::Uniform
+                : seeding == "line"  ? TraceSpec::Seeding::Line
+                                     : TraceSpec::Seeding::Random;
+    t.seeds = r.getInt("seeds", t.seeds, 1, 1'000'000);
+    if (t.seeding == TraceSpec::Seeding::Line) {
+        if (!r.has("line")) r.fail("line", "missing: seeding \"line\" needs \"line\": [[x0, y0, z0], [x1, y1, z1]]");
+        const json& l = r.raw("line");
+        auto isVec3 = [](const json& a) {
+            return a.is_array() && a.size() == 3 && a[0].is_number() && a[1].is_number() && a[2].is_number();
+        };
+        if (!(l.is_array() && l.size() == 2 && isVec3(l[0]) && isVec3(l[1])))
+            r.fail("line", "expected [[x0, y0, z0], [x1, y1, z1]], got " + describeJson(l));
+        t.lineFrom = {l[0][0].get<float>(), l[0][1].get<float>(), l[0][2].get<float>()};
+        t.lineTo = {l[1][0].get<float>(), l[1][1].get<float>(), l[1][2].get<float>()};
+    }
+    t.maxLength = r.getFloat("max_length", t.maxLength, 0.0f, kInf);
+    std::string direction = r.getEnum("direction", "both", {"forward", "backward", "both"});
+    t.direction = direction == "forward"    ? TraceSpec::Direction::Forward
+                  : direction == "backward" ? TraceSpec::Direction::Backward
+                                            : TraceSpec::Direction::Both;
+    t.stepLength = r.getFloat("step", t.stepLength, 1e-4f, 10.0f);
+    t.maxSteps = r.getInt("max_steps", t.maxSteps, 1, 1'000'000);
+    t.randomSeed = std::uint32_t(r.getInt("random_seed", int(t.randomSeed), 0, std::numeric_limits<int>::max()));
+    r.finish();
 }
 
 void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& overridden) {
@@ -80,8 +132,18 @@ void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& over
         if (fs::path(d.path).is_relative() && !r.file().empty() && !overridden.count("dataset.path") &&
             !overridden.count("dataset"))
             d.path = (fs::path(r.file()).parent_path() / d.path).lexically_normal().string();
+        d.frame = r.getInt("frame", d.frame, -1, 10'000'000);  // time series (particles, M6)
+        if (r.has("trace")) readTrace(r.child("trace"), d.trace.emplace());
     } else {
-        d.generate = r.getEnum("generate", "tornado", {"tornado"});
+        d.generate = r.getEnum("generate", "tornado",
+                               {"tornado", "propeller", "brain", "convection", "turbulence", "droplets"});
+        if (d.generate == "droplets") {  // particles (M6): "lines"/"points" do not apply
+            d.particles = r.getInt("particles", d.particles, 1, 100'000'000);
+            d.seed = std::uint32_t(r.getInt("seed", int(d.seed), 0, std::numeric_limits<int>::max()));
+            d.frame = r.getInt("frame", d.frame, -1, 10'000'000);
+            r.finish();
+            return;
+        }
         d.lines = r.getInt("lines", d.lines, 1, 10'000'000);
         d.points = r.getInt("points", d.points, 2, 10'000'000);
         d.seed = std::uint32_t(r.getInt("seed", int(d.seed), 0, std::numeric_limits<int>::max()));
@@ -92,7 +154,7 @@ void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& over
     r.finish();
 }
 
-void readStyle(SpecReader r, StyleSpec& s) {
+void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridden) {
     if (r.has("radius")) {
         const json& v = r.raw("radius");
         if (v.is_object()) {
@@ -122,8 +184,26 @@ void readStyle(SpecReader r, StyleSpec& s) {
             SpecReader m = r.child("color");
             s.color.attribute = m.getString("attribute", "");
             if (s.color.attribute.empty()) m.fail("attribute", "missing: the point attribute to colour by");
-            s.color.colormap = m.getEnum("colormap", s.color.colormap,
-                                         {"viridis", "inferno", "magma", "plasma", "turbo", "cool_warm", "grayscale"});
+            // A built-in name, or a ParaView preset file (io/paraview_preset.h loads it), relative
+            // to the scene file like dataset.path.
+            s.color.colormap = m.getString("colormap", s.color.colormap);
+            if (!isBuiltinColormap(s.color.colormap)) {
+                std::string names;
+                for (const auto& n : builtinColormapNames()) names += (names.empty() ? "\"" : ", \"") + n + "\"";
+                if (fs::path(s.color.colormap).extension() != ".json")
+                    m.fail("colormap", "expected one of " + names + " or a ParaView preset file (.json), got \"" +
+                                           s.color.colormap + "\"");
+                if (fs::path(s.color.colormap).is_relative() && !r.file().empty() &&
+                    !overridden.count("style.color.colormap") && !overridden.count("style.color") &&
+                    !overridden.count("style"))
+                    s.color.colormap = (fs::path(r.file()).parent_path() / s.color.colormap).lexically_normal().string();
+            }
+            if (m.has("nan_color")) {
+                if (m.raw("nan_color").is_array() && m.raw("nan_color").size() == 4)
+                    m.fail("nan_color", "expected a colour [r, g, b] with components in [0, 1], got " +
+                                            describeJson(m.raw("nan_color")));
+                s.color.nanColor = glm::vec3(m.getColor("nan_color", glm::vec4(0.5f)));
+            }
             s.color.range = readRange(m, "range");
             m.finish();
         } else {
@@ -141,19 +221,28 @@ void readStyle(SpecReader r, StyleSpec& s) {
             s.opacity.attribute = m.getString("attribute", "");
             if (s.opacity.attribute.empty()) m.fail("attribute", "missing: the point attribute to map to opacity");
             s.opacity.range = readRange(m, "range");
-            if (m.has("points")) {
+            if (m.has("points") && m.raw("points").is_string()) {
+                if (m.raw("points").get<std::string>() != "colormap")
+                    m.fail("points", "expected [[t, opacity], ...] or \"colormap\" (the preset's opacity points), got " +
+                                         describeJson(m.raw("points")));
+                s.opacity.pointsFromColormap = true;
+            } else if (m.has("points")) {
                 const json& p = m.raw("points");
                 std::string expected = "expected [[t, opacity], ...] with at least 2 points, t ascending in [0, 1], opacity in [0, 1]";
-                bool ok = p.is_array() && p.size() >= 2;
+                if (!p.is_array() || p.size() < 2) m.fail("points", expected + ", got " + describeJson(p));
                 std::vector<glm::vec2> points;
-                for (std::size_t i = 0; ok && i < p.size(); ++i) {
-                    ok = p[i].is_array() && p[i].size() == 2 && p[i][0].is_number() && p[i][1].is_number();
-                    if (!ok) break;
+                for (std::size_t i = 0; i < p.size(); ++i) {
+                    // The element is named so a long transfer function's bad point is found.
+                    std::string at = "points[" + std::to_string(i) + "]";
+                    if (!(p[i].is_array() && p[i].size() == 2 && p[i][0].is_number() && p[i][1].is_number()))
+                        m.fail(at, "expected [t, opacity], got " + describeJson(p[i]));
                     glm::vec2 q{p[i][0].get<float>(), p[i][1].get<float>()};
-                    ok = q.x >= 0 && q.x <= 1 && q.y >= 0 && q.y <= 1 && (points.empty() || q.x >= points.back().x);
+                    if (!(q.x >= 0 && q.x <= 1)) m.fail(at, "t must be in [0, 1], got " + describeJson(p[i][0]));
+                    if (!(q.y >= 0 && q.y <= 1)) m.fail(at, "opacity must be in [0, 1], got " + describeJson(p[i][1]));
+                    if (!points.empty() && q.x < points.back().x)
+                        m.fail(at, "t must not decrease: " + describeJson(p[i][0]) + " after " + describeJson(p[i - 1][0]));
                     points.push_back(q);
                 }
-                if (!ok) m.fail("points", expected + ", got " + describeJson(p));
                 s.opacity.points = points;
             }
             m.finish();
@@ -223,15 +312,95 @@ void readImage(SpecReader r, ImageSpec& im) {
     r.finish();
 }
 
+// render.opacity (docs/scene-spec.md, core/opacity_optimization.h).
+void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
+    op.segmentsPerLine = o.getInt("segments_per_line", op.segmentsPerLine, 1, 4096);
+    op.p = o.getFloat("p", op.p, 0.0f, 1e6f);
+    op.q = o.getFloat("q", op.q, 0.0f, 1e6f);
+    op.r = o.getFloat("r", op.q / 10.0f, 0.0f, 1e6f);
+    op.s = o.getFloat("s", op.s, 0.0f, 1e6f);
+    op.lambda = o.getFloat("lambda", op.lambda, 0.0f, 100.0f);
+    if (op.p <= 0.0f) o.fail("p", "expected a number > 0 (the energy must stay strictly convex)");
+    op.blend = o.getFloat("blend", op.blend, 0.0f, 1.0f);
+    if (op.blend <= 0.0f) o.fail("blend", "expected a number in (0, 1]");
+    op.tolerance = o.getFloat("tolerance", op.tolerance, 1e-12f, 1.0f);
+    op.maxIterations = o.getInt("max_iterations", op.maxIterations, 1, 1000000);
+    op.dumpDir = o.getString("dump_dir", op.dumpDir);
+    if (o.has("importance")) {
+        if (o.raw("importance").is_string()) {
+            std::string kind = o.getEnum("importance", "constant", {"constant", "length", "curvature"});
+            op.importance = kind == "length"      ? OpacityOptimizationSpec::Importance::Length
+                            : kind == "curvature" ? OpacityOptimizationSpec::Importance::Curvature
+                                                  : OpacityOptimizationSpec::Importance::Constant;
+        } else if (o.raw("importance").is_object()) {
+            SpecReader i = o.child("importance");
+            if (!i.has("attribute")) i.fail("attribute", "missing required key");
+            op.importance = OpacityOptimizationSpec::Importance::Attribute;
+            op.attribute = i.getString("attribute", "");
+            if (op.attribute.empty()) i.fail("attribute", "expected a point attribute name");
+            if (!i.has("range")) i.fail("range", "missing required key (importance 0 and 1 at [a, b])");
+            const nlohmann::json& range = i.raw("range");
+            if (!range.is_array() || range.size() != 2 || !range[0].is_number() || !range[1].is_number() ||
+                !(range[0].get<double>() < range[1].get<double>()))
+                i.fail("range", "expected [a, b] with a < b, got " + describeJson(range));
+            op.rangeLo = range[0].get<float>();
+            op.rangeHi = range[1].get<float>();
+            i.finish();
+        } else {
+            o.fail("importance", "expected \"constant\", \"length\", \"curvature\" or {\"attribute\": NAME, \"range\": [a, b]}, got " +
+                                     describeJson(o.raw("importance")));
+        }
+    }
+    o.finish();
+}
+
+// render.spheres (M6, Staib, Grottel & Gumhold 2015).
+void readSpheres(SpecReader r, SpheresSpec& s) {
+    std::string density = r.getEnum("density", "constant", {"constant", "l2", "hollow_constant", "hollow_l2"});
+    s.density = density == "l2"                ? SphereDensity::L2
+                : density == "hollow_constant" ? SphereDensity::HollowConstant
+                : density == "hollow_l2"       ? SphereDensity::HollowL2
+                                               : SphereDensity::Constant;
+    s.innerRadius = r.getFloat("inner_radius", s.innerRadius, 0.0f, 0.99f);
+    s.alphaRv = r.getFloat("alpha_rv", s.alphaRv, 0.0f, 1.0f);
+    s.alphaA = r.getFloat("alpha_a", s.alphaA, 0.0f, 1.0f);
+    s.chunks = r.getInt("chunks", s.chunks, 1, 1024);
+    s.earlyZThreshold = r.getFloat("early_z_threshold", s.earlyZThreshold, 0.0f, 1.0f);
+    r.finish();
+}
+
+void readVrc(SpecReader r, VrcSpec& v) {
+    v.resolution = r.getInt("resolution", v.resolution, 2, 1024);
+    v.quantization = r.getInt("quantization", v.quantization, 0, 90);
+    v.neighbors = r.getEnum("neighbors", "off", {"off", "on"}) == "on";
+    v.opacityThreshold = r.getFloat("opacity_threshold", v.opacityThreshold, 0.01f, 1.0f);
+    v.shadows = r.getBool("shadows", v.shadows);
+    v.shadowApertureDeg = r.getFloat("shadow_aperture_deg", v.shadowApertureDeg, 1.0f, 90.0f);
+    r.finish();
+}
+
 void readRender(SpecReader r, RenderSpec& rs) {
-    r.getEnum("technique", "rasterized", {"rasterized"});
-    rs.technique = RenderTechnique::Rasterized;
+    std::string technique =
+        r.getEnum("technique", "rasterized", {"rasterized", "raytraced", "auto", "spheres", "voxel_raycast"});
+    rs.technique = technique == "raytraced"       ? RenderTechnique::Raytraced
+                   : technique == "auto"          ? RenderTechnique::Auto
+                   : technique == "spheres"       ? RenderTechnique::Spheres
+                   : technique == "voxel_raycast" ? RenderTechnique::VoxelRaycast
+                                                  : RenderTechnique::Rasterized;
+    if (r.has("vrc")) readVrc(r.child("vrc"), rs.vrc);
+    if (r.has("spheres")) readSpheres(r.child("spheres"), rs.spheres);
+    if (r.has("raytraced")) {
+        SpecReader rt = r.child("raytraced");
+        rs.raytracedAlphaCutoff = rt.getFloat("alpha_cutoff", rs.raytracedAlphaCutoff, 0.01f, 1.0f);
+        rt.finish();
+    }
     std::string transparency =
-        r.getEnum("transparency", "opaque", {"opaque", "kbuffer", "depth_peeling", "object_order"});
-    rs.transparency = transparency == "kbuffer"         ? Transparency::KBuffer
-                      : transparency == "depth_peeling" ? Transparency::DepthPeeling
-                      : transparency == "object_order"  ? Transparency::ObjectOrder
-                                                        : Transparency::Opaque;
+        r.getEnum("transparency", "opaque", {"opaque", "kbuffer", "depth_peeling", "object_order", "opacity_optimization"});
+    rs.transparency = transparency == "kbuffer"                ? Transparency::KBuffer
+                      : transparency == "depth_peeling"        ? Transparency::DepthPeeling
+                      : transparency == "object_order"         ? Transparency::ObjectOrder
+                      : transparency == "opacity_optimization" ? Transparency::OpacityOptimization
+                                                               : Transparency::Opaque;
     std::string billboards = r.getEnum("billboards", "compute", {"compute", "vertex", "geometry"});
     rs.billboards = billboards == "vertex"     ? BillboardPath::Vertex
                     : billboards == "geometry" ? BillboardPath::Geometry
@@ -248,7 +417,9 @@ void readRender(SpecReader r, RenderSpec& rs) {
         d.finish();
     }
     rs.memoryBudgetMb = r.getInt("memory_budget_mb", rs.memoryBudgetMb, 1, 1 << 30);
-    rs.referenceDepthPeeling = r.getEnum("reference", "none", {"none", "depth_peeling"}) == "depth_peeling";
+    std::string reference = r.getEnum("reference", "none", {"none", "depth_peeling", "raytraced"});
+    rs.referenceDepthPeeling = reference == "depth_peeling";
+    rs.referenceRaytraced = reference == "raytraced";
     if (r.has("culling")) {
         SpecReader c = r.child("culling");
         rs.culling.enabled = c.getBool("enabled", true);
@@ -266,8 +437,24 @@ void readRender(SpecReader r, RenderSpec& rs) {
         rs.ao.apertureDeg = a.getFloat("aperture_deg", rs.ao.apertureDeg, 10.0f, 90.0f);
         rs.ao.distance = a.getFloat("distance", rs.ao.distance, 1e-4f, 10.0f);
         rs.ao.strength = a.getFloat("strength", rs.ao.strength, 0.0f, 100.0f);
+        rs.ao.method = a.getEnum("method", "cone_traced", {"cone_traced", "ray_traced"}) == "ray_traced"
+                           ? AoSpec::Method::RayTraced
+                           : AoSpec::Method::ConeTraced;
+        rs.ao.samples = a.getInt("samples", rs.ao.samples, 1, 1024);
         a.finish();
     }
+    if (r.has("opacity")) readOpacityOptimization(r.child("opacity"), rs.opacity);
+    // Opacity optimization needs the GL fragment lists; "auto" means rasterized for it.
+    if (rs.technique == RenderTechnique::Raytraced && rs.transparency == Transparency::OpacityOptimization)
+        r.fail("transparency", "technique \"raytraced\" does not take \"opacity_optimization\" (use \"rasterized\" or \"auto\")");
+    if (rs.technique == RenderTechnique::VoxelRaycast && rs.transparency == Transparency::OpacityOptimization)
+        r.fail("transparency", "technique \"voxel_raycast\" does not take \"opacity_optimization\"");
+    if (rs.technique == RenderTechnique::VoxelRaycast && rs.ao.enabled && rs.ao.method == AoSpec::Method::RayTraced)
+        r.fail("ao.method", "technique \"voxel_raycast\" takes \"cone_traced\" ambient occlusion");
+    if (rs.technique == RenderTechnique::Spheres && rs.transparency != Transparency::Opaque &&
+        rs.transparency != Transparency::ObjectOrder)
+        r.fail("transparency", "technique \"spheres\" takes \"opaque\" or \"object_order\" (sorted front to back by "
+                               "power distance), got \"" + transparency + "\"");
     r.finish();
 }
 
@@ -342,7 +529,7 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
     SpecReader top(doc, file, "", &overridden);
     if (!top.has("dataset")) top.fail("dataset", "missing required key (\"path\" to a file or \"generate\": \"tornado\")");
     readDataset(top.child("dataset"), scene.dataset, overridden);
-    if (top.has("style")) readStyle(top.child("style"), scene.style);
+    if (top.has("style")) readStyle(top.child("style"), scene.style, overridden);
     if (top.has("camera")) readCamera(top.child("camera"), scene.camera);
     else scene.camera.fit = true;
     if (top.has("animation")) readAnimation(top.child("animation"), scene.animation, overridden);

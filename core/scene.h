@@ -2,6 +2,7 @@
 // Scene spec v1: the typed, validated form of a scene JSON file (docs/scene-spec.md).
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,21 +11,42 @@
 #include <nlohmann/json.hpp>
 
 #include "core/camera.h"
+#include "core/colormap.h"
 
 namespace tc {
 
-struct DatasetSpec {
-    std::string path;       // a file (resolved relative to the scene file), or
-    std::string generate;   // a built-in generator: "tornado"
-    int lines = 200;        // generator parameters
-    int points = 100;
-    std::uint32_t seed = 1;
+// dataset.trace: streamlines of a vector field on a VTK grid (io/stream_tracer.h).
+struct TraceSpec {
+    std::string vector;                     // a 3-component point array, or
+    std::array<std::string, 3> components;  // three scalar point arrays (x, y, z)
+    enum class Seeding { Random, Uniform, Line } seeding = Seeding::Random;
+    int seeds = 100;                        // seed count (uniform: about this many, on a grid)
+    glm::vec3 lineFrom{0.0f}, lineTo{0.0f}; // seeding "line"
+    float maxLength = 0;                    // per streamline and direction; 0 = the grid's diagonal
+    enum class Direction { Forward, Backward, Both } direction = Direction::Both;
+    float stepLength = 0.2f;                // integration step, in cell lengths
+    int maxSteps = 2000;
+    std::uint32_t randomSeed = 1;
 };
 
-// A value range for attribute mappings: explicit, or "auto" (the attribute's min/max).
+struct DatasetSpec {
+    std::string path;       // a file (resolved relative to the scene file), or
+    std::string generate;   // a built-in generator: "tornado", "propeller", "brain", "convection", "turbulence"
+    int lines = 200;        // generator parameters
+    int points = 100;
+    int particles = 50000;  // "droplets": particle count
+    std::uint32_t seed = 1;
+    int frame = -1;         // dataset.frame: pinned data frame of a time series; -1 = follow the animation
+    std::optional<TraceSpec> trace;  // dataset.trace: streamlines traced through the grid at `path`
+};
+
+// A value range for attribute mappings: explicit, "auto" (the attribute's min/max), or
+// {"percentiles": [p_lo, p_hi]} of the attribute's finite values (automatic, percentiles set).
 struct RangeSpec {
     bool automatic = true;
     float lo = 0.0f, hi = 1.0f;
+    bool percentiles = false;
+    float percentileLo = 0.0f, percentileHi = 100.0f;  // in [0, 100]
 };
 
 // style.radius: a constant, or an attribute mapped linearly from `range` to `radius_range`.
@@ -39,7 +61,9 @@ struct RadiusSpec {
 struct ColorSpec {
     glm::vec3 constant{0.85f, 0.55f, 0.25f};  // sRGB
     std::string attribute;
-    std::string colormap = "viridis";
+    std::string colormap = "viridis";  // a built-in name, or a ParaView preset .json (path resolved)
+    std::shared_ptr<const Colormap> preset;  // loaded preset file (io/paraview_preset.h loadStylePresets)
+    std::optional<glm::vec3> nanColor;       // sRGB; else the preset's NanColor, else grey 0.5
     RangeSpec range;
 };
 
@@ -50,6 +74,7 @@ struct OpacitySpec {
     std::string attribute;
     RangeSpec range;
     std::vector<glm::vec2> points{{0.0f, 0.0f}, {1.0f, 1.0f}};
+    bool pointsFromColormap = false;  // "points": "colormap": the preset's opacity "Points"
 };
 
 struct StyleSpec {
@@ -82,8 +107,9 @@ struct ImageSpec {
     glm::vec4 background{0.0f};  // sRGB colour, straight alpha
 };
 
-enum class RenderTechnique { Rasterized };
-enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling };
+// Auto is resolved by the frame loop (cli/render.cpp): Raytraced on software GL rasterizers.
+enum class RenderTechnique { Rasterized, Raytraced, Auto, Spheres, VoxelRaycast };
+enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling, OpacityOptimization };
 
 // Where the rasterized path builds each segment's billboard: a compute pre-pass (default), the
 // vertex shader (vertex pulling, once per quad corner) or a geometry shader (the paper's layout).
@@ -93,6 +119,10 @@ enum class BillboardPath { Compute, Vertex, Geometry };
 // Sect. 5.3), shared by every technique that shades surfaces.
 struct AoSpec {
     bool enabled = false;
+    // cone_traced: the density volume above (GL and CPU); ray_traced: `samples` stratified
+    // hemisphere rays up to `distance` (raytraced technique only).
+    enum class Method { ConeTraced, RayTraced } method = Method::ConeTraced;
+    int samples = 16;
     int resolution = 256;     // voxels along the longest axis of the data
     int cones = 3;
     float apertureDeg = 50;   // full apex angle of each cone, 10..90
@@ -113,6 +143,45 @@ struct CullingSpec {
     float resortDistance = 0.1f;
 };
 
+// render.opacity: opacity optimization (Günther, Rössl & Theisel 2013; core/opacity_optimization.h).
+struct OpacityOptimizationSpec {
+    int segmentsPerLine = 8;  // parts per polyline, each with one optimised opacity
+    float p = 1, q = 1, r = 0.1f, s = 0.3f, lambda = 1;  // r defaults to q / 10
+    enum class Importance { Constant, Length, Curvature, Attribute } importance = Importance::Constant;
+    std::string attribute;                // Importance::Attribute: averaged over each part
+    float rangeLo = 0, rangeHi = 1;       // mapped to importance 0..1
+    float blend = 1;          // per frame, displayed opacities move this fraction toward the solution
+    float tolerance = 1e-4f;  // solver stop: projected-gradient max norm
+    int maxIterations = 200;
+    std::string dumpDir;      // debug: write Q, c, g, bounds and the solution of each frame here
+};
+
+// render.spheres: particles as transparent sphere glyphs (Staib, Grottel & Gumhold 2015).
+// Density models of Sect. 4: constant (Eq. 14-15), squared distance to the centre (Eq. 16-19)
+// and their hollow variants with an empty inner sphere (Sect. 4.3).
+enum class SphereDensity { Constant, L2, HollowConstant, HollowL2 };
+
+struct SpheresSpec {
+    SphereDensity density = SphereDensity::Constant;
+    float innerRadius = 0.5f;        // hollow models: inner radius as a fraction of the radius, [0, 0.99]
+    float alphaRv = 0.5f;            // Eq. 2: weight of the surface (Blinn-Phong) term vs. volume emission
+    float alphaA = 0.5f;             // Eq. 7: weight of the coloured ambient light L_A (with render.ao)
+    int chunks = 20;                 // Sect. 5.2: early-z chunks of the sorted particles; 1 = off
+    float earlyZThreshold = 0.99f;   // pixels with alpha above this are skipped by later chunks
+};
+
+// render.vrc: voxel-based line ray casting (Kanzler, Rautenhaus & Westermann 2019; core/vrc_model.h,
+// gl/vrc_renderer.h). Any render.transparency other than "opaque" composites front to back along
+// each ray (the technique needs no fragment sorting, so the rasterized modes' names do not apply).
+struct VrcSpec {
+    int resolution = 128;            // voxels along the longest axis of the data
+    int quantization = 32;           // bins per voxel face edge; 0 = exact float end points
+    bool neighbors = false;          // also test the 26 neighbouring voxels' pieces
+    float opacityThreshold = 0.99f;  // early ray termination
+    bool shadows = false;            // soft shadows: a cone toward the light through the density
+    float shadowApertureDeg = 10;    // full apex angle of the shadow cone
+};
+
 struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
@@ -122,8 +191,13 @@ struct RenderSpec {
     int maxPeelLayers = 0;         // render.depth_peeling.max_layers; 0 = until a pass produces nothing
     int memoryBudgetMb = 4096;     // render.memory_budget_mb: per-pixel buffers must fit
     bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv
+    bool referenceRaytraced = false;     // render.reference: "raytraced" (exact) -> quality.csv
+    float raytracedAlphaCutoff = 0.99f;  // render.raytraced.alpha_cutoff; 1 = exact compositing
     AoSpec ao;
     CullingSpec culling;
+    OpacityOptimizationSpec opacity;
+    SpheresSpec spheres;
+    VrcSpec vrc;
 };
 
 // Blinn-Phong. direction is in camera space and points from the surface toward the light.

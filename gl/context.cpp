@@ -246,12 +246,14 @@ void createEgl(const ContextConfig& config, BackendContext& impl) {
         EGLDeviceEXT handle;
         std::string drmNode;  // empty for devices without a DRM node (Mesa's software device)
         bool software;
+        int cuda = -1;  // CUDA device ordinal (EGL_NV_device_cuda), -1 = not an NVIDIA device
     };
     std::vector<Device> devices;
     if (hasDevices) {
         auto queryDevices = eglProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
         auto queryDeviceString =
             eglProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+        auto queryDeviceAttrib = eglProc<PFNEGLQUERYDEVICEATTRIBEXTPROC>("eglQueryDeviceAttribEXT");
         EGLint count = 0;
         if (queryDevices && queryDeviceString && queryDevices(0, nullptr, &count) && count > 0) {
             std::vector<EGLDeviceEXT> handles(static_cast<size_t>(count));
@@ -264,6 +266,10 @@ void createEgl(const ContextConfig& config, BackendContext& impl) {
                                        : nullptr;
                 devices.push_back({handle, node ? node : "",
                                    hasToken(extensions, "EGL_MESA_device_software")});
+                EGLAttrib cuda = -1;
+                if (queryDeviceAttrib && hasToken(extensions, "EGL_NV_device_cuda") &&
+                    queryDeviceAttrib(handle, EGL_CUDA_DEVICE_NV, &cuda))
+                    devices.back().cuda = static_cast<int>(cuda);
             }
         }
     }
@@ -273,11 +279,25 @@ void createEgl(const ContextConfig& config, BackendContext& impl) {
                (!d.drmNode.empty() ? d.drmNode
                                    : d.software ? std::string("Mesa software device")
                                                 : std::string("no DRM node")) +
-               ")";
+               (d.cuda >= 0 ? ", CUDA device " + std::to_string(d.cuda) : std::string()) + ")";
     };
 
     int chosen = -1;
-    if (config.device >= 0) {
+    // The job's CUDA device (CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS): EGL enumerates every GPU of
+    // the node whatever the job was given, so match the ordinal NVIDIA's driver reports. Devices
+    // without EGL_NV_device_cuda (Mesa, other vendors) have nothing to match: fall through.
+    const bool anyCuda = std::any_of(devices.begin(), devices.end(), [](const Device& d) { return d.cuda >= 0; });
+    if (config.cudaDevice >= 0 && anyCuda) {
+        for (size_t i = 0; i < devices.size() && chosen < 0; ++i)
+            if (devices[i].cuda == config.cudaDevice) chosen = static_cast<int>(i);
+        if (chosen < 0) {
+            std::string list;
+            for (size_t i = 0; i < devices.size(); ++i) list += (i ? ", " : ": ") + describe(i);
+            throw BackendFailure{"CUDA device " + std::to_string(config.cudaDevice) + " has no EGL device" + list,
+                                 "check CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS, or unset them and pick --device"};
+        }
+        impl.info.cudaDevice = config.cudaDevice;
+    } else if (config.device >= 0) {
         if (static_cast<size_t>(config.device) >= devices.size()) {
             std::string list;
             for (size_t i = 0; i < devices.size(); ++i) list += (i ? ", " : ": ") + describe(i);

@@ -13,6 +13,9 @@ struct ContextConfig {
     Backend backend = Backend::Auto;
     int device = -1;     // EGL: index into the enumerated EGL devices; -1 = automatic.
                          // Implies EGL with Backend::Auto; InputError with Backend::OsMesa.
+    int cudaDevice = -1;  // EGL: pick the device whose EGL_CUDA_DEVICE_NV is this ordinal; ignored
+                          // (device / automatic choice applies) when no device has
+                          // EGL_NV_device_cuda, as on Mesa. -1 = no CUDA matching.
     bool debug = false;  // KHR_debug synchronous callback, messages to the log (stderr)
     bool verbose = false;
 };
@@ -20,6 +23,7 @@ struct ContextConfig {
 struct ContextInfo {
     std::string backend;  // "egl-device", "egl-surfaceless", "osmesa"
     std::string device;   // which EGL device ran (index and DRM node / extension string), or ""
+    int cudaDevice = -1;  // the CUDA ordinal matched through EGL_NV_device_cuda, or -1
     std::string vendor, renderer, version, glslVersion;
     std::vector<std::string> extensions;  // the ones the pipeline cares about that are present
     std::vector<std::string> allExtensions;  // every GL_EXTENSIONS entry, sorted

@@ -5,6 +5,10 @@
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 #include "gl/transparent_renderer.h"
+#include "gl/opacity_renderer.h"
+#include "gl/sphere_renderer.h"
+#include "core/particle_styling.h"
+#include "gl/vrc_renderer.h"
 
 namespace tc::gl {
 
@@ -94,9 +98,19 @@ std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines
     switch (scene.render.technique) {
     case RenderTechnique::Rasterized:
         if (scene.render.transparency == Transparency::Opaque) return RoundedConeRenderer::create(scene, lines);
+        if (scene.render.transparency == Transparency::OpacityOptimization) return OpacityRenderer::create(scene, lines);
         return TransparentRenderer::create(scene, lines);
+    case RenderTechnique::VoxelRaycast:
+        return VrcRenderer::create(scene, lines);
+    case RenderTechnique::Spheres:
+        // A line dataset drawn as particles: one sphere per vertex (gl/sphere_renderer.h).
+        return SphereRenderer::create(scene, particlesFromLineVertices(lines));
+    case RenderTechnique::Raytraced:
+    case RenderTechnique::Auto:
+        // The CPU ray tracer lives in rt/ (no GL); cli/technique_factory.cpp dispatches to it.
+        break;
     }
-    throw InputError("unsupported render.technique");
+    throw InputError("render.technique: the GL library only creates \"rasterized\"");
 }
 
 }  // namespace tc::gl

@@ -28,6 +28,7 @@ std::string mode(Transparency t) {
     case Transparency::KBuffer: return "kbuffer";
     case Transparency::DepthPeeling: return "depth_peeling";
     case Transparency::Opaque: return "opaque";
+    case Transparency::OpacityOptimization: return "opacity_optimization";
     }
     return "?";
 }
@@ -106,6 +107,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         break;
     }
     case Transparency::Opaque:
+    case Transparency::OpacityOptimization:  // gl/opacity_renderer.cpp
         TC_CHECK(false);
     }
     if (r->m_mode != Transparency::DepthPeeling)
@@ -185,7 +187,8 @@ void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     case Transparency::ObjectOrder: renderObjectOrder(setup, timer); break;
     case Transparency::KBuffer: renderKBuffer(setup, timer); break;
     case Transparency::DepthPeeling: renderDepthPeeling(setup, timer); break;
-    case Transparency::Opaque: TC_CHECK(false);
+    case Transparency::Opaque:
+    case Transparency::OpacityOptimization: TC_CHECK(false);
     }
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);

@@ -5,21 +5,34 @@
 #include "core/error.h"
 #include "core/generators.h"
 #include "io/line_reader.h"
+#include "io/particle_reader.h"
+#include "io/stream_tracer.h"
+#include "core/particle_generators.h"
 
 namespace tc {
 
 DatasetLoad loadDataset(const DatasetSpec& spec) {
     auto start = std::chrono::steady_clock::now();
     DatasetLoad load;
-    if (!spec.generate.empty()) {
-        load.lines = generateTornado(spec.lines, spec.points, spec.seed);
+    if (spec.generate == "droplets") {
+        load.particles.frames.push_back(generateDroplets(spec.particles, spec.seed));
+        load.source = "generate:droplets(particles=" + std::to_string(spec.particles) +
+                      ",seed=" + std::to_string(spec.seed) + ")";
+    } else if (isParticleFile(spec.path)) {
+        load.particles = readParticles(spec.path);
+        load.source = spec.path;
+    } else if (!spec.generate.empty()) {
+        load.lines = generateDataset(spec.generate, spec.lines, spec.points, spec.seed);
         load.source = "generate:" + spec.generate + "(lines=" + std::to_string(spec.lines) +
                       ",points=" + std::to_string(spec.points) + ",seed=" + std::to_string(spec.seed) + ")";
+    } else if (spec.trace) {
+        load.lines = traceStreamlines(spec.path, *spec.trace, &load.cleaned);
+        load.source = spec.path + " (traced)";
     } else {
         load.lines = readLineSet(spec.path, &load.cleaned);
         load.source = spec.path;
     }
-    if (load.lines.polylineCount() == 0)
+    if (!load.isParticles() && load.lines.polylineCount() == 0)
         throw InputError(load.source + ": no polylines to render" +
                          (load.cleaned.any() ? " (" + load.cleaned.summary() + ")" : std::string()));
     load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

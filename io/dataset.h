@@ -3,15 +3,19 @@
 #include <string>
 
 #include "core/line_set.h"
+#include "core/particle_set.h"
 #include "core/scene.h"
 
 namespace tc {
 
 struct DatasetLoad {
     LineSet lines;
+    ParticleData particles;  // particle datasets (M6): one or more frames; `lines` is empty then
     CleanReport cleaned;   // what was skipped (NaN/Inf, duplicates, short polylines)
     std::string source;    // the path, or "generate:tornado(lines=..,points=..,seed=..)"
     double seconds = 0;
+
+    bool isParticles() const { return !particles.frames.empty(); }
 };
 
 // Throws InputError for unreadable or empty data; a dataset with no polylines left after

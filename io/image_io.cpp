@@ -75,7 +75,8 @@ std::uint8_t quantise(float v) {
 
 }  // namespace
 
-void writePng(const FrameImages& frame, const std::string& path) {
+void writePng(const FrameImages& frame, const std::string& path,
+              const std::map<std::string, std::string>& text) {
     TC_CHECK(frame.width > 0 && frame.height > 0);
     TC_CHECK_OP(frame.rgba.size(), ==, 4 * frame.pixelCount());
     std::vector<std::uint8_t> pixels(4 * frame.pixelCount());
@@ -95,6 +96,7 @@ void writePng(const FrameImages& frame, const std::string& path) {
     // Without this, OIIO's PNG writer treats the data as premultiplied and divides by alpha
     // again (pngoutput: "oiio:UnassociatedAlpha" = 1 means the data is already straight).
     spec.attribute("oiio:UnassociatedAlpha", 1);
+    for (const auto& [key, value] : text) spec.attribute(key, value);  // string -> tEXt chunk
     writeImage(path, spec, TypeDesc::UINT8, pixels.data(), "PNG");
 }
 
@@ -146,6 +148,8 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
     spec.z_channel = options.depth ? 4 : -1;
     spec.attribute("compression", "zip");
     for (const auto& [key, value] : options.metadata) spec.attribute(key, value);
+    for (const auto& [key, value] : options.floats) spec.attribute(key, value);
+    for (const auto& [key, m] : options.matrices) spec.attribute(key, OIIO::TypeMatrix44, m.data());
 
     // Mixed channel formats: OIIO takes one interleaved buffer in the native per-channel types
     // (TypeUnknown below). The id channel must not pass through float: ids above 2^24 would
@@ -227,6 +231,26 @@ FrameImages readExr(const std::string& path, std::map<std::string, std::string>*
             if (p.type() == OIIO::TypeString) (*metadata)[p.name().string()] = p.get_string();
     }
     return frame;
+}
+
+std::map<std::string, std::string> verifyImage(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(path + ": cannot read image: is a directory");
+    auto in = openInput(path);
+    const ImageSpec spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw InputError(path + ": unsupported image dimensions");
+    // Every pixel of every channel, as float: OpenEXR and libpng report missing or corrupt
+    // scanlines here, not when the header is opened.
+    std::vector<float> all(std::size_t(spec.width) * std::size_t(spec.height) *
+                           std::size_t(std::max(spec.depth, 1)) * std::size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, all.data()))
+        throw InputError(path + ": cannot read image: " + oiioError(in->geterror()));
+    std::map<std::string, std::string> metadata;
+    for (const OIIO::ParamValue& p : spec.extra_attribs)
+        if (p.type() == OIIO::TypeString) metadata[p.name().string()] = p.get_string();
+    return metadata;
 }
 
 RgbaImage readImageRgba(const std::string& path) {

@@ -1,6 +1,7 @@
 #pragma once
 // Frame images to and from files (OpenImageIO): PNG for viewing, multi-channel EXR for analysis,
 // and a numeric image comparison for golden tests and `tubecast compare`.
+#include <array>
 #include <cstddef>
 #include <map>
 #include <string>
@@ -12,9 +13,11 @@ namespace tc {
 
 // 8-bit RGBA PNG, sRGB, straight (unassociated) alpha: each pixel's premultiplied linear colour
 // is divided by its alpha (alpha 0 -> black), clamped to [0,1], encoded with linearToSrgb and
-// rounded to the nearest 8-bit value. Written through an AtomicFile.
+// rounded to the nearest 8-bit value. Written through an AtomicFile. `text` becomes PNG tEXt
+// chunks (key -> value), e.g. the scene hash that --resume checks.
 // Throws OutputError "PATH: cannot write PNG: <reason>".
-void writePng(const FrameImages& frame, const std::string& path);
+void writePng(const FrameImages& frame, const std::string& path,
+              const std::map<std::string, std::string>& text = {});
 
 // Which optional EXR channels to write, and string metadata for the header (scene name,
 // technique, tubecast version, ...). Keys are written as given.
@@ -24,6 +27,10 @@ struct ExrOptions {
     bool id = true;
     bool ao = false;  // written only when frame.ao is non-empty
     std::map<std::string, std::string> metadata;
+    std::map<std::string, float> floats;                   // float attributes (render time)
+    std::map<std::string, std::array<float, 16>> matrices;  // m44f attributes (worldToCamera):
+    // the 16 values in glm's column-major order, which is Imath's row-major M44f of the same
+    // transform for row vectors (p * M), the OpenEXR convention.
 };
 
 // OpenEXR, zip-compressed, one part. Channels:
@@ -40,6 +47,11 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
 // receives the header's string attributes. Throws InputError "PATH: ...".
 FrameImages readExr(const std::string& path,
                     std::map<std::string, std::string>* metadata = nullptr);
+
+// Decodes every pixel of any image OpenImageIO reads (so a truncated or corrupt file fails) and
+// returns its string metadata: EXR header attributes, PNG text chunks.
+// Throws InputError "PATH: no such file" / "PATH: cannot read image: <reason>".
+std::map<std::string, std::string> verifyImage(const std::string& path);
 
 struct RgbaImage {
     int width = 0;

@@ -29,6 +29,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/line_formats.h"
 
 namespace tc {
 
@@ -280,7 +281,9 @@ LineSet readLineSet(const std::string& path, CleanReport* report) {
     const std::string ext = lowerExtension(path);
 
     LineSet lines;
-    {
+    if (isNativeLineFormat(ext)) {
+        lines = readNativeLineFile(path);  // .trk, .tck (+ .tsf), .obj, .tcb: io/line_formats.h
+    } else {
         VtkMessageCapture capture;
         vtkSmartPointer<vtkDataObject> output;
         if (ext == ".vtk") {
@@ -295,7 +298,7 @@ LineSet readLineSet(const std::string& path, CleanReport* report) {
             output = runReader(path, reader.Get(), capture);
         } else {
             throw InputError(path + ": unsupported file extension '" + ext +
-                             "' (supported: .vtk, .vtp, .vtu)");
+                             "' (supported: .vtk, .vtp, .vtu, .trk, .tck, .obj, .tcb)");
         }
         lines = extractLines(path, output);
     }

@@ -8,6 +8,8 @@
 namespace tc {
 
 // Reads the polylines of a VTK file, chosen by extension (case-insensitive): .vtk, .vtp, .vtu.
+// The non-VTK formats .trk, .tck (+ .tsf), .obj and .tcb go to io/line_formats.h (their errors
+// name the byte offset or line); cleaning and the checks below apply to them too.
 //
 // - Polylines come from VTK_POLY_LINE and VTK_LINE cells (the Lines cell array of PolyData; the
 //   line and polyline cells of an UnstructuredGrid), in file order, one LineSet polyline per

@@ -7,7 +7,17 @@
 // (i + 1) * nf) and fine texel j is [j * nc, (j + 1) * nc), so overlaps are exact integers and
 // the weights overlap / nf sum to exactly 1: 0.5, 0.5 for even nf; up to 4 taps for odd nf.
 //
-// Defines: DENSITY_IMAGE_FORMAT (r32f or r16f), the format of both image bindings.
+// Defines: DENSITY_IMAGE_FORMAT (r32f or r16f), the format of both image bindings; MIP_RGBA to
+// filter all four channels (rgba32f sphere volumes of gl/sphere_ambient.cpp) instead of red only.
+#ifdef MIP_RGBA
+#define MIP_VALUE vec4
+#define MIP_LOAD(p) imageLoad(uSource, p)
+#define MIP_STORE(v) (v)
+#else
+#define MIP_VALUE float
+#define MIP_LOAD(p) imageLoad(uSource, p).r
+#define MIP_STORE(v) vec4(v, 0.0, 0.0, 0.0)
+#endif
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(binding = 0, DENSITY_IMAGE_FORMAT) uniform readonly image3D uSource;  // level L
@@ -49,35 +59,34 @@ void main()
         // Every axis even (all levels of a power-of-two grid): the plain 2x2x2 box, same
         // weights and order as the general path below would use.
         ivec3 s = 2 * target;
-        float sum = 0.0;
+        MIP_VALUE sum = MIP_VALUE(0.0);
         for (int z = 0; z < 2; ++z) {
-            float plane = 0.0;
+            MIP_VALUE plane = MIP_VALUE(0.0);
             for (int y = 0; y < 2; ++y) {
-                float row = 0.0;
+                MIP_VALUE row = MIP_VALUE(0.0);
                 for (int x = 0; x < 2; ++x)
-                    row += 0.5 * imageLoad(uSource, s + ivec3(x, y, z)).r;
+                    row += 0.5 * MIP_LOAD(s + ivec3(x, y, z));
                 plane += 0.5 * row;
             }
             sum += 0.5 * plane;
         }
-        imageStore(uTarget, target, vec4(sum, 0.0, 0.0, 0.0));
+        imageStore(uTarget, target, MIP_STORE(sum));
         return;
     }
     Taps tx = axisTaps(target.x, uSourceSize.x, uTargetSize.x);
     Taps ty = axisTaps(target.y, uSourceSize.y, uTargetSize.y);
     Taps tz = axisTaps(target.z, uSourceSize.z, uTargetSize.z);
     // Fixed summation order (z, y, x), so the pyramid is bit-identical run to run.
-    float sum = 0.0;
+    MIP_VALUE sum = MIP_VALUE(0.0);
     for (int z = 0; z < tz.count; ++z) {
-        float plane = 0.0;
+        MIP_VALUE plane = MIP_VALUE(0.0);
         for (int y = 0; y < ty.count; ++y) {
-            float row = 0.0;
+            MIP_VALUE row = MIP_VALUE(0.0);
             for (int x = 0; x < tx.count; ++x)
-                row += tx.weights[x] *
-                       imageLoad(uSource, ivec3(tx.first + x, ty.first + y, tz.first + z)).r;
+                row += tx.weights[x] * MIP_LOAD(ivec3(tx.first + x, ty.first + y, tz.first + z));
             plane += ty.weights[y] * row;
         }
         sum += tz.weights[z] * plane;
     }
-    imageStore(uTarget, target, vec4(sum, 0.0, 0.0, 0.0));
+    imageStore(uTarget, target, MIP_STORE(sum));
 }

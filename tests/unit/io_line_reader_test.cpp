@@ -187,7 +187,7 @@ TEST(ReadLineSet, missing_file) {
 TEST(ReadLineSet, unknown_extension_lists_supported_ones) {
     std::string path = writeText(testDir() + "/lines.xyz", "1 2 3\n");
     EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
-              path + ": unsupported file extension '.xyz' (supported: .vtk, .vtp, .vtu)");
+              path + ": unsupported file extension '.xyz' (supported: .vtk, .vtp, .vtu, .trk, .tck, .obj, .tcb)");
 }
 
 TEST(ReadLineSet, garbage_legacy_file_names_the_file) {

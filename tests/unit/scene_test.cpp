@@ -190,7 +190,7 @@ TEST(Scene, DatasetWithBothPathAndGenerateIsAnError) {
 
 TEST(Scene, UnknownGeneratorListsTheValidOnes) {
     EXPECT_EQ(errorOf(json::parse(R"({"dataset": {"generate": "hurricane"}})")),
-              "scene.json: dataset.generate: expected one of \"tornado\", got \"hurricane\"");
+              "scene.json: dataset.generate: expected one of \"tornado\", \"propeller\", \"brain\", \"convection\", \"turbulence\", \"droplets\", got \"hurricane\"");
 }
 
 TEST(Scene, GeneratorParametersAreCheckedAndLimited) {
@@ -205,7 +205,7 @@ TEST(Scene, GeneratorParametersAreCheckedAndLimited) {
 
 TEST(Scene, GeneratorParametersWithAPathAreUnknownKeys) {
     EXPECT_EQ(errorOf(json::parse(R"({"dataset": {"path": "/data/a.vtk", "lines": 3}})")),
-              "scene.json: dataset.lines: unknown key (known keys: \"generate\", \"path\")");
+              "scene.json: dataset.lines: unknown key (known keys: \"frame\", \"generate\", \"path\", \"trace\")");
 }
 
 TEST(Scene, EmptyDatasetPathIsAnError) {
@@ -339,16 +339,18 @@ TEST(Scene, StyleColourWithAlphaIsAnErrorPointingToOpacity) {
 
 TEST(Scene, BadEnumValuesListTheValidOnes) {
     EXPECT_EQ(errorOf(with(R"({"render": {"technique": "kbuffer"}})")),
-              "scene.json: render.technique: expected one of \"rasterized\", got \"kbuffer\"");
+              "scene.json: render.technique: expected one of \"rasterized\", \"raytraced\", \"auto\", \"spheres\", "
+              "\"voxel_raycast\", got \"kbuffer\"");
     EXPECT_EQ(errorOf(with(R"({"render": {"transparency": "weighted"}})")),
-              "scene.json: render.transparency: expected one of \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", got \"weighted\"");
+              "scene.json: render.transparency: expected one of \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", "
+              "\"opacity_optimization\", got \"weighted\"");
     EXPECT_EQ(errorOf(with(R"({"camera": {"projection": "fisheye"}})")),
               "scene.json: camera.projection: expected one of \"perspective\", \"orthographic\", got \"fisheye\"");
     EXPECT_EQ(errorOf(with(R"({"animation": {"type": "spin"}})")),
               "scene.json: animation.type: expected one of \"none\", \"orbit\", \"keyframes\", got \"spin\"");
     EXPECT_EQ(errorOf(with(R"({"style": {"color": {"attribute": "speed", "colormap": "jet"}}})")),
-              "scene.json: style.color.colormap: expected one of \"viridis\", \"inferno\", \"magma\", \"plasma\", "
-              "\"turbo\", \"cool_warm\", \"grayscale\", got \"jet\"");
+              "scene.json: style.color.colormap: expected one of \"cool_warm\", \"grayscale\", \"inferno\", \"magma\", "
+              "\"plasma\", \"turbo\", \"viridis\" or a ParaView preset file (.json), got \"jet\"");
     EXPECT_EQ(errorOf(with(R"({"output": {"formats": ["png", "tiff"]}})")),
               "scene.json: output.formats[1]: expected an array of strings from \"png\", \"exr\", got \"tiff\"");
     EXPECT_EQ(errorOf(with(R"({"output": {"aovs": ["ao"]}})")),
@@ -370,9 +372,19 @@ TEST(Scene, AttributeMappingsRequireTheAttribute) {
 
 TEST(Scene, BadRangesAndRadiusRangesAreErrors) {
     EXPECT_EQ(errorOf(with(R"({"style": {"color": {"attribute": "speed", "range": [1, 0]}}})")),
-              "scene.json: style.color.range: expected \"auto\" or [min, max] with min < max, got [1,0]");
+              "scene.json: style.color.range: expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, "
+              "got [1,0]");
     EXPECT_EQ(errorOf(with(R"({"style": {"radius": {"attribute": "speed", "range": "automatic"}}})")),
-              "scene.json: style.radius.range: expected \"auto\" or [min, max] with min < max, got \"automatic\"");
+              "scene.json: style.radius.range: expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, "
+              "got \"automatic\"");
+    EXPECT_EQ(errorOf(with(R"({"style": {"radius": {"attribute": "speed", "range": {"percentiles": [5, 101]}}}})")),
+              "scene.json: style.radius.range: percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100, got [5,101]");
+    RangeSpec p = parseScene(with(R"({"style": {"color": {"attribute": "speed", "range": {"percentiles": [2, 98]}}}})"),
+                             "scene.json")
+                      .style.color.range;
+    EXPECT_TRUE(p.percentiles);
+    EXPECT_EQ(p.percentileLo, 2.0f);
+    EXPECT_EQ(p.percentileHi, 98.0f);
     EXPECT_EQ(errorOf(with(R"({"style": {"radius": {"attribute": "speed", "radius_range": [0, 0.1]}}})")),
               "scene.json: style.radius.radius_range: expected [r_min, r_max] with positive radii, got [0,0.1]");
 }
@@ -385,11 +397,14 @@ TEST(Scene, BadOpacityTransferFunctionPointsAreErrors) {
         return with(json::parse(std::string(R"({"style": {"opacity": {"attribute": "speed", "points": )") + p + "}}}"));
     };
     EXPECT_EQ(errorOf(points("[[0, 1]]")), prefix + "[[0,1]]");                  // one point
-    EXPECT_EQ(errorOf(points("[[0.5, 1], [0.2, 0]]")), prefix + "[[0.5,1],[0.2,0]]");  // descending t
-    EXPECT_EQ(errorOf(points("[[0, 1], [1.5, 0]]")), prefix + "[[0,1],[1.5,0]]");      // t > 1
-    EXPECT_EQ(errorOf(points("[[0, 1], [1, 2]]")), prefix + "[[0,1],[1,2]]");          // opacity > 1
-    EXPECT_EQ(errorOf(points("[[0, 1], [1]]")), prefix + "[[0,1],[1]]");               // not a pair
-    EXPECT_EQ(errorOf(points("[[0, 1], \"x\"]")), prefix + "[[0,1],\"x\"]");
+    // A bad element is named by its index.
+    EXPECT_EQ(errorOf(points("[[0.5, 1], [0.2, 0]]")), "scene.json: style.opacity.points[1]: t must not decrease: 0.2 after 0.5");
+    EXPECT_EQ(errorOf(points("[[0, 1], [1.5, 0]]")), "scene.json: style.opacity.points[1]: t must be in [0, 1], got 1.5");
+    EXPECT_EQ(errorOf(points("[[0, 1], [1, 2]]")), "scene.json: style.opacity.points[1]: opacity must be in [0, 1], got 2");
+    EXPECT_EQ(errorOf(points("[[0, 1], [1]]")), "scene.json: style.opacity.points[1]: expected [t, opacity], got [1]");
+    EXPECT_EQ(errorOf(points("[[0, 1], \"x\"]")), "scene.json: style.opacity.points[1]: expected [t, opacity], got \"x\"");
+    EXPECT_EQ(errorOf(points("\"preset\"")),
+              "scene.json: style.opacity.points: expected [[t, opacity], ...] or \"colormap\" (the preset's opacity points), got \"preset\"");
     // Equal t makes a step.
     Scene s = parseScene(points("[[0, 0], [0.5, 0], [0.5, 1], [1, 1]]"), "scene.json");
     EXPECT_EQ(s.style.opacity.points.size(), 4u);

@@ -1,6 +1,7 @@
 // Styling (core/styling.h): attributes -> per-vertex radius and linear RGBA, the segment index
 // buffer, flags and bounds.
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -120,9 +121,9 @@ TEST(Styling, ColourmapEndpointsAreTheLinearisedColormapEnds) {
     expectNear(glm::vec3(s.color[8]), srgbToLinear(viridis.srgb.back()), 1e-6f);
     // The first viridis entry (0.267, 0.0049, 0.329) in linear space:
     expectNear(glm::vec3(s.color[0]), {0.05795f, 0.000377f, 0.08866f}, 2e-5f);
-    // t = 0.5 (a = 4) lies halfway between viridis' control points 4 and 5 (at t = i / 9); the
-    // colormap interpolates in sRGB, then the result is linearised.
-    glm::vec3 mid = glm::mix(viridis.srgb[4], viridis.srgb[5], 0.5f);
+    // t = 0.5 (a = 4) lies halfway between viridis' table entries 127 and 128; the colormap
+    // interpolates in sRGB, then the result is linearised.
+    glm::vec3 mid = glm::mix(viridis.srgb[127], viridis.srgb[128], 0.5f);
     expectNear(glm::vec3(s.color[4]), srgbToLinear(mid), 1e-5f);
     for (std::size_t i = 0; i < 9; ++i) EXPECT_FLOAT_EQ(s.color[i].w, 1.0f);
 }
@@ -198,17 +199,20 @@ TEST(Styling, MissingAttributeErrorNamesTheKeyAndListsTheAvailableAttributes) {
     StyleSpec style;
     style.color.attribute = "velocity";
     EXPECT_EQ(styleError(threeLines(), style),
-              "scene.json: style.color.attribute: the dataset has no attribute \"velocity\" (available: a, b)");
+              "scene.json: style.color.attribute: the dataset has no attribute \"velocity\" (available: a, b; derived: "
+              "arc_length, line_length, curvature, torsion, local_density, speed)");
     style = {};
     style.radius.attribute = "r";
     EXPECT_EQ(styleError(threeLines(), style),
-              "scene.json: style.radius.attribute: the dataset has no attribute \"r\" (available: a, b)");
+              "scene.json: style.radius.attribute: the dataset has no attribute \"r\" (available: a, b; derived: "
+              "arc_length, line_length, curvature, torsion, local_density, speed)");
     style = {};
     style.opacity.attribute = "o";
     LineSet bare = threeLines();
     bare.attributes.clear();
     EXPECT_EQ(styleError(bare, style),
-              "scene.json: style.opacity.attribute: the dataset has no attribute \"o\" (available: none)");
+              "scene.json: style.opacity.attribute: the dataset has no attribute \"o\" (available: none; derived: "
+              "arc_length, line_length, curvature, torsion, local_density, speed)");
 }
 
 TEST(Styling, SegmentsJoinConsecutiveVerticesWithinPolylinesOnly) {
@@ -251,6 +255,120 @@ TEST(Styling, BoundsIncludeTheRadii) {
     // (2,0,0), r 0.3; z from vertex 8 at (3,2,0), r 0.9, which also gives hi.x and hi.y.
     expectNear(s.bounds.lo, {-0.6f, -0.3f, -0.9f}, 1e-6f);
     expectNear(s.bounds.hi, {3.9f, 2.9f, 0.9f}, 1e-6f);
+}
+
+TEST(Styling, NanColourComesFromTheStyleElseThePresetElseGrey) {
+    LineSet lines = threeLines();
+    lines.attributes[0].values[3] = std::numeric_limits<float>::quiet_NaN();
+    lines.attributes[0].updateRange();
+    StyleSpec style;
+    style.color.attribute = "a";
+    Colormap preset = builtinColormap("grayscale");
+    preset.nanColor = glm::vec3(1, 1, 0);
+    style.color.colormap = "preset.json";
+    style.color.preset = std::make_shared<const Colormap>(preset);
+    expectNear(glm::vec3(styleLines(lines, style, "scene.json").color[3]), {1, 1, 0}, 1e-6f);
+    style.color.nanColor = glm::vec3(0, 1, 1);
+    expectNear(glm::vec3(styleLines(lines, style, "scene.json").color[3]), {0, 1, 1}, 1e-6f);
+    // Non-NaN vertices come from the preset, not the built-in named "viridis" by default.
+    expectNear(glm::vec3(styleLines(lines, style, "scene.json").color[8]), {1, 1, 1}, 1e-6f);
+}
+
+TEST(Styling, UnloadedPresetIsAnErrorNamingTheKey) {
+    StyleSpec style;
+    style.color.attribute = "a";
+    style.color.colormap = "maps/blue.json";
+    EXPECT_EQ(styleError(threeLines(), style), "scene.json: style.color.colormap: preset \"maps/blue.json\" was not loaded");
+}
+
+TEST(Styling, PercentileRangeIgnoresOutliers) {
+    // a = 0..7 plus one outlier 1000 (9 values): numpy's linear percentiles are 4 at 50 and
+    // 6 at 75, so [p0, p75] maps a = 0..6 and the outlier clamps to the top.
+    LineSet lines = threeLines();
+    lines.attributes[0].values[8] = 1000.0f;
+    lines.attributes[0].updateRange();
+    EXPECT_FLOAT_EQ(percentile(lines.attributes[0].values, 0.0f), 0.0f);
+    EXPECT_FLOAT_EQ(percentile(lines.attributes[0].values, 50.0f), 4.0f);
+    EXPECT_NEAR(percentile(lines.attributes[0].values, 75.0f), 6.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(percentile(lines.attributes[0].values, 100.0f), 1000.0f);
+    EXPECT_TRUE(std::isnan(percentile({std::nanf("")}, 50.0f)));
+    StyleSpec style;
+    style.radius.attribute = "a";
+    style.radius.range.percentiles = true;
+    style.radius.range.percentileLo = 0.0f;
+    style.radius.range.percentileHi = 75.0f;  // a = 0 .. 6
+    style.radius.radiusLo = 1.0f;
+    style.radius.radiusHi = 7.0f;
+    StyledLines s = styleLines(lines, style, "scene.json");
+    EXPECT_NEAR(s.positionRadius[3].w, 4.0f, 1e-5f);
+    EXPECT_NEAR(s.positionRadius[6].w, 7.0f, 1e-5f);
+    EXPECT_NEAR(s.positionRadius[8].w, 7.0f, 1e-5f);  // the outlier clamps
+}
+
+TEST(Styling, NanOpacityTakesTheLowEndOfTheTransferFunction) {
+    LineSet lines = threeLines();
+    lines.attributes[0].values[5] = std::numeric_limits<float>::quiet_NaN();
+    lines.attributes[0].updateRange();
+    StyleSpec style;
+    style.opacity.attribute = "a";
+    style.opacity.points = {{0.0f, 0.2f}, {1.0f, 0.9f}};
+    EXPECT_FLOAT_EQ(styleLines(lines, style, "scene.json").color[5].w, 0.2f);
+    EXPECT_FLOAT_EQ(evaluateTransferFunction(style.opacity.points, std::nanf("")), 0.2f);
+}
+
+TEST(Styling, OpacityPointsCanComeFromThePreset) {
+    StyleSpec style;
+    style.opacity.attribute = "a";
+    style.opacity.pointsFromColormap = true;
+    EXPECT_EQ(styleError(threeLines(), style),
+              "scene.json: style.opacity.points: the colormap \"viridis\" has no opacity points");
+    Colormap preset = builtinColormap("grayscale");
+    preset.opacity = {{0.0f, 1.0f}, {1.0f, 0.0f}};
+    style.color.colormap = "p.json";
+    style.color.preset = std::make_shared<const Colormap>(preset);
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    EXPECT_NEAR(s.color[2].w, 0.75f, 1e-6f);  // t = 0.25
+}
+
+TEST(Styling, DerivedAttributesAreComputedWhenTheStyleNamesThem) {
+    StyleSpec style;
+    style.radius.attribute = "arc_length";  // polylines along x with unit steps: 0, 1, 2, ...
+    style.radius.range = {false, 0.0f, 3.0f};
+    style.radius.radiusLo = 0.0f;
+    style.radius.radiusHi = 3.0f;
+    style.color.attribute = "line_length";
+    style.color.colormap = "grayscale";
+    style.color.range = {false, 0.0f, 3.0f};
+    StyledLines s = styleLines(threeLines(), style, "scene.json");
+    const float arc[] = {0, 1, 2, 0, 1, 0, 1, 2, 3};
+    for (std::size_t i = 0; i < 9; ++i) EXPECT_NEAR(s.positionRadius[i].w, arc[i], 1e-6f) << i;
+    expectNear(glm::vec3(s.color[3]), glm::vec3(srgbToLinear(1.0f / 3.0f)), 1e-6f);  // length 1
+    style = {};
+    style.color.attribute = "speed";
+    EXPECT_EQ(styleError(threeLines(), style),
+              "scene.json: style.color.attribute: \"speed\" needs a velocity: an attribute \"velocity_magnitude\" or "
+              "components velocity_x/_y/_z (or vel_*, v_*)");
+}
+
+TEST(Styling, TabulatedDivergingAndLabMapsMatchTheExactColours) {
+    // styleLines tabulates non-RGB colormaps at t = k / 4096; the claim is 1e-5 of the exact
+    // colour, including at and next to the diverging white point t = 0.5 (a kink).
+    LineSet lines = threeLines();
+    for (std::size_t i = 0; i < 9; ++i) lines.attributes[0].values[i] = std::pow(float(i) / 8.0f, 1.7f);
+    lines.attributes[0].values[3] = 0.5f;
+    lines.attributes[0].values[4] = 0.5f + 0.3f / 4096.0f;
+    lines.attributes[0].updateRange();
+    for (const char* name : {"cool_warm", "lab"}) {
+        Colormap map = builtinColormap("cool_warm");
+        if (std::string(name) == "lab") map.space = ColorSpace::Lab;
+        StyleSpec style;
+        style.color.attribute = "a";
+        style.color.colormap = name;
+        style.color.preset = std::make_shared<const Colormap>(map);
+        StyledLines s = styleLines(lines, style, "scene.json");
+        for (std::size_t i = 0; i < 9; ++i)
+            expectNear(linearToSrgb(glm::vec3(s.color[i])), map.sampleSrgb(lines.attributes[0].values[i]), 1e-5f);
+    }
 }
 
 TEST(Styling, EmptyLineSetGivesEmptyBuffers) {

@@ -1,0 +1,45 @@
+#pragma once
+// The occlusion penalties h_ij of opacity optimization (Günther, Rössl & Theisel 2013, Algorithm 1)
+// from per-pixel fragment lists: for each fragment A and each fragment B behind it in the same
+// pixel, h(i, j) += 1 - frac(B.w) and h(i, j + 1) += frac(B.w), i = round(A.w), j = floor(B.w).
+// Each column j is then divided by part j's fragment count (counted with the same weights), so
+// h_ij in [0,1] is the fraction of part j's pixels that part i covers and q means the same at
+// every image size. A part never occludes itself (i == target is skipped): a part's own fragments
+// overlap at its joints, which says nothing about which line hides which. No OpenGL.
+#include <cstdint>
+#include <vector>
+
+#include "core/opacity_optimization.h"
+
+namespace tc {
+
+// One fragment: view depth and the blending parameter w = part + frac, part = floor(w) (kept
+// split, see OpacityParts).
+struct LineFragmentW {
+    float depth = 0;
+    std::uint32_t part = 0;
+    float frac = 0;  // in [0,1); 0 at the last part of a polyline
+};
+
+// Fragment lists of an image in compressed rows: pixel p owns fragments [offsets[p], offsets[p+1]).
+struct FragmentLists {
+    std::vector<std::uint64_t> offsets{0};
+    std::vector<LineFragmentW> fragments;
+
+    std::size_t pixelCount() const { return offsets.size() - 1; }
+    // Sorts each pixel's list front to back (depth, then part, so equal depths are deterministic).
+    void sortByDepth();
+};
+
+// Part j's fragment count: sum over fragments of 1 - frac to floor(w) and frac to floor(w) + 1.
+std::vector<double> partFragmentCounts(const FragmentLists& lists, std::size_t partCount);
+
+// Algorithm 1 as written: one loop over pixels and pairs, accumulating into an ordered map. The
+// reference the fast path is tested against. Lists must be sorted front to back.
+SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t partCount);
+
+// The same sum, parallel over pixels with oneTBB: each thread appends (i, j, weight) records,
+// periodically sorted and merged, and the final merge builds the compressed rows directly.
+SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
+
+}  // namespace tc

@@ -1,0 +1,135 @@
+#pragma once
+// Opacity optimization for 3D line fields (Günther, Rössl & Theisel 2013): every polyline is split
+// into parts, each part i gets an opacity a_i in [0,1] minimising the bounded least-squares energy
+// of the paper's Sect. 4.4 matrix form (docs/scene-spec.md, render.opacity):
+//
+//   E(a) = p|a - 1|^2 + q|W^T a|^2 + r|V^T a|^2 + s|D a|^2,   0 <= a_i <= 1,
+//   W = (I-G)^lambda H G,  V = (I-G)^lambda H^T G,  G = diag(g),
+//
+// h_ij = how much part i occludes part j (core/occlusion_matrix.h), g the importance per part and
+// D the difference of adjacent parts of each polyline. As a QP: 1/2 a^T Q a + c^T a with
+// Q = 2(pI + q W W^T + r V V^T + s D^T D), c = -2p 1. No OpenGL, no files.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+
+namespace tc {
+
+using SparseMatrixD = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// The parts of a line set. Part k of polyline l (k = 0..m-1, m = segments per line) has global
+// index firstPart[l] + k and sits at arc-length fraction t = k / (m - 1) along the polyline. Every
+// vertex gets the blending parameter w = firstPart[l] + t * (m - 1): round(w) is the part it
+// belongs to, and lerp(a_floor(w), a_floor(w)+1, frac(w)) its opacity. w stays within its own
+// polyline's parts (frac(w) = 0 at the last part), as Algorithm 1 needs. w is kept split into the
+// polyline's first part and the local w = t * (m - 1): a float global w would lose the fraction's
+// precision beyond ~100k parts.
+struct OpacityParts {
+    int partsPerLine = 8;
+    std::vector<std::uint32_t> firstPart;        // per polyline, plus the total at the end
+    std::vector<float> vertexLocalW;             // per vertex, t * (m - 1) in [0, m - 1]
+    std::vector<std::uint32_t> vertexFirstPart;  // per vertex: firstPart of its polyline
+
+    std::size_t partCount() const { return firstPart.empty() ? 0 : firstPart.back(); }
+    std::size_t polylineCount() const { return firstPart.empty() ? 0 : firstPart.size() - 1; }
+};
+
+// `offsets` as in LineSet (polyline l has vertices [offsets[l], offsets[l+1])).
+OpacityParts partitionLines(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& offsets,
+                            int partsPerLine);
+
+// Importance g in [0,1] per part (render.opacity.importance):
+// - Constant: 0.5;
+// - Length: the polyline's length divided by the longest polyline's (all parts of a line alike);
+// - Curvature: the integrated curvature of the part (sum of the turning angles at its vertices)
+//   divided by the largest part's;
+// - Attribute: the arc-length weighted mean of the linearly interpolated attribute over the part
+//   ([t_k - h/2, t_k + h/2], h = 1/(m-1)), mapped from [rangeLo, rangeHi] to [0,1] and clamped.
+//   `attribute` holds one value per vertex (NaN values count as rangeLo).
+std::vector<double> partImportance(const OpacityParts& parts, const std::vector<glm::vec3>& positions,
+                                   const std::vector<std::uint32_t>& offsets, const OpacityOptimizationSpec& spec,
+                                   const std::vector<float>* attribute = nullptr);
+
+// A symmetric positive definite operator y = Q x; what the bounded QP solver needs.
+class QpOperator {
+public:
+    virtual ~QpOperator() = default;
+    virtual Eigen::Index size() const = 0;
+    virtual void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
+    virtual Eigen::VectorXd diagonal() const = 0;  // for the Jacobi preconditioner
+};
+
+// Q given explicitly (tests, dumps).
+class SparseQpOperator final : public QpOperator {
+public:
+    explicit SparseQpOperator(const SparseMatrixD& q) : m_q(q) {}
+    Eigen::Index size() const override { return m_q.rows(); }
+    void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
+    Eigen::VectorXd diagonal() const override { return m_q.diagonal(); }
+
+private:
+    const SparseMatrixD& m_q;
+};
+
+struct OpacityWeights {
+    double p = 1, q = 1, r = 0.1, s = 0.3, lambda = 1;
+};
+
+// The energy in factored form: products with Q cost products with W, W^T, V, V^T and D instead of
+// forming W W^T, which is much denser than H when many parts overlap one another.
+class OpacityEnergy final : public QpOperator {
+public:
+    // `h` is n x n (h_ij: i occludes j), `g` the importance per part.
+    OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
+                  const OpacityWeights& weights);
+
+    Eigen::Index size() const override { return m_n; }
+    void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
+    Eigen::VectorXd diagonal() const override { return m_diagonal; }
+
+    Eigen::VectorXd linearTerm() const { return Eigen::VectorXd::Constant(m_n, -2.0 * m_weights.p); }
+    // E(a) itself (without dropping the constant p*n), for tests.
+    double energy(const Eigen::VectorXd& a) const;
+    // Q assembled (for --dump-system and tests); can be far denser than H.
+    SparseMatrixD assemble() const;
+
+private:
+    Eigen::Index m_n = 0;
+    OpacityWeights m_weights;
+    SparseMatrixD m_w, m_wt, m_v, m_vt, m_d, m_dt;
+    Eigen::VectorXd m_diagonal;
+};
+
+struct QpSolverOptions {
+    double tolerance = 1e-6;  // stop when the projected gradient's max norm is at most this
+    int maxIterations = 500;  // outer iterations (one gradient projection + one CG subspace step each)
+    int maxCgIterations = 50;
+};
+
+struct QpResult {
+    Eigen::VectorXd x;
+    int iterations = 0;    // outer iterations
+    int cgIterations = 0;  // summed over the subspace steps
+    int products = 0;      // products with Q: the cost
+    double residual = 0;   // max norm of the projected gradient at x (KKT residual)
+    bool converged = false;
+};
+
+// Minimises 1/2 x^T Q x + c^T x subject to lo <= x <= hi (Q SPD) by gradient projection with
+// conjugate gradients on the free variables (GPCG, Moré & Toraldo 1991): each iteration takes a
+// projected steepest-descent step with an Armijo backtracking search to identify the active face,
+// then a truncated Jacobi-preconditioned CG step on the free variables followed by a projected
+// line search. Starts from x0 projected onto the box (warm start).
+QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo,
+                        const Eigen::VectorXd& hi, const Eigen::VectorXd& x0, const QpSolverOptions& options);
+
+// Max norm of the projected gradient of 1/2 x^T Q x + c^T x at x: 0 exactly at the KKT point.
+double projectedGradientNorm(const Eigen::VectorXd& gradient, const Eigen::VectorXd& x, const Eigen::VectorXd& lo,
+                             const Eigen::VectorXd& hi);
+
+}  // namespace tc

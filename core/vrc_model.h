@@ -1,0 +1,162 @@
+#pragma once
+// The voxel model of voxel-based line ray casting (VRC; Kanzler, Rautenhaus & Westermann 2019):
+// a view-independent grid in which every polyline is clipped at voxel faces into per-voxel pieces,
+// so a ray that walks the grid front to back meets the line pieces in visibility order without
+// sorting fragments. Built on the CPU with oneTBB; gl/vrc_renderer.h uploads it and ray-casts it
+// (shaders/vrc_raycast.comp, whose decoding is the GPU twin of decodeEnd / decodePiece below).
+//
+// Pieces. A polyline is walked segment by segment through the grid (3D DDA); each maximal run of
+// the polyline inside one voxel becomes one straight piece from the point where it enters the voxel
+// to the point where it leaves it, both on the voxel's faces. The paper drops the first and last
+// partial piece of each polyline (the part between the end vertex and the first face crossing);
+// we keep them, clipped to the vertex: their vertex-side end is the polyline's end vertex, inside
+// the voxel, coded as "face" kInteriorFace. A polyline that stays inside one voxel becomes one
+// piece between its two end vertices. Radius and colour are interpolated linearly along the
+// segment to the face hits; a piece carries its polyline id. Zero-length pieces (a crossing
+// through a voxel edge or corner steps through a neighbour for no distance) are dropped.
+//
+// Quantization (quantization = q > 0). A face end point is snapped to the centre of one of
+// q x q bins of its face and coded as (face id, 3 bits) << kBinBits | bin index, bin = v * q + u
+// over the face's two in-plane axes in increasing axis order. Bins are laid out in absolute grid
+// coordinates, so the two voxels sharing a face snap a crossing to the same point: pieces stay
+// connected. A vertex end (kInteriorFace) is snapped to the centre of a cell of an m^3 lattice
+// inside the voxel, m = min(q, kInteriorLattice), bin = (z * m + y) * m + x. quantization = 0
+// keeps exact float end points (VrcExactPiece).
+//
+// Layout. One header per voxel (offset, count) and one linear piece array in which each voxel's
+// pieces are contiguous, in voxel index order; within a voxel, pieces are in polyline order and
+// along each polyline (the order is canonical, so any two builds of the same lines agree).
+//
+// LoD (Eq. 1 of the paper). Per voxel density = sum over the polyline parts inside it of
+// length_i x opacity_i, in voxel lengths (the true polyline length, not the chord, with the
+// opacity averaged along the part). Levels above average 2x2x2 blocks; odd sizes are padded with
+// empty voxels (level size ceil(n / 2)), so mean x voxelCount x 8^level, i.e. the total of level
+// 0, is conserved at every level.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/styled_lines.h"
+
+namespace tc {
+
+// End codes: face ids 0..5 are (axis * 2 + side), side 0 = the low face; 6 = a polyline vertex
+// inside the voxel. 3 bits of face id above kBinBits bits of bin index.
+inline constexpr std::uint32_t kInteriorFace = 6;
+inline constexpr int kBinBits = 13;
+inline constexpr std::uint32_t kBinMask = (1u << kBinBits) - 1u;
+// Lattice of vertex ends per axis at most (16^3 = 4096 < 2^13).
+inline constexpr int kInteriorLattice = 16;
+// Largest quantization: q^2 bins must fit in kBinBits (90^2 = 8100 < 8192).
+inline constexpr int kMaxQuantization = 90;
+
+// 16 bytes per piece:
+//   ends:   end A code in bits 0..15, end B code in bits 16..31 (face << 13 | bin);
+//   line:   polyline id;
+//   color:  linear RGBA at the piece's middle, 8 bits per channel (packUnorm4x8 rounding);
+//   radius: radius at end A and B as unorm16 fractions of VrcModel::maxRadius (bits 0..15, 16..31).
+struct VrcCompactPiece {
+    std::uint32_t ends;
+    std::uint32_t line;
+    std::uint32_t color;
+    std::uint32_t radius;
+};
+static_assert(sizeof(VrcCompactPiece) == 16);
+
+// 64 bytes per piece, quantization = 0: exact float end points (std430 layout of the shader's
+// struct: vec4, vec4, vec4, uvec4).
+struct VrcExactPiece {
+    glm::vec4 a;       // xyz world position, w radius
+    glm::vec4 b;
+    glm::vec4 color;   // linear RGBA at the piece's middle, straight alpha
+    glm::uvec4 info;   // x polyline id, y end flags (bit 0: a is a vertex end, bit 1: b), zw 0
+};
+static_assert(sizeof(VrcExactPiece) == 64);
+
+struct VrcVoxel {
+    std::uint32_t offset;  // first piece
+    std::uint32_t count;   // pieces; bit kNeighbourhoodBit: some voxel of the 3x3x3 block has pieces
+};
+inline constexpr std::uint32_t kNeighbourhoodBit = 0x80000000u;
+inline constexpr std::uint32_t kCountMask = 0x7FFFFFFFu;
+
+// A piece decoded to world space (both encodings decode to this).
+struct VrcPiece {
+    glm::vec3 a, b;
+    float ra, rb;
+    glm::vec4 color;
+    std::uint32_t line;
+    bool vertexA, vertexB;  // the end is a polyline end vertex (keeps its spherical cap)
+};
+
+struct VrcDensityLevel {
+    glm::ivec3 size{0};
+    std::vector<float> density;  // x fastest
+    double total() const;
+};
+
+struct VrcModel {
+    glm::ivec3 size{0};
+    glm::vec3 origin{0.0f};
+    float voxelSize = 0.0f;
+    int quantization = 32;
+    float maxRadius = 0.0f;
+    std::vector<VrcVoxel> voxels;           // header, size.x * size.y * size.z, x fastest
+    std::vector<VrcCompactPiece> compact;   // quantization > 0
+    std::vector<VrcExactPiece> exact;       // quantization == 0
+    std::vector<std::uint32_t> pieceVoxel;  // voxel index of each piece (for tests and LoD)
+    std::vector<VrcDensityLevel> lod;       // Eq. 1 pyramid, lod[0] at the grid's resolution
+    std::size_t clampedVertices = 0;        // vertices outside the grid (moved onto it)
+
+    std::size_t voxelCount() const {
+        return std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+    }
+    std::size_t index(int x, int y, int z) const {
+        return (std::size_t(z) * std::size_t(size.y) + std::size_t(y)) * std::size_t(size.x) + std::size_t(x);
+    }
+    glm::ivec3 coords(std::size_t i) const {
+        return {int(i % std::size_t(size.x)), int(i / std::size_t(size.x) % std::size_t(size.y)),
+                int(i / std::size_t(size.x) / std::size_t(size.y))};
+    }
+    std::size_t pieceCount() const { return quantization > 0 ? compact.size() : exact.size(); }
+    std::size_t bytesPerPiece() const { return quantization > 0 ? sizeof(VrcCompactPiece) : sizeof(VrcExactPiece); }
+    // What the GPU holds: header + pieces (the LoD pyramid is reported separately).
+    std::size_t bytes() const { return voxelCount() * sizeof(VrcVoxel) + pieceCount() * bytesPerPiece(); }
+    std::size_t lodBytes() const;
+
+    // Piece `i` in world space.
+    VrcPiece piece(std::size_t i) const;
+};
+
+struct VrcBuildOptions {
+    int resolution = 128;    // voxels along the longest axis (>= 2), as makeDensityGrid
+    int quantization = 32;   // 0 (exact) or 1..kMaxQuantization
+    bool lod = true;         // build the Eq. 1 density pyramid
+};
+
+// Builds the model. The grid is makeDensityGrid(lines.bounds, resolution)'s (cubic voxels, aspect
+// kept, at least half a voxel of margin around the tubes' bounds). Runs tbb::parallel_for over
+// polylines (counted, scanned, written at their offsets) and a parallel sort by (voxel, piece
+// order); the result does not depend on the thread count. Throws tc::InputError if the model would
+// exceed 2^31 pieces. Polylines are the vertex ranges from a FirstOfPolyline to a LastOfPolyline
+// vertex (StyledLines keeps them contiguous).
+VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options);
+
+// World position of end `code` of a piece in voxel `voxel` (q = the model's quantization > 0).
+glm::vec3 decodeEnd(const VrcModel& model, glm::ivec3 voxel, std::uint32_t code);
+// The code of world point `p` on face `face` (or inside, kInteriorFace) of `voxel`.
+std::uint32_t encodeEnd(const VrcModel& model, glm::ivec3 voxel, std::uint32_t face, glm::vec3 p);
+
+// Largest distance between a face end point and its snapped bin centre (half a bin diagonal), and
+// between a vertex end and its lattice cell centre (half a cell diagonal), world units.
+float vrcFaceQuantizationBound(const VrcModel& model);
+float vrcVertexQuantizationBound(const VrcModel& model);
+
+// The Eq. 1 pyramid of `level0`: level L + 1 averages 2x2x2 blocks of level L, padded with zeros
+// to even sizes, down to one voxel.
+std::vector<VrcDensityLevel> buildDensityPyramid(VrcDensityLevel level0);
+
+}  // namespace tc

@@ -1,0 +1,337 @@
+#include "gl/opacity_renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <limits>
+
+#include "core/error.h"
+#include "core/occlusion_matrix.h"
+#include "core/shading.h"
+#include "gl/gpu_timer.h"
+#include "gl/shader_library.h"
+
+namespace tc::gl {
+
+namespace {
+
+constexpr GLuint kVertexPartWBinding = 11;
+constexpr GLuint kListHeadBinding = 12;
+constexpr GLuint kFragmentNodeBinding = 13;
+constexpr GLuint kFragmentNextBinding = 14;
+constexpr GLuint kFragmentCounterBinding = 15;  // build pass
+constexpr GLuint kPartOpacityBinding = 15;      // resolve pass
+
+constexpr std::size_t kNodeBytes = 16 + 4;  // FragmentNode + next link (shaders/opacity_common.glsl)
+constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
+
+struct GpuNode {
+    float depth;
+    std::uint32_t part;
+    float frac;
+    std::uint32_t color;
+};
+static_assert(sizeof(GpuNode) == 16);
+
+struct PartW {
+    float localW;
+    std::uint32_t firstPart;
+};
+
+// Polyline offsets of styled lines: styling keeps the vertex order, and each polyline starts with
+// a FirstOfPolyline vertex.
+std::vector<std::uint32_t> polylineOffsets(const StyledLines& lines) {
+    std::vector<std::uint32_t> offsets;
+    for (std::size_t v = 0; v < lines.vertexCount(); ++v)
+        if (lines.flags[v] & FirstOfPolyline) offsets.push_back(std::uint32_t(v));
+    offsets.push_back(std::uint32_t(lines.vertexCount()));
+    if (offsets.size() == 1) offsets.insert(offsets.begin(), 0u);
+    return offsets;
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, const StyledLines& lines,
+                                                         const std::vector<float>* vertexAttribute, SystemSink sink) {
+    std::unique_ptr<OpacityRenderer> r(new OpacityRenderer(LineGeometry::create(lines, scene.render.billboards)));
+    const RenderSpec& rs = scene.render;
+    r->m_spec = rs.opacity;
+    r->m_capClipping = rs.capClipping;
+    r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
+    r->m_lighting = scene.lighting;
+    r->m_sink = std::move(sink);
+    if (rs.ao.enabled)
+        throw InputError(scene.file + ": render.ao: not available with render.transparency \"opacity_optimization\"");
+    if (scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId)
+        r->m_gbuffer = GBufferPass::create(r->m_geometry);
+
+    // Parts and importance (core/opacity_optimization.h).
+    std::vector<glm::vec3> positions(lines.vertexCount());
+    for (std::size_t v = 0; v < positions.size(); ++v) positions[v] = glm::vec3(lines.positionRadius[v]);
+    const std::vector<std::uint32_t> offsets = polylineOffsets(lines);
+    r->m_parts = partitionLines(positions, offsets, r->m_spec.segmentsPerLine);
+    if (r->m_spec.importance == OpacityOptimizationSpec::Importance::Attribute) {
+        if (!vertexAttribute)
+            throw InputError(scene.file + ": render.opacity.importance.attribute: \"" + r->m_spec.attribute +
+                             "\" needs the dataset's attributes (render through `tubecast render`)");
+        TC_CHECK_OP(vertexAttribute->size(), ==, lines.vertexCount());
+    }
+    r->m_importance = partImportance(r->m_parts, positions, offsets, r->m_spec, vertexAttribute);
+
+    std::vector<PartW> partW(lines.vertexCount());
+    for (std::size_t v = 0; v < partW.size(); ++v)
+        partW[v] = {r->m_parts.vertexLocalW[v], r->m_parts.vertexFirstPart[v]};
+    r->m_vertexPartW = makeBuffer(std::max<std::size_t>(1, partW.size()) * sizeof(PartW), partW.data());
+    r->m_opacity =
+        makeBuffer(std::max<std::size_t>(1, r->m_parts.partCount()) * sizeof(float), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    r->m_counter = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
+
+    r->m_buildProgram = r->m_geometry.compileDrawProgram("opacity_build.frag");
+    r->m_resolveProgram =
+        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "opacity_resolve.frag"}});
+    r->m_emptyVao = VertexArray::create();
+    r->resize(scene.image.width, scene.image.height);
+    return r;
+}
+
+void OpacityRenderer::resize(int width, int height) {
+    if (width == m_width && height == m_height) return;
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    const std::size_t fixed = pixels * (16 + 4);  // RGBA32F target + list heads
+    if (fixed + 64 * kNodeBytes > m_memoryBudgetBytes)
+        throw InputError("render.memory_budget_mb: opacity optimization at " + std::to_string(width) + "x" +
+                         std::to_string(height) + " needs " + std::to_string(fixed / (1024 * 1024) + 1) +
+                         " MB for the target and list heads alone, over the budget of " +
+                         std::to_string(m_memoryBudgetBytes / (1024 * 1024)) + " MB");
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    std::size_t capacity = (m_memoryBudgetBytes - fixed) / kNodeBytes;
+    if (maxBlock > 0) capacity = std::min(capacity, std::size_t(maxBlock) / sizeof(GpuNode));
+    capacity = std::min<std::size_t>(capacity, 0xFFFFFFF0u);  // node indices are 32-bit
+    m_capacity = capacity;
+    m_width = width;
+    m_height = height;
+    m_color = makeTexture2D(GL_RGBA32F, width, height);
+    m_framebuffer = makeFramebuffer({&m_color}, nullptr, "opacity optimization target");
+    m_heads = makeBuffer(pixels * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);  // sorted links come back
+    const GLuint end = kEndOfList;
+    glClearNamedBufferData(m_heads.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
+    m_nodes = makeBuffer(capacity * sizeof(GpuNode));
+    m_next = makeBuffer(capacity * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint64_t stored) {
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    std::vector<std::uint32_t> heads(pixels), next(stored);
+    std::vector<GpuNode> nodes(stored);
+    glGetNamedBufferSubData(m_heads.id(), 0, GLsizeiptr(pixels * sizeof(GLuint)), heads.data());
+    if (stored) {
+        glGetNamedBufferSubData(m_nodes.id(), 0, GLsizeiptr(stored * sizeof(GpuNode)), nodes.data());
+        glGetNamedBufferSubData(m_next.id(), 0, GLsizeiptr(stored * sizeof(GLuint)), next.data());
+    }
+    // Linked lists -> compressed rows: count per pixel, prefix sum, fill; both walks in parallel.
+    FragmentLists lists;
+    lists.offsets.assign(pixels + 1, 0);
+    auto walk = [&](std::uint32_t head, auto&& visit) {
+        std::size_t guard = 0;
+        for (std::uint32_t n = head; n != kEndOfList && n < stored && guard <= stored; n = next[n], ++guard) visit(n);
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096), [&](const auto& range) {
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+            std::uint64_t count = 0;
+            walk(heads[p], [&](std::uint32_t) { ++count; });
+            lists.offsets[p + 1] = count;
+        }
+    });
+    for (std::size_t p = 0; p < pixels; ++p) lists.offsets[p + 1] += lists.offsets[p];
+    lists.fragments.resize(lists.offsets[pixels]);
+    std::vector<std::uint32_t> nodeOf(lists.fragments.size());
+    // Each list sorted front to back once, here: Algorithm 1 needs the order, and the sorted links
+    // go back to the GPU so the resolve pass blends in order without sorting again (an in-shader
+    // sort of lists hundreds deep is what llvmpipe is slowest at).
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 1024), [&](const auto& range) {
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+            const std::uint64_t begin = lists.offsets[p];
+            std::uint64_t k = begin;
+            walk(heads[p], [&](std::uint32_t n) { nodeOf[k++] = n; });
+            std::sort(nodeOf.begin() + std::ptrdiff_t(begin), nodeOf.begin() + std::ptrdiff_t(k),
+                      [&](std::uint32_t a, std::uint32_t b) {
+                          if (nodes[a].depth != nodes[b].depth) return nodes[a].depth < nodes[b].depth;
+                          return nodes[a].part != nodes[b].part ? nodes[a].part < nodes[b].part : a < b;
+                      });
+            heads[p] = k > begin ? nodeOf[begin] : kEndOfList;
+            for (std::uint64_t i = begin; i < k; ++i) {
+                const GpuNode& node = nodes[nodeOf[i]];
+                lists.fragments[i] = {node.depth, node.part, node.frac};
+                next[nodeOf[i]] = i + 1 < k ? nodeOf[i + 1] : kEndOfList;
+            }
+        }
+    });
+    glNamedBufferSubData(m_heads.id(), 0, GLsizeiptr(pixels * sizeof(GLuint)), heads.data());
+    if (stored) glNamedBufferSubData(m_next.id(), 0, GLsizeiptr(stored * sizeof(GLuint)), next.data());
+    return lists;
+}
+
+void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+    resize(setup.width, setup.height);
+    m_geometry.computeBillboards(setup, timer);
+    if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
+    const std::size_t n = m_parts.partCount();
+    m_stats = {};
+    m_stats.parts = n;
+    m_stats.capacity = m_capacity;
+
+    // 1. Fragment lists.
+    auto t0 = std::chrono::steady_clock::now();
+    timer.begin("fragment_lists");
+    glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
+    glViewport(0, 0, setup.width, setup.height);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 0, zero);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    // Blending stays on while fragment shaders have side effects (../shared/notes/llvmpipe.md);
+    // the build pass writes 0, which "under" leaves unchanged.
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+    const GLuint zeroCount = 0, end = kEndOfList;
+    glNamedBufferSubData(m_counter.id(), 0, sizeof(GLuint), &zeroCount);
+    glClearNamedBufferData(m_heads.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
+    const GLuint b = m_buildProgram.id();
+    m_geometry.setCameraUniforms(b, setup);
+    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
+    glProgramUniform3fv(b, uniformLocation(b, "uLightDir"), 1, &lightWorld[0]);
+    glProgramUniform4f(b, uniformLocation(b, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
+                       m_lighting.specular, m_lighting.shininess);
+    glProgramUniform1i(b, uniformLocation(b, "uCapClipping"), m_capClipping ? 1 : 0);
+    glProgramUniform1ui(b, uniformLocation(b, "uImageWidth"), GLuint(setup.width));
+    glProgramUniform1ui(b, uniformLocation(b, "uCapacity"), GLuint(m_capacity));
+    glProgramUniform1ui(b, uniformLocation(b, "uPartsPerLine"), GLuint(m_parts.partsPerLine));
+    glUseProgram(b);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexPartWBinding, m_vertexPartW.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListHeadBinding, m_heads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNodeBinding, m_nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNextBinding, m_next.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCounterBinding, m_counter.id());
+    m_geometry.draw(0, m_geometry.segmentCount());
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    GLuint produced = 0;
+    glGetNamedBufferSubData(m_counter.id(), 0, sizeof(GLuint), &produced);
+    m_stats.fragments = produced;
+    m_stats.overflow = produced > m_capacity ? produced - m_capacity : 0;
+    timer.setItems(produced);
+    timer.end();
+    m_stats.listsMs = msSince(t0);
+    if (m_stats.overflow)
+        std::cerr << "warning: opacity optimization, frame " << setup.frame << ": " << m_stats.overflow << " of "
+                  << produced << " fragments did not fit the fragment pool of " << m_capacity
+                  << " nodes (render.memory_budget_mb) and were left out of h_ij and the image\n";
+
+    // 2. h_ij from the sorted lists.
+    t0 = std::chrono::steady_clock::now();
+    timer.begin("lists_sort");
+    FragmentLists lists = readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity));
+    timer.end();
+    m_stats.readbackMs = msSince(t0);
+    t0 = std::chrono::steady_clock::now();
+    timer.begin("h_assembly");
+    SparseMatrixD h = occlusionMatrix(lists, n);
+    m_stats.hNonZeros = std::size_t(h.nonZeros());
+    timer.setItems(m_stats.hNonZeros);
+    timer.end();
+    m_stats.assemblyMs = msSince(t0);
+
+    // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
+    t0 = std::chrono::steady_clock::now();
+    timer.begin("solve");
+    const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
+    OpacityEnergy energy(h, m_importance, m_parts, weights);
+    const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
+    if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
+    QpSolverOptions options;
+    options.tolerance = m_spec.tolerance;
+    options.maxIterations = m_spec.maxIterations;
+    m_stats.solve = solveBoundedQp(energy, energy.linearTerm(), lo, hi, m_solution, options);
+    m_solution = m_stats.solve.x;
+    if (m_displayed.size() != Eigen::Index(n))
+        m_displayed = m_solution;
+    else
+        m_displayed += double(m_spec.blend) * (m_solution - m_displayed);
+    timer.setItems(std::uint64_t(m_stats.solve.iterations));
+    timer.end();
+    m_stats.solveMs = msSince(t0);
+    if (!m_stats.solve.converged)
+        std::cerr << "warning: opacity optimization, frame " << setup.frame << ": solver stopped after "
+                  << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
+                  << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
+    if (m_sink) m_sink({setup.frame, &energy, &m_importance, &m_solution, &m_displayed, &m_stats.solve});
+
+    // 4. Resolve: blend each sorted list with the displayed opacities.
+    t0 = std::chrono::steady_clock::now();
+    timer.begin("resolve");
+    std::vector<float> opacity(std::max<std::size_t>(1, n), 1.0f);
+    for (std::size_t i = 0; i < n; ++i) opacity[i] = float(m_displayed[Eigen::Index(i)]);
+    glNamedBufferSubData(m_opacity.id(), 0, GLsizeiptr(opacity.size() * sizeof(float)), opacity.data());
+    glDisable(GL_BLEND);  // the resolve pass writes each pixel once
+    const GLuint r = m_resolveProgram.id();
+    glProgramUniform1ui(r, uniformLocation(r, "uImageWidth"), GLuint(setup.width));
+    glUseProgram(r);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListHeadBinding, m_heads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNodeBinding, m_nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNextBinding, m_next.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPartOpacityBinding, m_opacity.id());
+    glBindVertexArray(m_emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    timer.end();
+    glDepthMask(GL_TRUE);
+
+    timer.begin("readback");
+    const int w = setup.width, hgt = setup.height;
+    out.width = w;
+    out.height = hgt;
+    out.rgba.resize(4 * std::size_t(w) * hgt);
+    readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, hgt, 4, sizeof(float), out.rgba.data());
+    if (m_gbuffer) {
+        m_gbuffer->readAovs(out);
+    } else {
+        const std::size_t pixels = std::size_t(w) * hgt;
+        out.depth.assign(pixels, std::numeric_limits<float>::infinity());
+        out.normal.assign(3 * pixels, 0.0f);
+        out.id.assign(pixels, kBackgroundId);
+    }
+    out.ao.clear();
+    timer.end();
+    m_stats.resolveMs = msSince(t0);
+}
+
+nlohmann::json OpacityRenderer::describe() const {
+    const char* importance[] = {"constant", "length", "curvature", "attribute"};
+    nlohmann::json j = {
+        {"technique", "rasterized"},
+        {"transparency", "opacity_optimization"},
+        {"cap_clipping", m_capClipping},
+        {"billboards", m_geometry.describeBillboards()},
+        {"parts", m_parts.partCount()},
+        {"segments_per_line", m_spec.segmentsPerLine},
+        {"weights", {{"p", m_spec.p}, {"q", m_spec.q}, {"r", m_spec.r}, {"s", m_spec.s}, {"lambda", m_spec.lambda}}},
+        {"importance", importance[int(m_spec.importance)]},
+        {"fragment_pool_nodes", m_capacity},
+        {"solver", "gradient projection + Jacobi-preconditioned CG on the free set (warm started)"},
+        {"h_assembly", "CPU, oneTBB (Algorithm 1 on read-back sorted per-pixel lists)"},
+        {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
+    if (m_spec.importance == OpacityOptimizationSpec::Importance::Attribute)
+        j["importance_attribute"] = m_spec.attribute;
+    return j;
+}
+
+}  // namespace tc::gl

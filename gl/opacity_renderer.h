@@ -1,0 +1,99 @@
+#pragma once
+// Opacity optimization (Günther, Rössl & Theisel 2013) as render.transparency
+// "opacity_optimization": every segment of every line is drawn, each part's opacity minimises the
+// bounded least-squares energy of core/opacity_optimization.h for the current view.
+//
+// Per frame: (1) "fragment_lists": the rounded cones' transparent fragments (shaders/
+// transparent_fragment.glsl) go into per-pixel linked lists (A-buffer: global atomic counter,
+// per-pixel heads; shaders/opacity_build.frag) with depth, colour and the blending parameter w;
+// (2) "lists_sort" + "h_assembly": the lists are read back and sorted per pixel on the CPU
+// (oneTBB), the sorted links are written back, and Algorithm 1 builds h_ij (core/occlusion_matrix.h); (3) "solve": the
+// bounded QP, warm started from the previous frame's solution; displayed opacities move toward the solution by
+// render.opacity.blend per frame; (4) "resolve": each list is sorted and blended front to back
+// with alpha = style alpha * lerp(a_i, a_i+1, frac(w)) in the sorted order (shaders/opacity_resolve.frag).
+//
+// Memory: the node pool gets what render.memory_budget_mb leaves after the colour target and the
+// heads (and at most GL_MAX_SHADER_STORAGE_BLOCK_SIZE); fragments past it are counted, not
+// stored, and reported (lastStats().overflow, stderr): never a crash.
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+
+#include "core/occlusion_matrix.h"
+#include "core/opacity_optimization.h"
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "gl/gbuffer_pass.h"
+#include "gl/line_geometry.h"
+#include "gl/objects.h"
+#include "gl/technique.h"
+
+namespace tc::gl {
+
+// One frame's optimisation problem, for --dump-system style debugging (io/opacity_system_dump.h).
+struct OpacitySystem {
+    int frame = 0;
+    const OpacityEnergy* energy = nullptr;  // Q (factored; assemble() for the matrix) and c
+    const std::vector<double>* importance = nullptr;
+    const Eigen::VectorXd* solution = nullptr;
+    const Eigen::VectorXd* displayed = nullptr;
+    const QpResult* solve = nullptr;
+};
+
+class OpacityRenderer final : public Technique {
+public:
+    struct FrameStats {
+        std::size_t parts = 0;
+        std::uint64_t fragments = 0;  // produced by the lines (stored + overflow)
+        std::uint64_t overflow = 0;   // not stored: the node pool was full
+        std::size_t capacity = 0;     // nodes that fit
+        std::size_t hNonZeros = 0;
+        QpResult solve;  // iterations, products, residual (solve.x: the solution)
+        double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
+    };
+    using SystemSink = std::function<void(const OpacitySystem&)>;
+
+    // `vertexAttribute`: one value per vertex of the attribute render.opacity.importance names
+    // (required then, InputError otherwise). `sink` gets every frame's system (may be empty).
+    static std::unique_ptr<OpacityRenderer> create(const Scene& scene, const StyledLines& lines,
+                                                   const std::vector<float>* vertexAttribute = nullptr,
+                                                   SystemSink sink = {});
+
+    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    nlohmann::json describe() const override;
+
+    const FrameStats& lastStats() const { return m_stats; }
+    const Eigen::VectorXd& displayedOpacities() const { return m_displayed; }
+    const std::vector<double>& importance() const { return m_importance; }
+    const OpacityParts& parts() const { return m_parts; }
+
+private:
+    explicit OpacityRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
+    void resize(int width, int height);
+    // Reads the lists back, sorts each front to back, writes the sorted links back for the
+    // resolve pass and returns them in compressed rows for Algorithm 1.
+    FragmentLists readAndSortLists(int width, int height, std::uint64_t stored);
+
+    OpacityOptimizationSpec m_spec;
+    bool m_capClipping = true;
+    std::size_t m_memoryBudgetBytes = 0;
+    LightingSpec m_lighting;
+    SystemSink m_sink;
+
+    LineGeometry m_geometry;
+    std::optional<GBufferPass> m_gbuffer;
+    OpacityParts m_parts;
+    std::vector<double> m_importance;
+    Eigen::VectorXd m_solution, m_displayed;  // empty before the first frame
+    FrameStats m_stats;
+
+    Program m_buildProgram, m_resolveProgram;
+    VertexArray m_emptyVao;
+    Buffer m_vertexPartW, m_heads, m_nodes, m_next, m_counter, m_opacity;
+    int m_width = 0, m_height = 0;
+    std::size_t m_capacity = 0;
+    Texture m_color;
+    Framebuffer m_framebuffer;
+};
+
+}  // namespace tc::gl

@@ -1,0 +1,144 @@
+#include "gl/sphere_ambient.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "gl/density_volume.h"
+#include "gl/line_geometry.h"
+#include "gl/shader_library.h"
+
+namespace tc::gl {
+
+namespace {
+
+constexpr GLuint kVolumeUnit = 9;      // texture unit of uSphereVolume (8 is the line density volume's)
+constexpr GLuint kAccumulatorBinding = 4;
+constexpr GLuint kGroup = 64;          // local_size_x of the voxelize and resolve shaders
+constexpr std::size_t kMaxGroups = 65535;
+constexpr glm::ivec3 kMipGroup(8, 8, 1);  // shaders/density_mip.comp
+
+GLuint divUp(int n, int d) { return GLuint((n + d - 1) / d); }
+
+}  // namespace
+
+SphereAmbient SphereAmbient::create(const AoSpec& spec) {
+    SphereAmbient a;
+    a.m_spec = spec;
+    a.m_voxelize = compileProgram({{GL_COMPUTE_SHADER, "sphere_voxelize.comp"}});
+    a.m_resolve = compileProgram({{GL_COMPUTE_SHADER, "sphere_volume_resolve.comp"}});
+    // The line density volume's mip filter (mean-preserving for any size), on four channels.
+    a.m_mip = compileProgram({{GL_COMPUTE_SHADER, "density_mip.comp"}}, {"DENSITY_IMAGE_FORMAT rgba32f", "MIP_RGBA"});
+    return a;
+}
+
+void SphereAmbient::voxelize(const StyledParticles& particles, const Bounds& bounds) {
+    Buffer centerRadius = makeBuffer(particles.size() * sizeof(glm::vec4), particles.centerRadius.data());
+    Buffer colors = makeBuffer(particles.size() * sizeof(glm::vec4), particles.color.data());
+    voxelize(centerRadius, colors, particles.size(), bounds);
+}
+
+void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds) {
+    // The grid: spec.resolution cubic voxels along the longest axis of the spheres' bounds.
+    glm::vec3 extent = bounds.empty() ? glm::vec3(1.0f) : glm::max(bounds.extent(), glm::vec3(1e-6f));
+    const float longest = std::max({extent.x, extent.y, extent.z});
+    const float voxel = longest / float(m_spec.resolution);
+    glm::ivec3 size = glm::clamp(glm::ivec3(glm::ceil(extent / voxel)), glm::ivec3(1), glm::ivec3(m_spec.resolution));
+    const glm::vec3 origin = bounds.empty() ? glm::vec3(0.0f) : bounds.lo;
+    const std::size_t voxels = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+    if (size != m_size) {
+        m_size = size;
+        m_levels = DensityVolume::fullLevels(size);
+        m_volume = Texture::create(GL_TEXTURE_3D);
+        glTextureStorage3D(m_volume.id(), m_levels, GL_RGBA32F, size.x, size.y, size.z);
+        glTextureParameteri(m_volume.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        glTextureParameteri(m_volume.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+            glTextureParameteri(m_volume.id(), wrap, GL_CLAMP_TO_BORDER);
+        const float border[4] = {0, 0, 0, 0};
+        glTextureParameterfv(m_volume.id(), GL_TEXTURE_BORDER_COLOR, border);
+        m_accumulator = makeBuffer(voxels * 4 * sizeof(GLuint));
+        const GLuint zero = 0;
+        glClearNamedBufferData(m_accumulator.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    }
+    m_origin = origin;
+    m_voxelSize = voxel;
+    m_distance = m_spec.distance * glm::length(extent);
+
+    GLuint p = m_voxelize.id();
+    glProgramUniform1ui(p, uniformLocation(p, "uCount"), GLuint(count));
+    glProgramUniform3fv(p, uniformLocation(p, "uOrigin"), 1, &origin[0]);
+    glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), voxel);
+    glProgramUniform3i(p, uniformLocation(p, "uSize"), size.x, size.y, size.z);
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, m_accumulator.id());
+    const std::size_t perDispatch = kMaxGroups * kGroup;
+    for (std::size_t first = 0; first < count; first += perDispatch) {
+        const std::size_t n = std::min(perDispatch, count - first);
+        glProgramUniform1ui(p, uniformLocation(p, "uFirst"), GLuint(first));
+        glDispatchCompute(GLuint((n + kGroup - 1) / kGroup), 1, 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    p = m_resolve.id();
+    glProgramUniform3i(p, uniformLocation(p, "uSize"), size.x, size.y, size.z);
+    glUseProgram(p);
+    glBindImageTexture(0, m_volume.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    const std::size_t groups = (voxels + kGroup - 1) / kGroup;
+    const std::size_t groupsX = std::min(groups, kMaxGroups);
+    glDispatchCompute(GLuint(groupsX), GLuint((groups + groupsX - 1) / groupsX), 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+
+    p = m_mip.id();
+    glUseProgram(p);
+    for (int level = 0; level + 1 < m_levels; ++level) {
+        const glm::ivec3 src = glm::max(size >> level, glm::ivec3(1));
+        const glm::ivec3 dst = glm::max(size >> (level + 1), glm::ivec3(1));
+        glProgramUniform3i(p, uniformLocation(p, "uSourceSize"), src.x, src.y, src.z);
+        glProgramUniform3i(p, uniformLocation(p, "uTargetSize"), dst.x, dst.y, dst.z);
+        glBindImageTexture(0, m_volume.id(), level, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, m_volume.id(), level + 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute(divUp(dst.x, kMipGroup.x), divUp(dst.y, kMipGroup.y), divUp(dst.z, kMipGroup.z));
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(0);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+void SphereAmbient::apply(GLuint p) const {
+    glBindTextureUnit(kVolumeUnit, m_volume.id());
+    glProgramUniform1i(p, uniformLocation(p, "uSphereVolume"), GLint(kVolumeUnit));
+    glProgramUniform3fv(p, uniformLocation(p, "uSphereVolumeOrigin"), 1, &m_origin[0]);
+    glProgramUniform1f(p, uniformLocation(p, "uSphereVolumeVoxel"), m_voxelSize);
+    glProgramUniform3i(p, uniformLocation(p, "uSphereVolumeSize"), m_size.x, m_size.y, m_size.z);
+    glProgramUniform1i(p, uniformLocation(p, "uSphereVolumeLevels"), m_levels);
+    glProgramUniform1i(p, uniformLocation(p, "uAoCones"), m_spec.cones);
+    glProgramUniform1f(p, uniformLocation(p, "uAoAperture"), glm::radians(m_spec.apertureDeg));
+    glProgramUniform1f(p, uniformLocation(p, "uAoDistance"), m_distance);
+    glProgramUniform1f(p, uniformLocation(p, "uAoStrength"), m_spec.strength);
+    // The shaded sphere deposited itself around the point: start one and a half voxels out.
+    glProgramUniform1f(p, uniformLocation(p, "uAoStartOffset"), 1.5f * m_voxelSize);
+}
+
+nlohmann::json SphereAmbient::describe() const {
+    return {{"method", "voxel cone tracing of a GPU sphere voxelization (RGBA: coverage x opacity, colour)"},
+            {"size", {m_size.x, m_size.y, m_size.z}},
+            {"voxel_size", m_voxelSize},
+            {"cones", m_spec.cones},
+            {"aperture_deg", m_spec.apertureDeg},
+            {"distance", m_distance},
+            {"strength", m_spec.strength}};
+}
+
+std::vector<glm::vec4> SphereAmbient::readLevel0() const {
+    std::vector<glm::vec4> v(std::size_t(m_size.x) * m_size.y * m_size.z);
+    glGetTextureImage(m_volume.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(v.size() * sizeof(glm::vec4)), v.data());
+    return v;
+}
+
+}  // namespace tc::gl

@@ -1,0 +1,57 @@
+#pragma once
+// Ambient occlusion and coloured ambient light of sphere glyphs (Staib, Grottel & Gumhold 2015,
+// Sect. 3 and 5.1): the spheres voxelized on the GPU into an RGBA 3D texture (coverage-weighted
+// colour, coverage) with a mip pyramid, cone traced per shaded point (shaders/sphere_ambient.glsl)
+// into A_O (Eq. 2) and L_A (Eq. 7). Programs that trace cones are compiled with AMBIENT_OCCLUSION.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/line_set.h"
+#include "core/scene.h"
+#include "core/styled_particles.h"
+#include "gl/objects.h"
+
+namespace tc::gl {
+
+class SphereAmbient {
+public:
+    // Compiles the voxelization and mip programs. Needs a current context.
+    static SphereAmbient create(const AoSpec& spec);
+
+    // Voxelizes the spheres into a grid of spec.resolution voxels along the longest axis of
+    // `bounds` (cubic voxels) and rebuilds the mip pyramid. Per voxel, the coverage w is the
+    // fraction of the voxel inside a sphere: 1 when the voxel lies inside it, 0 when it is
+    // disjoint, else the fraction of 3x3x3 sub-sample points inside; w and w x colour add up over
+    // the spheres. Called once per data frame.
+    void voxelize(const StyledParticles& particles, const Bounds& bounds);
+    // The same from particle buffers already on the GPU (vec4 centre+radius, vec4 linear RGBA).
+    void voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds);
+
+    // Binds the volume and sets the cone tracing uniforms of `program`.
+    void apply(GLuint program) const;
+    nlohmann::json describe() const;
+
+    // Level 0 of the volume read back (RGBA per voxel, x fastest), for tests.
+    std::vector<glm::vec4> readLevel0() const;
+    glm::ivec3 size() const { return m_size; }
+    float voxelSize() const { return m_voxelSize; }
+    glm::vec3 origin() const { return m_origin; }
+
+private:
+    SphereAmbient() = default;
+
+    AoSpec m_spec;
+    Program m_voxelize, m_resolve, m_mip;
+    Buffer m_accumulator;  // 4 uint per voxel: sub-sample counts x colour (fixed point), count
+    Texture m_volume;
+    int m_levels = 0;
+    glm::ivec3 m_size{0};
+    glm::vec3 m_origin{0.0f};
+    float m_voxelSize = 0;
+    float m_distance = 0;
+};
+
+}  // namespace tc::gl

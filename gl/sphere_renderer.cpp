@@ -1,0 +1,368 @@
+#include "gl/sphere_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/shading.h"
+#include "core/sphere_glyph.h"
+#include "gl/gpu_timer.h"
+#include "gl/line_geometry.h"
+#include "gl/shader_library.h"
+#include "gl/sphere_ambient.h"
+
+namespace tc::gl {
+
+namespace {
+
+constexpr GLuint kSphereCenterRadiusBinding = 0;
+constexpr GLuint kSphereColorBinding = 1;
+constexpr GLuint kSphereIdBinding = 2;
+constexpr GLuint kSphereKeysBinding = 2;    // sort key pass only
+constexpr GLuint kSphereValuesBinding = 3;  // sort key pass only
+constexpr GLuint kSphereOrderBinding = 5;
+constexpr GLuint kSortGroupSize = 64;  // local_size_x of shaders/sphere_sort_keys.comp
+constexpr std::size_t kMaxGroups = 65535;
+
+const char* densityName(SphereDensity d) {
+    switch (d) {
+    case SphereDensity::Constant: return "constant";
+    case SphereDensity::L2: return "l2";
+    case SphereDensity::HollowConstant: return "hollow_constant";
+    case SphereDensity::HollowL2: return "hollow_l2";
+    }
+    return "?";
+}
+
+template <class T>
+Buffer uploadVector(const std::vector<T>& v) {
+    return makeBuffer(v.size() * sizeof(T), v.data(), 0);
+}
+
+}  // namespace
+
+SphereRenderer::~SphereRenderer() = default;
+
+std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const StyledParticles& particles) {
+    const RenderSpec& rs = scene.render;
+    if (rs.transparency != Transparency::Opaque && rs.transparency != Transparency::ObjectOrder)
+        throw InputError((scene.file.empty() ? std::string("scene") : scene.file) +
+                         ": render.transparency: technique \"spheres\" takes \"opaque\" or \"object_order\"");
+    std::unique_ptr<SphereRenderer> r(new SphereRenderer());
+    r->m_opaque = rs.transparency == Transparency::Opaque;
+    r->m_aovs = scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId;
+    r->m_spheres = rs.spheres;
+    r->m_lighting = scene.lighting;
+    std::vector<std::string> defines;
+    if (rs.ao.enabled) {
+        r->m_ambient = std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao));
+        defines.push_back("AMBIENT_OCCLUSION");
+    }
+    auto opaqueDefines = defines;
+    opaqueDefines.push_back("OPAQUE");
+    r->m_opaqueProgram = compileProgram(
+        {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, opaqueDefines);
+    if (!r->m_opaque) {
+        auto sorted = defines;
+        sorted.push_back("DRAW_ORDER");
+        if (rs.spheres.chunks > 1) sorted.push_back("EARLY_Z");
+        r->m_transparentProgram =
+            compileProgram({{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, sorted);
+        r->m_earlyZProgram =
+            compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "sphere_early_z.frag"}});
+        r->m_countProgram = compileProgram(
+            {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere_count.frag"}}, {"DRAW_ORDER"});
+        r->m_sortKeyProgram = compileProgram({{GL_COMPUTE_SHADER, "sphere_sort_keys.comp"}});
+        r->m_radixSort = RadixSort::create();
+    }
+    r->m_emptyVao = VertexArray::create();
+    r->m_samplesQuery = Query::create(GL_SAMPLES_PASSED);
+    r->uploadBuffers(particles);
+    r->resize(scene.image.width, scene.image.height);
+    return r;
+}
+
+void SphereRenderer::uploadBuffers(const StyledParticles& particles) {
+    TC_CHECK_OP(particles.size(), <=, std::size_t(std::numeric_limits<GLint>::max() / 6));
+    m_count = particles.size();
+    m_bounds = particles.bounds;
+    m_maxRadius = particles.maxRadius;
+    m_voxelsStale = true;
+    m_centerRadius = uploadVector(particles.centerRadius);
+    m_colors = uploadVector(particles.color);
+    m_ids = uploadVector(particles.id);
+    if (!m_opaque) {
+        m_keys = makeBuffer(m_count * sizeof(GLuint));
+        m_order = makeBuffer(m_count * sizeof(GLuint));
+    }
+}
+
+void SphereRenderer::upload(const StyledParticles& particles, StageTimer& timer) {
+    timer.begin("upload");
+    uploadBuffers(particles);
+    timer.setItems(particles.size());
+    timer.end();
+}
+
+void SphereRenderer::resize(int width, int height) {
+    if (width == m_width && height == m_height) return;
+    m_width = width;
+    m_height = height;
+    m_opaqueColor = makeTexture2D(GL_RGBA32F, width, height);
+    m_normalDepth = makeTexture2D(GL_RGBA32F, width, height);
+    m_id = makeTexture2D(GL_R32UI, width, height);
+    m_opaqueDepth = makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
+    m_opaqueTarget = makeFramebuffer({&m_opaqueColor, &m_normalDepth, &m_id}, &m_opaqueDepth, "sphere opaque target");
+    if (!m_opaque) {
+        m_color = makeTexture2D(GL_RGBA32F, width, height);
+        m_depth = makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
+        m_blendTarget = makeFramebuffer({&m_color}, &m_depth, "sphere blend target");
+    }
+}
+
+void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
+    const Camera& cam = setup.camera;
+    const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
+    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &eye[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uRight"), 1, &right[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uUp"), 1, &up[0]);
+    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
+    glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
+    glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
+    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
+    // Linear depth for the opaque depth test: beyond everything the data can reach.
+    const float far = glm::distance(cam.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
+    glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
+    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, cam);
+    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
+    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
+                       m_lighting.specular, m_lighting.shininess);
+    glProgramUniform1i(p, uniformLocation(p, "uDensityModel"), int(m_spheres.density));
+    glProgramUniform1f(p, uniformLocation(p, "uInnerRatio"), m_spheres.innerRadius);
+    glProgramUniform1f(p, uniformLocation(p, "uNormalisation"),
+                       densityNormalisation(m_spheres.density, m_spheres.innerRadius));
+    glProgramUniform1f(p, uniformLocation(p, "uAlphaRv"), m_spheres.alphaRv);
+    glProgramUniform1f(p, uniformLocation(p, "uAlphaA"), m_ambient ? m_spheres.alphaA : 0.0f);
+    if (m_ambient) m_ambient->apply(p);
+}
+
+void SphereRenderer::drawRange(std::size_t first, std::size_t count) const {
+    if (count == 0) return;
+    glBindVertexArray(m_emptyVao.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereColorBinding, m_colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereIdBinding, m_ids.id());
+    if (m_order) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOrderBinding, m_order.id());
+    glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+}
+
+void SphereRenderer::sort(const FrameSetup& setup, StageTimer& timer) {
+    timer.begin("sort");
+    const Camera& cam = setup.camera;
+    const GLuint p = m_sortKeyProgram.id();
+    const glm::vec3 fwd = cam.forward();
+    glProgramUniform1ui(p, uniformLocation(p, "uCount"), GLuint(m_count));
+    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &cam.eye[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
+    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereKeysBinding, m_keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereValuesBinding, m_order.id());
+    const std::size_t perDispatch = kMaxGroups * kSortGroupSize;
+    for (std::size_t first = 0; first < m_count; first += perDispatch) {
+        const std::size_t n = std::min(perDispatch, m_count - first);
+        glProgramUniform1ui(p, uniformLocation(p, "uFirst"), GLuint(first));
+        glDispatchCompute(GLuint((n + kSortGroupSize - 1) / kSortGroupSize), 1, 1);
+    }
+    glUseProgram(0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    m_radixSort->sort(m_keys, m_order, m_count);
+    timer.setItems(m_count);
+    timer.end();
+}
+
+void SphereRenderer::renderOpaque(const FrameSetup& setup, Framebuffer& target, StageTimer& timer, const char* stage) {
+    timer.begin(stage);
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+    glViewport(0, 0, setup.width, setup.height);
+    const float zero[4] = {0, 0, 0, 0};
+    const float background[4] = {0, 0, 0, std::numeric_limits<float>::infinity()};
+    const GLuint noId[4] = {kBackgroundId, 0, 0, 0};
+    const float far = 1.0f;
+    glClearNamedFramebufferfv(target.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(target.id(), GL_COLOR, 1, background);
+    glClearNamedFramebufferuiv(target.id(), GL_COLOR, 2, noId);
+    glClearNamedFramebufferfv(target.id(), GL_DEPTH, 0, &far);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    const GLuint p = m_opaqueProgram.id();
+    setUniforms(p, setup);
+    glUseProgram(p);
+    drawRange(0, m_count);
+    glDisable(GL_DEPTH_TEST);
+    timer.setItems(m_count);
+    timer.end();
+}
+
+void SphereRenderer::renderTransparent(const FrameSetup& setup, StageTimer& timer) {
+    const int chunks = int(std::min<std::size_t>(std::size_t(m_spheres.chunks), std::max<std::size_t>(m_count, 1)));
+    const GLuint p = m_transparentProgram.id();
+    setUniforms(p, setup);
+    setUniforms(m_countProgram.id(), setup);
+    const GLuint mark = m_earlyZProgram.id();
+    glProgramUniform1f(mark, uniformLocation(mark, "uThreshold"), m_spheres.earlyZThreshold);
+
+    m_lastSkipped = 0;
+    std::uint64_t total = 0;
+    if (chunks > 1) {
+        // Every billboard fragment, for the skipped count: rasterization only, no colour, no depth.
+        timer.begin("count_fragments");
+        // llvmpipe skips draws that write nothing (colour writes off) without counting their
+        // samples: write, but blend with (ZERO, ONE) so the target does not change.
+        glBindFramebuffer(GL_FRAMEBUFFER, m_blendTarget.id());
+        glViewport(0, 0, setup.width, setup.height);
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ZERO, GL_ONE);
+        glBeginQuery(GL_SAMPLES_PASSED, m_samplesQuery.id());
+        glUseProgram(m_countProgram.id());
+        drawRange(0, m_count);
+        glEndQuery(GL_SAMPLES_PASSED);
+        glDisable(GL_BLEND);
+        GLuint64 n = 0;
+        glGetQueryObjectui64v(m_samplesQuery.id(), GL_QUERY_RESULT, &n);
+        total = n;
+        timer.setItems(total);
+        timer.end();
+    }
+
+    timer.begin("spheres");
+    glBindFramebuffer(GL_FRAMEBUFFER, m_blendTarget.id());
+    glViewport(0, 0, setup.width, setup.height);
+    const float zero[4] = {0, 0, 0, 0};
+    const float far = 1.0f;
+    glClearNamedFramebufferfv(m_blendTarget.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(m_blendTarget.id(), GL_DEPTH, 0, &far);
+    glDisable(GL_CULL_FACE);
+    // Front-to-back "under" compositing of premultiplied colour: dst += (1 - dst.a) * src.
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+    // Particle fragments sit at depth 0.5 and never write depth; the early-z mask is depth 0.
+    glDepthFunc(GL_LESS);
+    // One occlusion query per chunk, read after the loop (no stall between chunks).
+    while (m_chunkQueries.size() < std::size_t(chunks)) m_chunkQueries.push_back(Query::create(GL_SAMPLES_PASSED));
+    for (int c = 0; c < chunks; ++c) {
+        const std::size_t first = m_count * std::size_t(c) / std::size_t(chunks);
+        const std::size_t end = m_count * std::size_t(c + 1) / std::size_t(chunks);
+        if (chunks > 1) glEnable(GL_DEPTH_TEST);
+        glDepthMask(GL_FALSE);
+        glEnable(GL_BLEND);
+        glUseProgram(p);
+        glBeginQuery(GL_SAMPLES_PASSED, m_chunkQueries[std::size_t(c)].id());
+        drawRange(first, end - first);
+        glEndQuery(GL_SAMPLES_PASSED);
+        if (c + 1 < chunks) {
+            // Mark saturated pixels: the colour target is read as a texture while attached (not
+            // written: colour writes off), which glTextureBarrier makes defined.
+            glTextureBarrier();
+            glDisable(GL_BLEND);
+            glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+            glDepthMask(GL_TRUE);
+            glDepthFunc(GL_ALWAYS);
+            glUseProgram(mark);
+            glBindTextureUnit(0, m_color.id());
+            glBindVertexArray(m_emptyVao.id());
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glDepthFunc(GL_LESS);
+            glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        }
+    }
+    for (int c = 0; c < chunks; ++c) {
+        GLuint64 n = 0;
+        glGetQueryObjectui64v(m_chunkQueries[std::size_t(c)].id(), GL_QUERY_RESULT, &n);
+        m_lastShaded += n;
+    }
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    timer.setItems(m_count);
+    timer.end();
+    if (chunks > 1) {
+        m_lastSkipped = total > m_lastShaded ? total - m_lastShaded : 0;
+        timer.begin("early_z");
+        timer.setItems(m_lastSkipped);
+        timer.end();
+    }
+}
+
+void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+    resize(setup.width, setup.height);
+    const int w = setup.width, h = setup.height;
+    m_lastShaded = 0;
+    m_lastSkipped = 0;
+    if (m_ambient && m_voxelsStale) {
+        // Once per data frame (the paper's dynamic-data timings voxelize every frame).
+        timer.begin("voxelize");
+        m_ambient->voxelize(m_centerRadius, m_colors, m_count, m_bounds);
+        timer.setItems(m_count);
+        timer.end();
+        m_voxelsStale = false;
+    }
+    if (m_opaque) {
+        renderOpaque(setup, m_opaqueTarget, timer, "spheres");
+    } else {
+        if (m_count > 0) sort(setup, timer);
+        renderTransparent(setup, timer);
+        if (m_aovs) renderOpaque(setup, m_opaqueTarget, timer, "aovs");
+    }
+
+    timer.begin("readback");
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    out.width = w;
+    out.height = h;
+    out.rgba.resize(4 * n);
+    readTextureFlipped(m_opaque ? m_opaqueColor.id() : m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float),
+                       out.rgba.data());
+    if (m_opaque || m_aovs) {
+        std::vector<float> normalDepth(4 * n);
+        readTextureFlipped(m_normalDepth.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), normalDepth.data());
+        out.depth.resize(n);
+        out.normal.resize(3 * n);
+        for (std::size_t i = 0; i < n; ++i) {
+            out.depth[i] = normalDepth[4 * i + 3];
+            for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = std::isinf(out.depth[i]) ? 0.0f : normalDepth[4 * i + c];
+        }
+        out.id.resize(n);
+        readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
+    } else {
+        out.depth.assign(n, std::numeric_limits<float>::infinity());
+        out.normal.assign(3 * n, 0.0f);
+        out.id.assign(n, kBackgroundId);
+    }
+    out.ao.clear();
+    timer.end();
+}
+
+nlohmann::json SphereRenderer::describe() const {
+    nlohmann::json j = {{"technique", "spheres"},
+                        {"transparency", m_opaque ? "opaque" : "object_order"},
+                        {"particles", m_count},
+                        {"billboards", "vertex shader, vertex pulling, perspective-correct sphere bounds"},
+                        {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
+    if (!m_opaque) {
+        j["density"] = densityName(m_spheres.density);
+        j["inner_radius"] = m_spheres.innerRadius;
+        j["alpha_rv"] = m_spheres.alphaRv;
+        j["alpha_a"] = m_spheres.alphaA;
+        j["sort"] = "GPU radix sort of power-distance keys";
+        j["early_z"] = {{"chunks", m_spheres.chunks}, {"threshold", m_spheres.earlyZThreshold}};
+    }
+    return j;
+}
+
+}  // namespace tc::gl

@@ -1,0 +1,74 @@
+#pragma once
+// Particles as sphere glyphs (Staib, Grottel & Gumhold 2015), render.technique "spheres":
+//   transparent ("object_order"): per frame, power-distance sort keys (shaders/sphere_sort_keys.comp)
+//     and the GPU radix sort (gl/radix_sort.h), then one billboard per particle in that order
+//     (shaders/sphere_billboard.vert), the density model's analytic opacity per fragment
+//     (shaders/sphere.frag) blended front to back into an RGBA32F target. With chunks > 1, the
+//     early-z approximation of Sect. 5.2: after each chunk a full-screen pass gives depth 0 to
+//     pixels whose alpha exceeds the threshold and later chunks skip them by early depth tests.
+//   opaque: the same billboards, first hit by depth test, Blinn-Phong.
+// Per-particle data lives in SSBOs (centre+radius, colour, id); upload() replaces it for a new
+// data frame of a time series.
+#include <memory>
+#include <optional>
+
+#include "core/scene.h"
+#include "core/styled_particles.h"
+#include "gl/objects.h"
+#include "gl/radix_sort.h"
+#include "gl/technique.h"
+
+namespace tc::gl {
+
+class SphereAmbient;
+
+class SphereRenderer final : public Technique {
+public:
+    // Compiles the programs and uploads `particles`. Needs a current context. Throws InputError
+    // for a transparency mode spheres do not have.
+    static std::unique_ptr<SphereRenderer> create(const Scene& scene, const StyledParticles& particles);
+    ~SphereRenderer() override;
+
+    // Replaces the particles (a new data frame), timed as stage "upload" of `timer`.
+    void upload(const StyledParticles& particles, StageTimer& timer);
+
+    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    nlohmann::json describe() const override;
+
+    // Fragments the early-z chunks skipped in the last transparent frame (0 with one chunk), and
+    // the fragments that were shaded. For tests and timings.csv (stage "early_z" items).
+    std::uint64_t lastSkippedFragments() const { return m_lastSkipped; }
+    std::uint64_t lastShadedFragments() const { return m_lastShaded; }
+
+private:
+    SphereRenderer() = default;
+    void uploadBuffers(const StyledParticles& particles);
+    void resize(int width, int height);
+    void setUniforms(GLuint program, const FrameSetup& setup) const;
+    void sort(const FrameSetup& setup, StageTimer& timer);
+    void drawRange(std::size_t first, std::size_t count) const;
+    void renderTransparent(const FrameSetup& setup, StageTimer& timer);
+    void renderOpaque(const FrameSetup& setup, Framebuffer& target, StageTimer& timer, const char* stage);
+
+    bool m_opaque = false;
+    bool m_aovs = false;  // depth/normal/id requested: an opaque pass supplies them in transparent mode
+    SpheresSpec m_spheres;
+    LightingSpec m_lighting;
+    std::size_t m_count = 0;
+    Bounds m_bounds;
+    float m_maxRadius = 0;
+    Buffer m_centerRadius, m_colors, m_ids, m_keys, m_order;
+    Program m_transparentProgram, m_opaqueProgram, m_earlyZProgram, m_countProgram, m_sortKeyProgram;
+    std::optional<RadixSort> m_radixSort;
+    std::unique_ptr<SphereAmbient> m_ambient;
+    VertexArray m_emptyVao;
+    Query m_samplesQuery;
+    std::vector<Query> m_chunkQueries;
+    int m_width = 0, m_height = 0;
+    Texture m_color, m_depth, m_opaqueColor, m_normalDepth, m_id, m_opaqueDepth;
+    Framebuffer m_blendTarget, m_opaqueTarget;
+    std::uint64_t m_lastSkipped = 0, m_lastShaded = 0;
+    bool m_voxelsStale = true;  // the particles changed since the last voxelization
+};
+
+}  // namespace tc::gl

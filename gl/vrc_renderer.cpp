@@ -1,0 +1,340 @@
+#include "gl/vrc_renderer.h"
+
+#include <chrono>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "core/shading.h"
+#include "gl/gpu_timer.h"
+#include "core/voxel_density.h"
+#include "gl/line_geometry.h"
+#include "gl/radix_sort.h"
+#include "gl/shader_library.h"
+
+namespace tc::gl {
+
+namespace {
+
+constexpr GLuint kHeaderBinding = 0;
+constexpr GLuint kPieceBinding = 1;
+constexpr int kGroupSize = 8;  // local_size of shaders/vrc_raycast.comp
+
+// The camera uniforms of shaders/frame_uniforms.glsl. LineGeometry::setCameraUniforms sets the
+// same names but is a member of the rasterized paths' line upload, which this technique does not
+// make (it would hold a second copy of the lines on the GPU).
+void setCameraUniforms(GLuint p, const FrameSetup& setup) {
+    const Camera& cam = setup.camera;
+    const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
+    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &eye[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uRight"), 1, &right[0]);
+    glProgramUniform3fv(p, uniformLocation(p, "uUp"), 1, &up[0]);
+    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
+    glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
+    glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
+    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
+}
+
+void dispatch1D(GLuint program, std::size_t count) {
+    const std::size_t groups = (count + 63) / 64;
+    const std::size_t gx = std::min<std::size_t>(std::max<std::size_t>(groups, 1), 65535);
+    glProgramUniform1ui(program, uniformLocation(program, "uCount"), GLuint(count));
+    glUseProgram(program);
+    glDispatchCompute(GLuint(gx), GLuint((groups + gx - 1) / gx), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+}  // namespace
+
+VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs) {
+    TC_CHECK_OP(options.resolution, >=, 2);
+    TC_CHECK(options.quantization >= 0 && options.quantization <= kMaxQuantization);
+    VrcModel model;
+    model.quantization = options.quantization;
+    model.maxRadius = lines.maxRadius;
+    if (lines.positionRadius.empty()) return model;
+    const DensityGrid grid = makeDensityGrid(lines.bounds, options.resolution);
+    model.size = grid.size;
+    model.origin = grid.origin;
+    model.voxelSize = grid.voxelSize;
+    const bool quantized = options.quantization > 0;
+
+    std::vector<glm::uvec2> ranges;
+    for (std::uint32_t i = 0; i < lines.vertexCount(); ++i) {
+        if (!(lines.flags[i] & FirstOfPolyline)) continue;
+        std::uint32_t last = i;
+        while (!(lines.flags[last] & LastOfPolyline) && last + 1 < lines.vertexCount()) ++last;
+        ranges.emplace_back(i, last);
+    }
+    const std::size_t polylines = ranges.size();
+
+    std::vector<std::string> defines;
+    if (quantized) defines.push_back("QUANTIZED");
+    auto withDefine = [&](const char* d) {
+        std::vector<std::string> v = defines;
+        v.push_back(d);
+        return v;
+    };
+    const Program count = compileProgram({{GL_COMPUTE_SHADER, "vrc_build.comp"}}, withDefine("VRC_COUNT"));
+    const Program write = compileProgram({{GL_COMPUTE_SHADER, "vrc_build.comp"}}, withDefine("VRC_WRITE"));
+    const Program scan = compileProgram({{GL_COMPUTE_SHADER, "vrc_scan.comp"}});
+    const Program gather = compileProgram({{GL_COMPUTE_SHADER, "vrc_gather.comp"}}, withDefine("VRC_GATHER"));
+    const Program header = compileProgram({{GL_COMPUTE_SHADER, "vrc_gather.comp"}}, withDefine("VRC_HEADER"));
+    const Program neighbours = compileProgram({{GL_COMPUTE_SHADER, "vrc_gather.comp"}}, withDefine("VRC_NEIGHBORS"));
+    RadixSort sort = RadixSort::create();
+
+    glFinish();
+    const auto t0 = std::chrono::steady_clock::now();
+    const Buffer positions = makeBuffer(lines.positionRadius.size() * sizeof(glm::vec4), lines.positionRadius.data());
+    const Buffer colors = makeBuffer(lines.color.size() * sizeof(glm::vec4), lines.color.data());
+    const Buffer ids = makeBuffer(lines.polylineId.size() * sizeof(std::uint32_t), lines.polylineId.data());
+    const Buffer rangeBuffer = makeBuffer(ranges.size() * sizeof(glm::uvec2), ranges.data());
+    const Buffer counts = makeBuffer((polylines + 1) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ids.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, rangeBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, counts.id());
+    const glm::dvec3 origin(grid.origin);
+    for (GLuint p : {count.id(), write.id()}) {
+        glProgramUniform1ui(p, uniformLocation(p, "uPolylines"), GLuint(polylines));
+        glProgramUniform3i(p, uniformLocation(p, "uGridSize"), grid.size.x, grid.size.y, grid.size.z);
+        glProgramUniform3d(p, uniformLocation(p, "uOrigin"), origin.x, origin.y, origin.z);
+        glProgramUniform1d(p, uniformLocation(p, "uVoxelSize"), double(grid.voxelSize));
+        glProgramUniform1i(p, uniformLocation(p, "uQuantization"), options.quantization);
+        glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), lines.maxRadius);
+    }
+    const GLuint polylineGroups = GLuint((polylines + 63) / 64);
+    glUseProgram(count.id());
+    glDispatchCompute(polylineGroups, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glProgramUniform1ui(scan.id(), uniformLocation(scan.id(), "uCount"), GLuint(polylines));
+    glUseProgram(scan.id());
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::uint32_t total = 0;
+    glGetNamedBufferSubData(counts.id(), GLintptr(polylines * sizeof(std::uint32_t)), sizeof total, &total);
+    if (total >= (1u << 31))
+        throw InputError("render.vrc: the voxel model would hold " + std::to_string(total) +
+                         " pieces, more than 2^31; lower render.vrc.resolution");
+
+    const std::size_t pieceBytes = quantized ? sizeof(VrcCompactPiece) : sizeof(VrcExactPiece);
+    const Buffer keys = makeBuffer(std::size_t(total) * 4), values = makeBuffer(std::size_t(total) * 4);
+    const Buffer raw = makeBuffer(std::size_t(total) * pieceBytes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, values.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, raw.id());
+    glUseProgram(write.id());
+    glDispatchCompute(polylineGroups, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    sort.sort(keys, values, total);  // stable: (voxel id, slot) order, as the CPU's sort
+
+    const std::size_t voxels = model.voxelCount();
+    const Buffer headerBuffer = makeBuffer(voxels * sizeof(VrcVoxel), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    const Buffer runEnd = makeBuffer(voxels * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    const std::uint32_t zero = 0;
+    glClearNamedBufferData(headerBuffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferData(runEnd.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    const Buffer pieces = makeBuffer(std::size_t(total) * pieceBytes), pieceVoxel = makeBuffer(std::size_t(total) * 4);
+    // The radix sort rebinds 0..4.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, headerBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, runEnd.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, values.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, raw.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, pieces.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, pieceVoxel.id());
+    for (GLuint p : {gather.id(), header.id(), neighbours.id()})
+        glProgramUniform3i(p, uniformLocation(p, "uGridSize"), grid.size.x, grid.size.y, grid.size.z);
+    dispatch1D(gather.id(), total);
+    dispatch1D(header.id(), voxels);
+    dispatch1D(neighbours.id(), voxels);
+    glUseProgram(0);
+    glFinish();
+    if (gpuMs) *gpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    model.voxels.resize(voxels);
+    glGetNamedBufferSubData(headerBuffer.id(), 0, GLsizeiptr(voxels * sizeof(VrcVoxel)), model.voxels.data());
+    model.pieceVoxel.resize(total);
+    glGetNamedBufferSubData(pieceVoxel.id(), 0, GLsizeiptr(std::size_t(total) * 4), model.pieceVoxel.data());
+    if (quantized) {
+        model.compact.resize(total);
+        glGetNamedBufferSubData(pieces.id(), 0, GLsizeiptr(std::size_t(total) * pieceBytes), model.compact.data());
+    } else {
+        model.exact.resize(total);
+        glGetNamedBufferSubData(pieces.id(), 0, GLsizeiptr(std::size_t(total) * pieceBytes), model.exact.data());
+    }
+    return model;
+}
+
+std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const StyledLines& lines) {
+    VrcBuildOptions options;
+    options.resolution = scene.render.vrc.resolution;
+    options.quantization = scene.render.vrc.quantization;
+    // The ray caster shades with the M3 density volume (see the header); the Eq. 1 pyramid is
+    // only built where it is asked for (tests, benchmarks).
+    options.lod = false;
+    const auto t0 = std::chrono::steady_clock::now();
+    const VrcModel model = buildVrcModel(lines, options);
+    const auto t1 = std::chrono::steady_clock::now();
+    std::unique_ptr<VrcRenderer> r = create(scene, lines, model);
+    r->m_buildMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    return r;
+}
+
+std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const StyledLines& lines, const VrcModel& model) {
+    std::unique_ptr<VrcRenderer> r(new VrcRenderer());
+    r->m_spec = scene.render.vrc;
+    r->m_transparent = scene.render.transparency != Transparency::Opaque;
+    r->m_lighting = scene.lighting;
+    r->m_size = model.size;
+    r->m_origin = model.origin;
+    r->m_voxelSize = model.voxelSize;
+    r->m_maxRadius = model.maxRadius;
+    r->m_quantization = model.quantization;
+    r->m_pieces = model.pieceCount();
+    r->m_bytesPerPiece = model.bytesPerPiece();
+    r->m_modelBytes = model.bytes();
+    r->m_lodBytes = model.lodBytes();
+    r->m_segments = lines.segmentCount();
+    // What the rasterized paths upload: position+radius, colour, polyline id, flags per vertex and
+    // two indices per segment (gl/line_geometry.h).
+    r->m_rawBytes = lines.vertexCount() * (16 + 16 + 4 + 4) + lines.segmentCount() * 8;
+
+    const auto t0 = std::chrono::steady_clock::now();
+    if (model.voxels.empty()) {
+        // No lines: one empty voxel keeps the shader's buffers valid.
+        const VrcVoxel empty{0, 0};
+        r->m_header = makeBuffer(sizeof empty, &empty);
+        r->m_size = glm::ivec3(1);
+        r->m_voxelSize = 1;
+    } else {
+        r->m_header = makeBuffer(model.voxels.size() * sizeof(VrcVoxel), model.voxels.data());
+    }
+    if (model.quantization > 0)
+        r->m_pieceBuffer = makeBuffer(model.compact.size() * sizeof(VrcCompactPiece), model.compact.data());
+    else
+        r->m_pieceBuffer = makeBuffer(model.exact.size() * sizeof(VrcExactPiece), model.exact.data());
+    glFinish();
+    r->m_uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    std::vector<std::string> defines;
+    if (model.quantization > 0) defines.push_back("QUANTIZED");
+    if (r->m_transparent) defines.push_back("TRANSPARENT");
+    if (r->m_spec.neighbors) defines.push_back("NEIGHBORS");
+    const AoSpec& ao = scene.render.ao;
+    r->m_aoEnabled = ao.enabled;
+    if ((ao.enabled || r->m_spec.shadows) && !lines.positionRadius.empty()) {
+        r->m_ao = AmbientOcclusion::create(ao, lines);
+        if (ao.enabled) defines.push_back("AMBIENT_OCCLUSION");
+        if (r->m_spec.shadows) {
+            defines.push_back("SOFT_SHADOWS");
+            const glm::vec3 extent = lines.bounds.extent();
+            // The cone reaches as far as the AO cones (render.ao.distance of the diagonal) and
+            // starts one density voxel out (the AO start offset; self-shadowing is excluded per
+            // step by shaders/cone_tracing.glsl).
+            r->m_shadowDistance = ao.distance * glm::length(extent);
+            r->m_shadowStartOffset =
+                std::max({extent.x, extent.y, extent.z}) / float(std::max(ao.resolution - 1, 1));
+        }
+    }
+    r->m_program = compileProgram({{GL_COMPUTE_SHADER, "vrc_raycast.comp"}}, defines);
+    r->resize(scene.image.width, scene.image.height);
+    return r;
+}
+
+void VrcRenderer::resize(int width, int height) {
+    if (width == m_width && height == m_height) return;
+    m_width = width;
+    m_height = height;
+    m_color = makeTexture2D(GL_RGBA32F, width, height);
+    m_normalDepth = makeTexture2D(GL_RGBA32F, width, height);
+    m_id = makeTexture2D(GL_R32UI, width, height);
+    m_aoImage = makeTexture2D(GL_R32F, width, height);
+}
+
+void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+    const int w = setup.width, h = setup.height;
+    resize(w, h);
+
+    timer.begin("raycast");
+    const GLuint p = m_program.id();
+    setCameraUniforms(p, setup);
+    glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
+    glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
+    glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
+    glProgramUniform1i(p, uniformLocation(p, "uQuantization"), m_quantization);
+    glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), m_maxRadius);
+    glProgramUniform1f(p, uniformLocation(p, "uOpacityThreshold"), m_spec.opacityThreshold);
+    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
+    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
+    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
+                       m_lighting.specular, m_lighting.shininess);
+    if (m_ao) {
+        m_ao->apply(p);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowTanHalfAperture"),
+                           std::tan(0.5f * glm::radians(m_spec.shadowApertureDeg)));
+        glProgramUniform1f(p, uniformLocation(p, "uShadowDistance"), m_shadowDistance);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowStrength"), 1.0f);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowStartOffset"), m_shadowStartOffset);
+    }
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeaderBinding, m_header.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPieceBinding, m_pieceBuffer.id());
+    glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+    glBindImageTexture(3, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glDispatchCompute(GLuint((w + kGroupSize - 1) / kGroupSize), GLuint((h + kGroupSize - 1) / kGroupSize), 1);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glUseProgram(0);
+    timer.setItems(std::uint64_t(w) * std::uint64_t(h));
+    timer.end();
+
+    timer.begin("readback");
+    const std::size_t n = std::size_t(w) * h;
+    out.width = w;
+    out.height = h;
+    out.rgba.resize(4 * n);
+    readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), out.rgba.data());
+    std::vector<float> normalDepth(4 * n);
+    readTextureFlipped(m_normalDepth.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), normalDepth.data());
+    out.id.resize(n);
+    readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
+    out.normal.resize(3 * n);
+    out.depth.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = normalDepth[4 * i + c];
+        out.depth[i] = normalDepth[4 * i + 3];
+    }
+    out.ao.clear();
+    if (m_aoEnabled) {
+        out.ao.resize(n);
+        readTextureFlipped(m_aoImage.id(), GL_RED, GL_FLOAT, w, h, 1, sizeof(float), out.ao.data());
+    }
+    timer.end();
+}
+
+nlohmann::json VrcRenderer::describe() const {
+    const double mb = 1024.0 * 1024.0;
+    return {{"technique", "voxel_raycast"},
+            {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
+            {"grid", {m_size.x, m_size.y, m_size.z}},
+            {"voxel_size", m_voxelSize},
+            {"quantization", m_quantization},
+            {"neighbors", m_spec.neighbors},
+            {"opacity_threshold", m_spec.opacityThreshold},
+            {"pieces", m_pieces},
+            {"segments", m_segments},
+            {"bytes_per_piece", m_bytesPerPiece},
+            {"model_mb", double(m_modelBytes) / mb},
+            {"raw_lines_mb", double(m_rawBytes) / mb},
+            {"build_ms", m_buildMs},
+            {"upload_ms", m_uploadMs},
+            {"soft_shadows", m_spec.shadows},
+            {"ambient_occlusion", m_ao && m_aoEnabled ? m_ao->describe() : nlohmann::json(false)}};
+}
+
+}  // namespace tc::gl

@@ -1,0 +1,66 @@
+#pragma once
+// Voxel-based line ray casting (VRC; Kanzler, Rautenhaus & Westermann 2019) as a render technique:
+// the view-independent voxel model of the lines (core/vrc_model.h, built once per dataset on the
+// CPU) is uploaded as two SSBOs (per-voxel header, linear piece array) and traversed per pixel by
+// one compute dispatch (shaders/vrc_raycast.comp) that writes colour and the AOVs. Opaque, or
+// semi-transparent with front-to-back compositing along the ray (no fragment sorting, no
+// per-pixel lists). Ambient occlusion and soft shadows cone-trace the density volume of
+// gl/ambient_occlusion.h (the tube volume per voxel: Eq. 1's length x opacity weighted by the
+// cross-section).
+#include <optional>
+
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "core/vrc_model.h"
+#include "gl/ambient_occlusion.h"
+#include "gl/objects.h"
+#include "gl/technique.h"
+
+namespace tc::gl {
+
+// The GPU build path: the same model as tc::buildVrcModel (without the LoD pyramid), built by
+// compute shaders and read back. Per polyline, shaders/vrc_build.comp counts the pieces, an
+// exclusive prefix sum (shaders/vrc_scan.comp) gives each polyline its slots, a second walk writes
+// the pieces with their voxel ids (the walk in double precision, unfused: the CPU's arithmetic);
+// the stable GPU radix sort (gl/radix_sort.h) orders (voxel id, slot) pairs, and
+// shaders/vrc_gather.comp gathers the pieces and writes the headers and neighbourhood bits. The
+// polyline vertex ranges are found on the CPU (one pass over the flags). Needs a current context;
+// `gpuMs` (if not null) receives the wall time from upload to the finished model on the GPU.
+VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs = nullptr);
+
+class VrcRenderer final : public Technique {
+public:
+    // Builds the model (render.vrc), uploads it and compiles the ray caster. Needs a current context.
+    static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines);
+    // Same, from a model built elsewhere (tests, the GPU build path).
+    static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines, const VrcModel& model);
+
+    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    nlohmann::json describe() const override;
+
+private:
+    VrcRenderer() = default;
+    void resize(int width, int height);
+
+    VrcSpec m_spec;
+    bool m_transparent = false;
+    LightingSpec m_lighting;
+    std::optional<AmbientOcclusion> m_ao;  // AO and/or soft shadows
+    bool m_aoEnabled = false;
+    float m_shadowDistance = 0, m_shadowStartOffset = 0;
+
+    // Model geometry and statistics (the pieces themselves live on the GPU only).
+    glm::ivec3 m_size{0};
+    glm::vec3 m_origin{0.0f};
+    float m_voxelSize = 0, m_maxRadius = 0;
+    int m_quantization = 0;
+    std::size_t m_pieces = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0, m_rawBytes = 0;
+    double m_buildMs = 0, m_uploadMs = 0;
+
+    Buffer m_header, m_pieceBuffer;
+    Program m_program;
+    int m_width = 0, m_height = 0;
+    Texture m_color, m_normalDepth, m_id, m_aoImage;
+};
+
+}  // namespace tc::gl

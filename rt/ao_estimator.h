@@ -1,0 +1,29 @@
+#pragma once
+// Ambient occlusion at a shaded point for the ray tracer: the two render.ao.method variants
+// (rt/cone_traced_ao.h, rt/ray_traced_ao.h) behind one interface.
+#include <cstdint>
+#include <memory>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "core/styled_lines.h"
+
+namespace tc::rt {
+
+class EmbreeLines;
+
+class AoEstimator {
+public:
+    virtual ~AoEstimator() = default;
+    // 1 = unoccluded, 0 = fully occluded, at world point p with unit normal n facing the viewer.
+    // `pixel` seeds per-pixel sampling (deterministic: same pixel, same result). Thread-safe.
+    virtual float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const = 0;
+    virtual nlohmann::json describe() const = 0;
+};
+
+// By spec.method. `embree` must outlive the estimator (ray_traced traces against it).
+std::unique_ptr<AoEstimator> makeAoEstimator(const AoSpec& spec, const StyledLines& lines, const EmbreeLines& embree);
+
+}  // namespace tc::rt

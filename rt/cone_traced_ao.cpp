@@ -1,0 +1,254 @@
+#include "rt/cone_traced_ao.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <glm/gtc/constants.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+
+namespace tc::rt {
+namespace {
+
+constexpr float kConeOcclusionCutoff = 0.99f;
+constexpr int kConeMaxSteps = 128;
+constexpr int kMaxTaps = 4;
+
+// axisTaps of shaders/density_mip.comp: coarse texel i of nc covers fine texels [i nf / nc,
+// (i + 1) nf / nc) with exact integer overlaps.
+struct Taps {
+    int first = 0, count = 0;
+    float weights[kMaxTaps] = {0, 0, 0, 0};
+};
+Taps axisTaps(int i, int nf, int nc) {
+    Taps taps;
+    const int lo = i * nf, hi = lo + nf;
+    taps.first = lo / nc;
+    const int last = (hi + nc - 1) / nc;
+    taps.count = std::min(last - taps.first, kMaxTaps);
+    for (int k = 0; k < kMaxTaps; ++k) {
+        const int j = taps.first + k;
+        const int overlap = std::min(hi, (j + 1) * nc) - std::max(lo, j * nc);
+        taps.weights[k] = k < taps.count ? float(overlap) / float(nf) : 0.0f;
+    }
+    return taps;
+}
+
+int fullLevels(const glm::ivec3& size) {
+    int longest = std::max({size.x, size.y, size.z});
+    int levels = 1;
+    while (longest >>= 1) ++levels;
+    return levels;
+}
+
+// Duff et al. 2017 (coneTangentFrame).
+void coneTangentFrame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
+    const float a = -1.0f / (s + n.z);
+    const float c = n.x * n.y * a;
+    t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+    b = glm::vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+float coneDensity(const DensityPyramid& v, glm::vec3 p, float lod) {
+    const glm::vec3 uvw = (p - v.origin()) / (v.voxelSize() * glm::vec3(v.size()));
+    return v.textureLod(uvw, lod);
+}
+
+glm::vec3 texelWidth(const DensityPyramid& v, int level) {
+    return glm::vec3(v.size()) / glm::vec3(glm::max(v.size() >> level, glm::ivec3(1)));
+}
+
+float coneFootprintReach(const DensityPyramid& v, glm::vec3 nAbs, int level) {
+    return 1.5f * glm::dot(nAbs, texelWidth(v, level));
+}
+
+int coneHemisphereLod(const DensityPyramid& v, glm::vec3 nAbs, float height, int ceilLevel) {
+    const float h = height / v.voxelSize();
+    int level = ceilLevel;
+    while (level >= 0 && coneFootprintReach(v, nAbs, level) > h) --level;
+    return level;
+}
+
+float coneOwnDensityBound(const DensityPyramid& v, float ownArea, float lod) {
+    const glm::vec3 w = texelWidth(v, int(std::floor(lod)));
+    return ownArea * glm::length(w) / (w.x * w.y * w.z);
+}
+
+float traceOcclusionCone(const DensityPyramid& v, const ConeTracingParams& prm, glm::vec3 apex, glm::vec3 dir,
+                         glm::vec3 normal, float tanHalfAperture) {
+    const float maxLod = float(std::max(v.levels() - 1, 0));
+    const glm::vec3 nAbs = glm::abs(normal);
+    const float cosPolar = glm::dot(dir, normal);
+    const float vs = v.voxelSize();
+    float occlusion = 0.0f;
+    float t = prm.startOffset;
+    for (int i = 0; i < kConeMaxSteps && t < prm.maxDistance && occlusion <= kConeOcclusionCutoff; ++i) {
+        const float diameter = std::max(2.0f * t * tanHalfAperture, vs);
+        const float stepLength = std::min(diameter, prm.maxDistance - t);
+        const float lod = glm::clamp(std::log2(diameter / vs), 0.0f, maxLod);
+        const float tSample = t + 0.5f * stepLength;
+        const glm::vec3 p = apex + tSample * dir;
+        float rho = coneDensity(v, p, lod);
+        const int hemisphereLod = coneHemisphereLod(v, nAbs, tSample * cosPolar, int(std::ceil(lod)));
+        if (float(hemisphereLod) < lod) {
+            const float own = std::max(rho - coneOwnDensityBound(v, prm.ownArea, lod), 0.0f);
+            const float front = hemisphereLod >= 0 ? coneDensity(v, p, float(hemisphereLod)) : 0.0f;
+            rho = std::max(own, front);
+        }
+        rho = glm::clamp(rho, 0.0f, 1.0f);
+        const float transmittance =
+            std::exp2(prm.strength * stepLength / vs * std::log2(std::max(1.0f - rho, 1e-30f)));
+        occlusion += (1.0f - occlusion) * (1.0f - transmittance);
+        t += stepLength;
+    }
+    return occlusion;
+}
+
+}  // namespace
+
+DensityPyramid::DensityPyramid(DensityGrid grid) : m_origin(grid.origin), m_voxelSize(grid.voxelSize) {
+    const int levels = fullLevels(grid.size);
+    m_sizes.push_back(grid.size);
+    m_levels.push_back(std::move(grid.density));
+    for (int l = 0; l + 1 < levels; ++l) {
+        const glm::ivec3 nf = m_sizes.back();
+        const glm::ivec3 nc = glm::max(glm::ivec3(1), nf / 2);
+        std::vector<float> coarse(std::size_t(nc.x) * nc.y * nc.z);
+        const std::vector<float>& fine = m_levels.back();
+        tbb::parallel_for(tbb::blocked_range<int>(0, nc.z), [&](const tbb::blocked_range<int>& zs) {
+            for (int z = zs.begin(); z != zs.end(); ++z)
+                for (int y = 0; y < nc.y; ++y)
+                    for (int x = 0; x < nc.x; ++x) {
+                        const Taps tx = axisTaps(x, nf.x, nc.x), ty = axisTaps(y, nf.y, nc.y),
+                                   tz = axisTaps(z, nf.z, nc.z);
+                        // The shader's summation order (z, y, x), same float results for even sizes.
+                        float sum = 0.0f;
+                        for (int k = 0; k < tz.count; ++k) {
+                            float plane = 0.0f;
+                            for (int j = 0; j < ty.count; ++j) {
+                                float row = 0.0f;
+                                for (int i = 0; i < tx.count; ++i)
+                                    row += tx.weights[i] *
+                                           fine[(std::size_t(tz.first + k) * nf.y + std::size_t(ty.first + j)) * nf.x +
+                                                std::size_t(tx.first + i)];
+                                plane += ty.weights[j] * row;
+                            }
+                            sum += tz.weights[k] * plane;
+                        }
+                        coarse[(std::size_t(z) * nc.y + std::size_t(y)) * nc.x + std::size_t(x)] = sum;
+                    }
+        });
+        m_sizes.push_back(nc);
+        m_levels.push_back(std::move(coarse));
+    }
+}
+
+float DensityPyramid::fetch(int level, int x, int y, int z) const {
+    const glm::ivec3 s = m_sizes[std::size_t(level)];
+    if (x < 0 || y < 0 || z < 0 || x >= s.x || y >= s.y || z >= s.z) return 0.0f;
+    return m_levels[std::size_t(level)][(std::size_t(z) * s.y + std::size_t(y)) * s.x + std::size_t(x)];
+}
+
+float DensityPyramid::sampleLevel(const glm::vec3& uvw, int level) const {
+    const glm::vec3 c = uvw * glm::vec3(m_sizes[std::size_t(level)]) - 0.5f;
+    const glm::vec3 base = glm::floor(c);
+    const glm::vec3 f = c - base;
+    const glm::ivec3 i0(base);
+    float result = 0.0f;
+    for (int corner = 0; corner < 8; ++corner) {
+        const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+        const float w = (dx ? f.x : 1.0f - f.x) * (dy ? f.y : 1.0f - f.y) * (dz ? f.z : 1.0f - f.z);
+        if (w != 0.0f) result += w * fetch(level, i0.x + dx, i0.y + dy, i0.z + dz);
+    }
+    return result;
+}
+
+float DensityPyramid::textureLod(const glm::vec3& uvw, float lod) const {
+    const float maxLevel = float(levels() - 1);
+    if (!(lod > 0.0f)) return sampleLevel(uvw, 0);  // magnification: GL_LINEAR on the base level
+    lod = std::min(lod, maxLevel);
+    const int l0 = int(std::floor(lod));
+    const int l1 = std::min(l0 + 1, levels() - 1);
+    const float f = lod - float(l0);
+    const float a = sampleLevel(uvw, l0);
+    return f > 0.0f && l1 != l0 ? a + f * (sampleLevel(uvw, l1) - a) : a;
+}
+
+std::size_t DensityPyramid::bytes() const {
+    std::size_t b = 0;
+    for (const auto& l : m_levels) b += l.size() * sizeof(float);
+    return b;
+}
+
+float coneTracedOcclusion(const DensityPyramid& volume, const ConeTracingParams& prm, glm::vec3 position,
+                          glm::vec3 normal) {
+    if (prm.cones <= 0) return 1.0f;
+    const glm::vec3 n = glm::normalize(normal);
+    glm::vec3 tangent, bitangent;
+    coneTangentFrame(n, tangent, bitangent);
+    const float tanHalfAperture = std::tan(0.5f * prm.apertureRad);
+    const bool central = prm.cones == 1 || prm.cones >= 6;
+    const int ringCones = central ? prm.cones - 1 : prm.cones;
+    const float ringPolar = prm.cones >= 6 ? glm::radians(60.0f) : glm::radians(45.0f);
+    const float ringCos = std::cos(ringPolar), ringSin = std::sin(ringPolar);
+    float visible = 0.0f, weightSum = 0.0f;
+    if (central) {
+        visible += 1.0f - traceOcclusionCone(volume, prm, position, n, n, tanHalfAperture);
+        weightSum += 1.0f;
+    }
+    for (int i = 0; i < ringCones; ++i) {
+        const float phi = 6.28318530718f * float(i) / float(ringCones);
+        const glm::vec3 dir = ringCos * n + ringSin * (std::cos(phi) * tangent + std::sin(phi) * bitangent);
+        visible += ringCos * (1.0f - traceOcclusionCone(volume, prm, position, dir, n, tanHalfAperture));
+        weightSum += ringCos;
+    }
+    return visible / weightSum;
+}
+
+namespace {
+DensityGrid voxelized(const AoSpec& spec, const StyledLines& lines) {
+    DensityGrid grid = makeDensityGrid(lines.bounds, spec.resolution);
+    voxelizeLines(lines, grid);
+    return grid;
+}
+}  // namespace
+
+ConeTracedAo::ConeTracedAo(const AoSpec& spec, const StyledLines& lines)
+    : m_volume([&] {
+          auto t0 = std::chrono::steady_clock::now();
+          DensityPyramid v(voxelized(spec, lines));
+          m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          return v;
+      }()) {
+    // The parameters of gl::AmbientOcclusion::create (gl/ambient_occlusion.cpp explains them).
+    m_params.cones = spec.cones;
+    m_params.apertureRad = glm::radians(spec.apertureDeg);
+    m_params.maxDistance = spec.distance * glm::length(lines.bounds.extent());
+    m_params.strength = spec.strength;
+    m_params.startOffset = m_volume.voxelSize();
+    const float r = lines.maxRadius / m_volume.voxelSize();
+    m_params.ownArea = glm::pi<float>() * r * r;
+}
+
+float ConeTracedAo::visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t) const {
+    return coneTracedOcclusion(m_volume, m_params, p, n);
+}
+
+nlohmann::json ConeTracedAo::describe() const {
+    const glm::ivec3 s = m_volume.size();
+    return {{"method", "voxel cone tracing (CPU)"},
+            {"grid", {s.x, s.y, s.z}},
+            {"voxel_size", m_volume.voxelSize()},
+            {"levels", m_volume.levels()},
+            {"cones", m_params.cones},
+            {"aperture_deg", glm::degrees(m_params.apertureRad)},
+            {"distance_world", m_params.maxDistance},
+            {"voxelize_and_mips_ms", m_buildMs},
+            {"volume_mb", double(m_volume.bytes()) / (1024.0 * 1024.0)}};
+}
+
+}  // namespace tc::rt

@@ -1,0 +1,354 @@
+#include "rt/raytraced_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "core/rounded_cone.h"
+#include "core/shading.h"
+#include "rt/ao_estimator.h"
+#include "rt/embree_lines.h"
+
+namespace tc::rt {
+namespace {
+
+constexpr int kTile = 8;
+// Hits gathered per Embree traversal of a transparent ray. A pass keeps the K nearest hits not yet
+// composited (the filter below); when a pixel needs more, the next pass starts behind the K-th.
+// Cut-off rays usually stop within the first pass; exact ones take fewer passes with a larger K.
+constexpr int kHitsPerPassCutoff = 16;
+constexpr int kHitsPerPassExact = 48;
+constexpr int kMaxHitsPerPass = 48;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct RayHitRecord {
+    float t;
+    std::uint32_t prim;
+    std::uint32_t back;  // 1 = back-facing (leaving a tube)
+    glm::vec3 ng;        // unnormalised geometric normal from Embree (outward)
+};
+
+// Total order of hits along a ray: by t, then segment, then front before back, so hits at equal t
+// are composited deterministically (as the references sort by (depth, segment)).
+bool hitLess(const RayHitRecord& a, const RayHitRecord& b) {
+    if (a.t != b.t) return a.t < b.t;
+    if (a.prim != b.prim) return a.prim < b.prim;
+    return a.back < b.back;
+}
+
+// Embree calls the context filter for every candidate hit with ray.tfar already set to the hit's
+// t. The collector keeps the `capacity` nearest hits strictly after `last` (the hits composited by
+// earlier passes); when it is full it accepts only a hit that became the farthest kept one, so
+// Embree's tfar shrinks to the K-th nearest and traversal prunes everything behind it. Every other
+// hit is rejected (valid = 0), which makes Embree continue as if it had missed.
+struct HitCollector {
+    RTCIntersectContext context;  // first member: Embree hands back a pointer to it
+    RayHitRecord hits[kMaxHitsPerPass];
+    int capacity = 0;
+    int count = 0;
+    bool haveLast = false;
+    RayHitRecord last{};
+};
+
+void collectHit(const RTCFilterFunctionNArguments* args) {
+    if (args->valid[0] == 0) return;
+    auto* c = reinterpret_cast<HitCollector*>(const_cast<RTCIntersectContext*>(args->context));
+    const RTCRay* ray = reinterpret_cast<const RTCRay*>(args->ray);
+    const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
+    RayHitRecord h;
+    h.t = ray->tfar;
+    h.prim = hit->primID;
+    h.ng = glm::vec3(hit->Ng_x, hit->Ng_y, hit->Ng_z);
+    h.back = glm::dot(h.ng, glm::vec3(ray->dir_x, ray->dir_y, ray->dir_z)) > 0.0f ? 1u : 0u;
+    if (c->haveLast && !hitLess(c->last, h)) {
+        args->valid[0] = 0;
+        return;
+    }
+    if (c->count == c->capacity) {
+        if (!hitLess(h, c->hits[c->count - 1])) {
+            args->valid[0] = 0;
+            return;
+        }
+        --c->count;  // drop the farthest
+    }
+    int i = c->count++;
+    while (i > 0 && hitLess(h, c->hits[i - 1])) {
+        c->hits[i] = c->hits[i - 1];
+        --i;
+    }
+    c->hits[i] = h;
+    // Accept (tfar = h.t) only when the list is full and h is its farthest: nothing behind it is
+    // needed in this pass. Otherwise keep traversing with the old tfar.
+    if (!(c->count == c->capacity && i == c->count - 1)) args->valid[0] = 0;
+}
+
+RTCRayHit makeRayHit(const Ray& ray, float tnear) {
+    RTCRayHit rh;
+    rh.ray.org_x = ray.origin.x;
+    rh.ray.org_y = ray.origin.y;
+    rh.ray.org_z = ray.origin.z;
+    rh.ray.dir_x = ray.dir.x;
+    rh.ray.dir_y = ray.dir.y;
+    rh.ray.dir_z = ray.dir.z;
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = kInf;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
+}  // namespace
+
+struct RaytracedRenderer::PixelContext {
+    Ray ray;
+    std::uint32_t pixel;
+    float depthScale;  // view depth = t * depthScale
+    glm::vec3 lightDir;
+    // Outputs.
+    glm::vec4 rgba{0.0f};
+    float depth = kInf;
+    glm::vec3 normal{0.0f};
+    std::uint32_t id = kBackgroundId;
+    float ao = 1.0f;
+    std::uint64_t hits = 0;
+};
+
+RaytracedRenderer::~RaytracedRenderer() = default;
+
+std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene, const StyledLines& lines) {
+    std::unique_ptr<RaytracedRenderer> r(new RaytracedRenderer());
+    const RenderSpec& rs = scene.render;
+    switch (rs.transparency) {
+    case Transparency::Opaque: r->m_transparent = false; break;
+    case Transparency::ObjectOrder:
+    case Transparency::KBuffer:
+    case Transparency::DepthPeeling: r->m_transparent = true; break;
+    default:
+        throw InputError(scene.file + ": render.transparency: not available with render.technique \"raytraced\" "
+                                      "(use \"opaque\", \"object_order\", \"kbuffer\" or \"depth_peeling\")");
+    }
+    r->m_lines = lines;
+    r->m_lighting = scene.lighting;
+    r->m_alphaCutoff = rs.raytracedAlphaCutoff;
+    // Opaque images are the union of the rounded cones either way; joined tubes have fewer surfaces.
+    r->m_joinNeighbours = r->m_transparent ? rs.capClipping : true;
+    r->m_jointEpsilon = 1e-3f * std::max(lines.maxRadius, 1e-12f);
+    r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);
+    if (rs.ao.enabled) r->m_ao = makeAoEstimator(rs.ao, r->m_lines, *r->m_embree);
+    return r;
+}
+
+void RaytracedRenderer::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const {
+    sink.begin("raytrace");
+    out.allocate(width, height);
+    if (m_ao && !m_transparent) out.ao.assign(out.pixelCount(), 1.0f);
+    const glm::vec3 forward = camera.forward();
+    const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
+    const bool ortho = camera.projection == Projection::Orthographic;
+    const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
+    std::atomic<std::uint64_t> totalHits{0};
+
+    tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& range) {
+        std::uint64_t hits = 0;
+        for (int tile = range.begin(); tile != range.end(); ++tile) {
+            const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
+            for (int py = y0; py < std::min(y0 + kTile, height); ++py)
+                for (int px = x0; px < std::min(x0 + kTile, width); ++px) {
+                    PixelContext c;
+                    c.ray = pixelRay(camera, width, height, float(px), float(py));
+                    c.pixel = std::uint32_t(py) * std::uint32_t(width) + std::uint32_t(px);
+                    c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
+                    c.lightDir = lightDir;
+                    if (m_transparent) shadeTransparent(c);
+                    else shadeOpaque(c);
+                    hits += c.hits;
+                    const std::size_t i = c.pixel;
+                    out.rgba[4 * i + 0] = c.rgba.x;
+                    out.rgba[4 * i + 1] = c.rgba.y;
+                    out.rgba[4 * i + 2] = c.rgba.z;
+                    out.rgba[4 * i + 3] = c.rgba.w;
+                    out.depth[i] = c.depth;
+                    out.normal[3 * i + 0] = c.normal.x;
+                    out.normal[3 * i + 1] = c.normal.y;
+                    out.normal[3 * i + 2] = c.normal.z;
+                    out.id[i] = c.id;
+                    if (!out.ao.empty()) out.ao[i] = c.ao;
+                }
+        }
+        totalHits += hits;
+    });
+    m_lastHits = totalHits.load();
+    sink.setItems(m_lastHits);
+    sink.end();
+}
+
+void RaytracedRenderer::shadeOpaque(PixelContext& c) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh = makeRayHit(c.ray, 0.0f);
+    rtcIntersect1(m_embree->scene(), &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+    c.hits = 1;
+
+    // Re-intersect the hit segment and its polyline neighbours exactly as the CPU reference does
+    // (see the header): Embree's curve intersector solves the same surface with other float
+    // operations, and at joints it may attribute a point to either neighbour.
+    const StyledLines& L = m_lines;
+    const std::uint32_t hitSeg = rh.hit.primID;
+    const std::size_t segments = L.segmentCount();
+    float best = kInf;
+    std::uint32_t bestSeg = hitSeg;
+    glm::vec3 bestN(0.0f);
+    const std::uint32_t first = hitSeg > 0 ? hitSeg - 1 : 0;
+    const std::uint32_t last = std::uint32_t(std::min<std::size_t>(hitSeg + 1, segments - 1));
+    for (std::uint32_t s = first; s <= last; ++s) {
+        const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
+        if (s != hitSeg && L.polylineId[v0] != L.polylineId[L.segmentVertices[2 * hitSeg]]) continue;
+        const glm::vec4& a = L.positionRadius[v0];
+        const glm::vec4& b = L.positionRadius[v1];
+        ConeInterval iv = intersectRoundedCone(c.ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
+        if (!iv.hit) continue;
+        float t;
+        glm::vec3 n;
+        if (iv.tIn > 0.0f) t = iv.tIn, n = iv.nIn;
+        else if (iv.tOut > 0.0f) t = iv.tOut, n = iv.nOut;
+        else continue;
+        if (t < best) best = t, bestSeg = s, bestN = n;
+    }
+    if (best == kInf) {
+        // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
+        best = rh.ray.tfar;
+        glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+        bestN = glm::dot(ng, ng) > 0.0f ? glm::normalize(ng) : -c.ray.dir;
+    }
+
+    const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
+    const glm::vec3 x0(L.positionRadius[v0]), x1(L.positionRadius[v1]);
+    const glm::vec3 p = c.ray.origin + best * c.ray.dir;
+    const glm::vec3 ba = x1 - x0;
+    const float m0 = glm::dot(ba, ba);
+    const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - x0, ba) / m0, 0.0f, 1.0f) : 0.0f;
+    glm::vec3 base = glm::mix(glm::vec3(L.color[v0]), glm::vec3(L.color[v1]), u);
+    if (m_ao) {
+        // As shaders/deferred_shading.frag: AO scales the albedo, at the normal facing the viewer.
+        const glm::vec3 facing = glm::dot(bestN, c.ray.dir) <= 0.0f ? bestN : -bestN;
+        c.ao = m_ao->visibility(p, facing, c.pixel);
+        base *= c.ao;
+    }
+    const glm::vec3 rgb = shadeBlinnPhong(base, bestN, c.ray.dir, c.lightDir, m_lighting);
+    c.rgba = glm::vec4(rgb, 1.0f);
+    c.depth = best * c.depthScale;
+    c.normal = bestN;
+    c.id = L.polylineId[v0];
+}
+
+void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
+    const StyledLines& L = m_lines;
+    HitCollector collector;
+    rtcInitIntersectContext(&collector.context);
+    collector.context.filter = collectHit;
+    collector.capacity = m_alphaCutoff >= 1.0f ? kHitsPerPassExact : kHitsPerPassCutoff;
+
+    glm::vec3 color(0.0f);
+    float alpha = 0.0f;
+    bool havePrev = false, first = true;
+    RayHitRecord prev{};
+    float tnear = 0.0f;
+    for (;;) {
+        collector.count = 0;
+        RTCRayHit rh = makeRayHit(c.ray, tnear);
+        rtcIntersect1(m_embree->scene(), &collector.context, &rh);
+        const int n = collector.count;
+        bool done = false;
+        for (int k = 0; k < n && !done; ++k) {
+            const RayHitRecord& h = collector.hits[k];
+            ++c.hits;
+            if (!(h.t > 0.0f)) continue;
+            const std::uint32_t v0 = L.segmentVertices[2 * h.prim], v1 = L.segmentVertices[2 * h.prim + 1];
+            // A ray through the rim shared by adjacent segments at a joint is reported by both.
+            // (Unjoined segments are separate rounded cones: both count, as without cap clipping.)
+            const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back && h.t - prev.t <= m_jointEpsilon &&
+                                   (h.prim == prev.prim + 1 || prev.prim == h.prim + 1) &&
+                                   L.polylineId[v0] == L.polylineId[L.segmentVertices[2 * prev.prim]];
+            havePrev = true;
+            prev = h;
+            if (duplicate) continue;
+            const glm::vec4& a = L.positionRadius[v0];
+            const glm::vec4& b = L.positionRadius[v1];
+            if (h.back) {
+                // Only the inner wall of a segment the eye is in counts (the references' rule).
+                const float reach = glm::length(glm::vec3(b) - glm::vec3(a)) + a.w + b.w;
+                if (h.t > 2.0f * reach) continue;
+                if (!(sdRoundedCone(c.ray.origin, {glm::vec3(a), a.w, glm::vec3(b), b.w}) < 0.0f)) continue;
+            }
+            const glm::vec3 p = c.ray.origin + h.t * c.ray.dir;
+            const glm::vec3 ba = glm::vec3(b) - glm::vec3(a);
+            const float m0 = glm::dot(ba, ba);
+            const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - glm::vec3(a), ba) / m0, 0.0f, 1.0f) : 0.0f;
+            glm::vec4 base = glm::mix(L.color[v0], L.color[v1], u);
+            const float ngLen2 = glm::dot(h.ng, h.ng);
+            const glm::vec3 nrm = ngLen2 > 0.0f ? h.ng / std::sqrt(ngLen2) : -c.ray.dir;
+            if (m_ao) {
+                // As shaders/transparent_fragment.glsl: per fragment, before shading.
+                const glm::vec3 facing = glm::dot(nrm, c.ray.dir) <= 0.0f ? nrm : -nrm;
+                base = glm::vec4(glm::vec3(base) * m_ao->visibility(p, facing, c.pixel), base.w);
+            }
+            // Clamped like every transparent path (the GL k-buffer stores RGBA8).
+            const glm::vec3 rgb =
+                glm::clamp(shadeBlinnPhong(glm::vec3(base), nrm, c.ray.dir, c.lightDir, m_lighting), 0.0f, 1.0f);
+            if (first) {
+                first = false;
+                c.depth = h.t * c.depthScale;
+                c.normal = nrm;
+                c.id = L.polylineId[v0];
+            }
+            const float w = (1.0f - alpha) * base.w;
+            color += w * rgb;
+            alpha += w;
+            if (m_alphaCutoff < 1.0f && alpha >= m_alphaCutoff) done = true;
+        }
+        if (done || n < collector.capacity) break;
+        // Continue behind the farthest hit of this pass (the filter skips it and everything before).
+        collector.haveLast = true;
+        collector.last = collector.hits[n - 1];
+        tnear = std::nextafter(collector.last.t, -kInf);
+        if (!(tnear >= 0.0f)) tnear = 0.0f;
+    }
+    c.rgba = glm::vec4(color, alpha);
+}
+
+nlohmann::json RaytracedRenderer::describe() const {
+    nlohmann::json j = {{"technique", "raytraced"},
+                        {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
+                                       std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
+                        {"geometry", "RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE"},
+                        {"neighbour_flags", m_joinNeighbours},
+                        {"transparency", m_transparent ? "raytraced front-to-back" : "opaque"},
+                        {"tile", kTile},
+                        {"threads", tbb::this_task_arena::max_concurrency()},
+                        {"segments", m_lines.segmentCount()},
+                        {"bvh_build_ms", m_embree->buildMs()},
+                        {"bvh_memory_mb", double(m_embree->bytes()) / (1024.0 * 1024.0)},
+                        {"bvh_peak_memory_mb", double(m_embree->peakBytes()) / (1024.0 * 1024.0)},
+                        {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
+    if (m_transparent) {
+        j["alpha_cutoff"] = m_alphaCutoff;
+        j["hits_per_pass"] = m_alphaCutoff >= 1.0f ? kHitsPerPassExact : kHitsPerPassCutoff;
+        j["joint_epsilon"] = m_jointEpsilon;
+    }
+    return j;
+}
+
+}  // namespace tc::rt

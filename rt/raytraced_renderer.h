@@ -1,0 +1,77 @@
+#pragma once
+// render.technique "raytraced" (M10): the tubes of the rasterized path, ray traced on the CPU with
+// Embree 3 round linear curves (rt/embree_lines.h) over 8x8 pixel tiles with oneTBB. Same camera
+// rays (core/camera.h), shading (core/shading.h), colour pipeline and AOVs as the GL techniques,
+// so switching technique gives the same picture up to float differences:
+// - Opaque: the first hit along each pixel-centre ray. Embree finds the segment; its depth and
+//   normal are then recomputed with core/rounded_cone.h on that segment and its polyline
+//   neighbours, by the rule of core/cpu_reference.h (visible t = tIn if > 0 else tOut if > 0, the
+//   nearest wins, ties to the lower segment), so depth / normal / id equal the CPU reference's
+//   wherever Embree and the reference agree on the segment.
+// - Transparent (render.transparency other than "opaque"): every tube entry along the ray, one
+//   contribution per front-facing hit, composited front to back in exact depth order ("under",
+//   premultiplied, as core/transparent_reference.h), stopping once the accumulated alpha reaches
+//   render.raytraced.alpha_cutoff (1 = exact). With render.cap_clipping the segments of a polyline
+//   are joined into one tube (Embree neighbour flags: no internal surfaces, so a ray enters it once
+//   per crossing, the semantics cap clipping gives the GL path); without, every rounded cone is
+//   entered on its own (beads at joints, as the GL path without cap clipping). Hits of adjacent
+//   segments within a small epsilon of each other (a ray through the shared rim at a joint) count
+//   once. A back-facing hit counts only when the ray origin lies inside that segment's rounded
+//   cone (an eye inside a tube sees its inner wall, as the references). The depth / normal / id
+//   AOVs describe the first contributing hit.
+// - AO (render.ao): "cone_traced" samples the CPU twin of the GL density volume with the algorithm
+//   of shaders/cone_tracing.glsl (rt/cone_traced_ao.h); "ray_traced" shoots render.ao.samples
+//   stratified cosine-weighted hemisphere rays per shaded point (rt/ray_traced_ao.h).
+// Images are deterministic: every pixel is computed independently of the thread that runs it.
+#include <cstdint>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "core/camera.h"
+#include "core/frame_images.h"
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "rt/stage_sink.h"
+
+namespace tc::rt {
+
+class EmbreeLines;
+class AoEstimator;
+
+class RaytracedRenderer {
+public:
+    // Builds the BVH (once per dataset) and, with render.ao, the AO data. Keeps a copy of `lines`.
+    // Throws InputError for transparency modes the ray tracer does not implement.
+    static std::unique_ptr<RaytracedRenderer> create(const Scene& scene, const StyledLines& lines);
+    ~RaytracedRenderer();
+
+    // Renders one frame into `out` (allocated to width x height): rgba linear premultiplied,
+    // depth / normal / id as core/frame_images.h, ao (opaque with AO enabled: the factor at the
+    // visible surface, 1 on background). Stages: "raytrace" (items = Embree hits processed).
+    void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const;
+
+    nlohmann::json describe() const;
+
+    // Total Embree hits the last render() composited or skipped (transparent: those in front of
+    // the cutoff; opaque: 1 per covered pixel), for tests and timings.
+    std::uint64_t lastHitCount() const { return m_lastHits; }
+
+private:
+    RaytracedRenderer() = default;
+    struct PixelContext;
+    void shadeOpaque(PixelContext& px) const;
+    void shadeTransparent(PixelContext& px) const;
+
+    StyledLines m_lines;
+    LightingSpec m_lighting;
+    bool m_transparent = false;
+    bool m_joinNeighbours = true;
+    float m_alphaCutoff = 0.99f;
+    float m_jointEpsilon = 0;  // world units: hits of adjacent segments this close count once
+    std::unique_ptr<EmbreeLines> m_embree;
+    std::unique_ptr<AoEstimator> m_ao;
+    mutable std::uint64_t m_lastHits = 0;
+};
+
+}  // namespace tc::rt

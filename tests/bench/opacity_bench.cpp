@@ -1,0 +1,122 @@
+// Opacity optimization per frame (gl/opacity_renderer.h) on generated tornado line fields rendered
+// at 1280x1024: fragment-list construction, read-back + sort, h_ij assembly (Algorithm 1), the
+// solve, and the resolve; then solves per second on the frame's own system (cold from a = 1, and
+// warm from the solution after a 1 % change of the view-dependent term, as in an animation).
+// Prints a Markdown table for docs/performance.md.
+//
+//   tubecast_opacity_bench [--parts 2000,8000,32000,128000] [--points 64] [--size 1280x1024] [--reps 3]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/animation.h"
+#include "core/generators.h"
+#include "core/opacity_optimization.h"
+#include "core/scene.h"
+#include "core/styling.h"
+#include "gl/context.h"
+#include "gl/gpu_timer.h"
+#include "gl/opacity_renderer.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::vector<int> parseList(const char* text) {
+    std::vector<int> v;
+    for (const char* p = text; *p;) {
+        char* end = nullptr;
+        v.push_back(int(std::strtol(p, &end, 10)));
+        if (end == p) break;
+        p = *end == ',' ? end + 1 : end;
+    }
+    return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<int> parts{2000, 8000, 32000, 128000};
+    int points = 64, width = 1280, height = 1024, reps = 3;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--parts"))
+            parts = parseList(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--points"))
+            points = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--reps"))
+            reps = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--size"))
+            std::sscanf(argv[i + 1], "%dx%d", &width, &height);
+    }
+    try {
+        tc::gl::Context context = tc::gl::Context::create({});
+        std::printf(
+            "renderer: %s, %dx%d, tornado lines of %d points, 8 parts per line, default weights "
+            "(p=1 q=1 r=0.1 s=0.3 lambda=1), importance length, tolerance 1e-4\n\n",
+            context.info().renderer.c_str(), width, height, points);
+        std::printf(
+            "| parts | fragments | H nnz | lists ms | readback+sort ms | h ms | solve ms (it, residual) | "
+            "resolve ms | cold solves/s | warm solves/s (it) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+        for (int n : parts) {
+            tc::Scene scene;
+            scene.dataset.generate = "tornado";
+            scene.image.width = width;
+            scene.image.height = height;
+            scene.render.transparency = tc::Transparency::OpacityOptimization;
+            scene.render.opacity.importance = tc::OpacityOptimizationSpec::Importance::Length;
+            scene.style.radius.constant = 0.002f;
+            scene.style.opacity.constant = 1.0f;
+            scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+            const int lines = std::max(1, n / scene.render.opacity.segmentsPerLine);
+            tc::LineSet set = tc::generateTornado(lines, points, 1);
+            tc::StyledLines styled = tc::styleLines(set, scene.style, "bench");
+            scene.camera.fit = true;
+            scene.camera.camera.eye = {0.5f, -1.5f, 1.2f};
+            scene.camera.camera.target = {0.5f, 0.5f, 0.5f};
+            scene.camera.camera.up = {0.0f, 0.0f, 1.0f};
+            const tc::Camera cam = tc::fitCamera(scene.camera, styled.bounds, float(width) / float(height));
+
+            double coldRate = 0, warmRate = 0;
+            int warmIterations = 0;
+            auto sink = [&](const tc::gl::OpacitySystem& sys) {
+                const tc::OpacityEnergy& e = *sys.energy;
+                const Eigen::Index size = e.size();
+                const Eigen::VectorXd lo = Eigen::VectorXd::Zero(size), hi = Eigen::VectorXd::Ones(size);
+                tc::QpSolverOptions opt;
+                opt.tolerance = 1e-4;
+                auto t0 = Clock::now();
+                for (int r = 0; r < reps; ++r) tc::solveBoundedQp(e, e.linearTerm(), lo, hi, hi, opt);
+                coldRate = reps / (msSince(t0) / 1000.0);
+                // The next frame of an animation: the linear term moves by 1 %.
+                const Eigen::VectorXd c = 1.01 * e.linearTerm();
+                t0 = Clock::now();
+                for (int r = 0; r < reps; ++r)
+                    warmIterations = tc::solveBoundedQp(e, c, lo, hi, *sys.solution, opt).iterations;
+                warmRate = reps / (msSince(t0) / 1000.0);
+            };
+            auto renderer = tc::gl::OpacityRenderer::create(scene, styled, nullptr, sink);
+            tc::FrameImages images;
+            tc::gl::StageTimer timer;
+            renderer->render(tc::gl::FrameSetup{0, cam, width, height}, images, timer);
+            timer.collect();
+            const auto& s = renderer->lastStats();
+            std::printf("| %zu | %llu%s | %zu | %.0f | %.0f | %.0f | %.1f (%d, %.1e) | %.0f | %.1f | %.1f (%d) |\n",
+                        s.parts, (unsigned long long)s.fragments, s.overflow ? " (overflow)" : "", s.hNonZeros,
+                        s.listsMs, s.readbackMs, s.assemblyMs, s.solveMs, s.solve.iterations, s.solve.residual,
+                        s.resolveMs, coldRate, warmRate, warmIterations);
+            std::fflush(stdout);
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,170 @@
+// Opacity optimization on the GPU (gl/opacity_renderer.cpp): two crossing lines, a short
+// unimportant one in front of a long important one (importance "length"), seen orthographically
+// from +z so the crossing is known in pixels.
+#include "gl/opacity_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include "core/scene.h"
+#include "gl/gpu_timer.h"
+#include "gl/technique.h"
+#include "gl_fixture.h"
+#include "test_scenes.h"
+
+namespace tc::test {
+namespace {
+
+constexpr int kSize = 64;
+const glm::vec4 kFrontColor{1.0f, 0.0f, 0.0f, 1.0f};  // the short, unimportant line: red
+const glm::vec4 kBackColor{0.0f, 0.0f, 1.0f, 1.0f};   // the long, important line: blue
+
+StyledLines crossingLines() {
+    TestPolyline front, back;
+    for (int k = 0; k <= 8; ++k) {
+        const float t = float(k) / 8.0f;
+        front.push_back({{-0.5f + t, 0.0f, 0.5f}, 0.08f, kFrontColor});  // along x, nearer the eye
+        back.push_back({{0.0f, -0.9f + 1.8f * t, 0.0f}, 0.08f, kBackColor});
+    }
+    return makeStyledLines({front, back});
+}
+
+Scene opacityScene(float q) {
+    Scene scene;
+    scene.image.width = scene.image.height = kSize;
+    scene.render.technique = RenderTechnique::Rasterized;
+    scene.render.transparency = Transparency::OpacityOptimization;
+    scene.render.opacity.q = q;
+    scene.render.opacity.r = q / 10;
+    scene.render.opacity.segmentsPerLine = 4;
+    scene.render.opacity.importance = OpacityOptimizationSpec::Importance::Length;
+    scene.render.opacity.tolerance = 1e-8f;
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    return scene;
+}
+
+Camera topCamera() {
+    Camera cam;
+    cam.eye = {0, 0, 3};
+    cam.target = {0, 0, 0};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 2.0f;
+    return cam;
+}
+
+struct Frame {
+    FrameImages images;
+    gl::OpacityRenderer::FrameStats stats;
+    Eigen::VectorXd opacity;
+};
+
+Frame renderOnce(gl::OpacityRenderer& r, int frame = 0, const Camera& cam = topCamera()) {
+    Frame f;
+    gl::StageTimer timer;
+    r.render(gl::FrameSetup{frame, cam, kSize, kSize}, f.images, timer);
+    timer.collect();
+    f.stats = r.lastStats();
+    f.opacity = r.displayedOpacities();
+    return f;
+}
+
+glm::vec4 pixel(const FrameImages& im, int x, int y) {
+    const float* p = &im.rgba[4 * (std::size_t(y) * im.width + x)];
+    return {p[0], p[1], p[2], p[3]};
+}
+
+TEST_F(GlTest, opacity_optimization_keeps_the_important_line_and_fades_its_occluder) {
+    const StyledLines lines = crossingLines();
+    // createTechnique dispatches render.transparency "opacity_optimization" here.
+    std::unique_ptr<gl::Technique> t = gl::createTechnique(opacityScene(0.0f), lines);
+    auto* plain = dynamic_cast<gl::OpacityRenderer*>(t.get());
+    ASSERT_NE(plain, nullptr);
+    Frame off = renderOnce(*plain);
+    EXPECT_EQ(off.stats.overflow, 0u);
+    EXPECT_GT(off.stats.fragments, 200u);
+    EXPECT_GT(off.stats.hNonZeros, 0u);  // the crossing is seen in the lists...
+    ASSERT_TRUE(off.stats.solve.converged);
+    for (Eigen::Index i = 0; i < off.opacity.size(); ++i) EXPECT_NEAR(off.opacity[i], 1.0, 1e-9);  // ...but q = 0
+    // The crossing pixel (image centre) shows the opaque front line.
+    const glm::vec4 c0 = pixel(off.images, kSize / 2, kSize / 2);
+    EXPECT_NEAR(c0.w, 1.0f, 1e-4f);
+    EXPECT_GT(c0.x, 0.2f);
+    EXPECT_GT(c0.x, 10 * c0.z);  // red (blue only from the white specular term)
+
+    auto strong = gl::OpacityRenderer::create(opacityScene(400.0f), lines);
+    Frame on = renderOnce(*strong);
+    ASSERT_TRUE(on.stats.solve.converged);
+    EXPECT_LE(on.stats.solve.residual, 1e-8);
+    ASSERT_EQ(on.opacity.size(), 8);
+    // Importance by length: the back line (1.8 long) has g = 1, the front one (1.0) g = 1 / 1.8.
+    EXPECT_NEAR(strong->importance()[0], 1 / 1.8, 1e-5);
+    EXPECT_NEAR(strong->importance()[4], 1.0, 1e-6);
+    // Parts 1, 2 of the front line (the middle, w in [0.5, 2.5]) cover the back line: faded.
+    // The back line stays opaque.
+    EXPECT_LT(std::min(on.opacity[1], on.opacity[2]), 0.5);
+    for (int k = 4; k < 8; ++k) EXPECT_GT(on.opacity[k], 0.99) << k;
+    // The crossing now shows mostly the back line through the faded front line.
+    const glm::vec4 c1 = pixel(on.images, kSize / 2, kSize / 2);
+    EXPECT_NEAR(c1.w, 1.0f, 1e-3f);
+    EXPECT_GT(c1.z, 0.1f);
+    EXPECT_LT(c1.x, c0.x * 0.6f);
+    // Away from the crossing the back line is drawn as before (fully opaque, blue).
+    const glm::vec4 far = pixel(on.images, kSize / 2, 4);
+    EXPECT_NEAR(far.w, 1.0f, 1e-4f);
+    EXPECT_GT(far.z, 0.2f);
+}
+
+TEST_F(GlTest, opacity_optimization_blends_toward_the_new_solution_across_frames) {
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(400.0f);
+    scene.render.opacity.blend = 0.5f;
+    auto r = gl::OpacityRenderer::create(scene, lines);
+    Frame f0 = renderOnce(*r, 0);  // the first frame shows its solution
+    Frame f1 = renderOnce(*r, 1);
+    // Same view: warm started at the solution, nothing left to do.
+    EXPECT_LE(f1.stats.solve.iterations, 1);
+    EXPECT_LE((f0.opacity - f1.opacity).lpNorm<Eigen::Infinity>(), 1e-6);
+
+    // Seen from +x the lines do not overlap (all opacities 1); then from +z the front line's
+    // middle fades, but the displayed opacities only move half-way per frame.
+    Camera side = topCamera();
+    side.eye = {3, 0, 0};
+    auto moving = gl::OpacityRenderer::create(scene, lines);
+    Frame s0 = renderOnce(*moving, 0, side);
+    EXPECT_EQ(s0.stats.hNonZeros, 0u);
+    for (Eigen::Index i = 0; i < s0.opacity.size(); ++i) EXPECT_NEAR(s0.opacity[i], 1.0, 1e-9);
+    Frame s1 = renderOnce(*moving, 1);
+    const Eigen::VectorXd& solution = s1.stats.solve.x;
+    EXPECT_LT(solution[1], 0.5);
+    EXPECT_LE((s1.opacity - 0.5 * (Eigen::VectorXd::Ones(8) + solution)).lpNorm<Eigen::Infinity>(), 1e-12);
+    Frame s2 = renderOnce(*moving, 2);
+    EXPECT_LE((s2.opacity - 0.5 * (s1.opacity + s2.stats.solve.x)).lpNorm<Eigen::Infinity>(), 1e-12);
+    EXPECT_LT(s2.opacity[1], s1.opacity[1]);
+}
+
+TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_failing) {
+    // 220 x 220 px: target + heads take 968,000 of the 1 MB budget, leaving 4,028 nodes.
+    std::vector<TestPolyline> many;
+    for (int l = 0; l < 12; ++l) {
+        TestPolyline p;
+        for (int k = 0; k <= 4; ++k)
+            p.push_back({{-0.9f + 0.45f * float(k), -0.8f + 0.14f * float(l), 0.1f * float(l)}, 0.12f, kFrontColor});
+        many.push_back(p);
+    }
+    const StyledLines lines = makeStyledLines(many);
+    Scene scene = opacityScene(1.0f);
+    scene.image.width = scene.image.height = 220;
+    scene.render.memoryBudgetMb = 1;
+    auto r = gl::OpacityRenderer::create(scene, lines);
+    FrameImages im;
+    gl::StageTimer timer;
+    r->render(gl::FrameSetup{0, topCamera(), 220, 220}, im, timer);
+    timer.collect();
+    const auto& s = r->lastStats();
+    EXPECT_EQ(s.capacity, 4028u);
+    EXPECT_GT(s.overflow, 0u);
+    EXPECT_EQ(s.fragments, s.capacity + s.overflow);
+    EXPECT_EQ(im.rgba.size(), 4u * 220 * 220);
+}
+
+}  // namespace
+}  // namespace tc::test

@@ -1,0 +1,159 @@
+// GPU voxelization of sphere glyphs for AO and ambient light (gl/sphere_ambient.h): the deposited
+// coverage against the spheres' analytic volume within the 3x3x3 sampling bound, exact
+// containment, and the cone traced AO darkening a sphere among others.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/scene.h"
+#include "core/styled_particles.h"
+#include "gl/gpu_timer.h"
+#include "gl/sphere_ambient.h"
+#include "gl/sphere_renderer.h"
+#include "gl_fixture.h"
+
+namespace tc::test {
+namespace {
+
+StyledParticles spheres(const std::vector<glm::vec4>& cr) {
+    StyledParticles p;
+    for (const glm::vec4& s : cr) {
+        p.centerRadius.push_back(s);
+        p.color.push_back(glm::vec4(1.0f));
+        p.id.push_back(std::uint32_t(p.id.size()));
+        p.bounds.extend(glm::vec3(s), s.w);
+        p.maxRadius = std::max(p.maxRadius, s.w);
+    }
+    return p;
+}
+
+// The 3x3x3 rule is exact on sub-cells wholly inside or outside a sphere; a sub-cell the surface
+// cuts contributes its sample (0 or 1) instead of its covered fraction, an error below one
+// sub-cell (1/27 voxel). The bound is the number of cut sub-cells / 27, in voxels, over partially
+// covered voxels (fully covered and disjoint voxels are exact by construction).
+double samplingBound(const glm::vec4& s, glm::vec3 origin, float voxel) {
+    const glm::vec3 c = (glm::vec3(s) - origin) / voxel;
+    const float r = s.w / voxel;
+    double bound = 0;
+    auto cut = [&](glm::vec3 lo, glm::vec3 hi) {
+        glm::vec3 n = glm::clamp(c, lo, hi) - c;
+        glm::vec3 f = glm::max(glm::abs(lo - c), glm::abs(hi - c));
+        return glm::dot(n, n) < r * r && glm::dot(f, f) > r * r;
+    };
+    for (int z = int(std::floor(c.z - r)); z <= int(std::floor(c.z + r)); ++z)
+        for (int y = int(std::floor(c.y - r)); y <= int(std::floor(c.y + r)); ++y)
+            for (int x = int(std::floor(c.x - r)); x <= int(std::floor(c.x + r)); ++x) {
+                glm::vec3 lo(x, y, z);
+                if (!cut(lo, lo + 1.0f)) continue;
+                for (int k = 0; k < 27; ++k) {
+                    glm::vec3 sl = lo + glm::vec3(k % 3, (k / 3) % 3, k / 9) / 3.0f;
+                    bound += cut(sl, sl + 1.0f / 3.0f) ? 1.0 / 27.0 : 0.0;
+                }
+            }
+    return bound;
+}
+
+class SphereAmbientTest : public GlTest {};
+
+TEST_F(SphereAmbientTest, deposited_weight_equals_sphere_volumes_within_sampling_bound) {
+    std::mt19937 rng(9);
+    auto u = [&](float lo, float hi) { return lo + (hi - lo) * float(rng() >> 8) / 16777216.0f; };
+    std::vector<glm::vec4> cr;
+    for (int i = 0; i < 60; ++i) cr.push_back(glm::vec4(u(0, 1), u(0, 1), u(0, 1), u(0.01f, 0.08f)));
+    StyledParticles p = spheres(cr);
+    AoSpec spec;
+    spec.enabled = true;
+    spec.resolution = 96;
+    gl::SphereAmbient ambient = gl::SphereAmbient::create(spec);
+    ambient.voxelize(p, p.bounds);
+    std::vector<glm::vec4> v = ambient.readLevel0();
+    double total = 0;
+    for (const glm::vec4& x : v) total += x.w;
+    const double voxel3 = double(ambient.voxelSize()) * ambient.voxelSize() * ambient.voxelSize();
+    double expected = 0, bound = 0;
+    for (const glm::vec4& s : cr) {
+        expected += 4.0 / 3.0 * M_PI * double(s.w) * s.w * s.w / voxel3;
+        bound += samplingBound(s, ambient.origin(), ambient.voxelSize());
+    }
+    std::printf("[ info ] deposited %.2f voxels, analytic %.2f, bound %.2f\n", total, expected, bound);
+    EXPECT_LE(std::abs(total - expected), bound);
+    EXPECT_LT(bound, 0.5 * expected);  // the bound is not vacuous
+    // White spheres: rgb equals alpha everywhere (premultiplied colour).
+    for (const glm::vec4& x : v) ASSERT_NEAR(x.x, x.w, 1e-5f);
+}
+
+TEST_F(SphereAmbientTest, a_sphere_containing_a_voxel_gives_full_coverage) {
+    StyledParticles p = spheres({{0.5f, 0.5f, 0.5f, 0.5f}});
+    AoSpec spec;
+    spec.resolution = 16;  // voxel 1/16; the sphere contains the central voxels
+    gl::SphereAmbient ambient = gl::SphereAmbient::create(spec);
+    ambient.voxelize(p, p.bounds);
+    std::vector<glm::vec4> v = ambient.readLevel0();
+    glm::ivec3 n = ambient.size();
+    ASSERT_EQ(n, glm::ivec3(16));
+    auto at = [&](int x, int y, int z) { return v[std::size_t(x + n.x * (y + n.y * z))].w; };
+    EXPECT_EQ(at(8, 8, 8), 1.0f);
+    // Every voxel the sphere contains reads exactly 1, every voxel it misses 0, the rest between.
+    int inside = 0, cut = 0;
+    for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+            for (int x = 0; x < n.x; ++x) {
+                const glm::vec3 lo = glm::vec3(x, y, z) / 16.0f, hi = lo + 1.0f / 16.0f, c(0.5f);
+                const glm::vec3 nearest = glm::clamp(c, lo, hi) - c;
+                const glm::vec3 farthest = glm::max(glm::abs(lo - c), glm::abs(hi - c));
+                const float w = at(x, y, z);
+                if (glm::length(farthest) < 0.499f) {
+                    ++inside;
+                    ASSERT_EQ(w, 1.0f) << x << " " << y << " " << z;
+                } else if (glm::length(nearest) > 0.501f) {
+                    ASSERT_EQ(w, 0.0f) << x << " " << y << " " << z;
+                } else {
+                    ++cut;
+                    ASSERT_GE(w, 0.0f);
+                    ASSERT_LE(w, 1.0f);
+                }
+            }
+    EXPECT_GT(inside, 1000);
+    EXPECT_GT(cut, 100);
+}
+
+TEST_F(SphereAmbientTest, ambient_occlusion_darkens_a_sphere_among_others) {
+    // A row of spheres: the middle one's side faces are occluded by its neighbours, the end ones'
+    // outer faces are not. Opaque, AO on: compare the shading at the facing points.
+    std::vector<glm::vec4> cr;
+    for (int i = 0; i < 5; ++i) cr.push_back(glm::vec4(0.25f * float(i), 0.0f, 0.0f, 0.11f));
+    StyledParticles p = spheres(cr);
+    Scene scene;
+    scene.render.technique = RenderTechnique::Spheres;
+    scene.render.transparency = Transparency::Opaque;
+    scene.render.ao.enabled = true;
+    scene.render.ao.resolution = 64;
+    scene.render.spheres.alphaA = 0.0f;
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    scene.lighting.direction = {0.0f, 0.0f, 1.0f};
+    auto renderer = gl::SphereRenderer::create(scene, p);
+    Camera cam;
+    cam.eye = {0.5f, 0.0f, 3.0f};
+    cam.target = {0.5f, 0.0f, 0.0f};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 0.5f;
+    const int w = 160, h = 40;
+    FrameImages img;
+    gl::StageTimer timer;
+    renderer->render(gl::FrameSetup{0, cam, w, h}, img, timer);
+    timer.collect();
+    // Pixel at world x: column (x - 0.5) / (0.5 * 4) * w + w / 2 (ortho width = 0.5 * 4 = 2).
+    auto lum = [&](float x) {
+        int px = int(std::floor((x - 0.5f) / 2.0f * w + w / 2.0f));
+        return img.rgba[4 * std::size_t((h / 2) * w + px)];
+    };
+    // Points 0.09 right of a centre: the middle sphere's side faces sphere 3, the last sphere's
+    // outer side faces nothing.
+    const float inner = lum(0.5f + 0.09f), outer = lum(1.0f + 0.09f);
+    EXPECT_GT(outer, 0.0f);
+    EXPECT_LT(inner, outer * 0.97f) << inner << " vs " << outer;
+}
+
+}  // namespace
+}  // namespace tc::test

@@ -1,0 +1,328 @@
+// Voxel-based line ray casting (gl/vrc_renderer.h) against the rasterized rounded-cone paths on
+// straight tubes, where VRC with exact ends (quantization 0) and neighbour tests is exact: the
+// pieces of a straight tube are collinear sub-cones whose union is the tube, and every piece whose
+// tube reaches into a voxel is tested there when radius < voxel size.
+//   - opaque: view depth, polyline id and colour == the opaque rounded-cone renderer (M1);
+//   - transparent: colour and alpha == depth peeling of the same tubes (non-intersecting, so the
+//     per-ray order of the tubes is the same in both).
+// Pixels on silhouettes (3x3 neighbourhood with a different coverage / fragment set) are excluded:
+// one ray more or less through a rim is float noise, not method.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/vrc_model.h"
+#include "gl/gpu_timer.h"
+#include "gl/technique.h"
+#include "gl/vrc_renderer.h"
+#include "gl_fixture.h"
+#include "test_scenes.h"
+
+namespace tc::test {
+namespace {
+
+// Non-intersecting straight tubes crossing each other in screen space at different depths: three
+// along x, three along y (one tapered, one a straight polyline of 5 collinear vertices), depths
+// separated by more than the sum of radii. Radii < voxel size at resolution 24 (voxel ~0.1).
+StyledLines straightTubes(float alpha) {
+    std::vector<TestPolyline> p;
+    auto tube = [&](glm::vec3 a, glm::vec3 b, float ra, float rb, glm::vec3 rgb, int vertices = 2) {
+        TestPolyline pl;
+        for (int i = 0; i < vertices; ++i) {
+            const float s = float(i) / float(vertices - 1);
+            pl.push_back({glm::mix(a, b, s), ra + (rb - ra) * s, glm::vec4(rgb, alpha)});
+        }
+        p.push_back(pl);
+    };
+    tube({-1.0f, -0.5f, -0.6f}, {1.0f, -0.45f, -0.6f}, 0.06f, 0.06f, {0.9f, 0.2f, 0.1f});
+    tube({-1.0f, 0.0f, 0.0f}, {1.0f, 0.1f, 0.05f}, 0.05f, 0.08f, {0.2f, 0.8f, 0.3f});
+    tube({-1.0f, 0.5f, 0.5f}, {1.0f, 0.45f, 0.55f}, 0.07f, 0.07f, {0.2f, 0.3f, 0.9f}, 5);
+    tube({-0.6f, -1.0f, -0.3f}, {-0.55f, 1.0f, -0.3f}, 0.05f, 0.05f, {0.9f, 0.9f, 0.2f});
+    tube({0.0f, -1.0f, 0.3f}, {0.05f, 1.0f, 0.3f}, 0.06f, 0.06f, {0.8f, 0.3f, 0.8f}, 4);
+    tube({0.6f, -1.0f, 0.8f}, {0.62f, 1.0f, 0.75f}, 0.04f, 0.07f, {0.3f, 0.9f, 0.9f});
+    return makeStyledLines(p);
+}
+
+Camera obliqueCamera() {
+    Camera cam;
+    cam.eye = {0.7f, 0.5f, 2.3f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.fovYDeg = 45.0f;
+    return cam;
+}
+
+Scene vrcScene(int w, int h, bool transparent, int quantization, bool neighbors) {
+    Scene scene;
+    scene.image.width = w;
+    scene.image.height = h;
+    scene.render.technique = RenderTechnique::VoxelRaycast;
+    scene.render.transparency = transparent ? Transparency::KBuffer : Transparency::Opaque;
+    scene.render.vrc.resolution = 24;
+    scene.render.vrc.quantization = quantization;
+    scene.render.vrc.neighbors = neighbors;
+    scene.render.vrc.opacityThreshold = 1.0f;  // no early termination: compare the full composite
+    return scene;
+}
+
+FrameImages render(const Scene& scene, const StyledLines& lines, const Camera& cam) {
+    std::unique_ptr<gl::Technique> t = gl::createTechnique(scene, lines);
+    gl::StageTimer timer;
+    FrameImages out;
+    t->render(gl::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
+    timer.collect();
+    return out;
+}
+
+// 3x3 neighbourhood of (x, y) holds a value of key() different from (x, y)'s.
+template <class Key>
+bool onEdge(int w, int h, int x, int y, Key key) {
+    const auto k = key(x, y);
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if (u >= 0 && v >= 0 && u < w && v < h && key(u, v) != k) return true;
+        }
+    return false;
+}
+
+TEST_F(GlTest, vrc_model_voxel_size_exceeds_the_test_tubes_radii) {
+    // The premise of the exactness tests below.
+    const StyledLines lines = straightTubes(1.0f);
+    VrcBuildOptions o;
+    o.resolution = 24;
+    o.quantization = 0;
+    const VrcModel m = buildVrcModel(lines, o);
+    EXPECT_GT(m.voxelSize, lines.maxRadius);
+    EXPECT_GT(m.pieceCount(), 6u * 10u);  // every tube is cut into many pieces
+}
+
+TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_straight_tubes) {
+    const int w = 128, h = 96;
+    const StyledLines lines = straightTubes(1.0f);
+    const Camera cam = obliqueCamera();
+    Scene raster;
+    raster.image.width = w;
+    raster.image.height = h;
+    const FrameImages ref = render(raster, lines, cam);
+    const FrameImages vrc = render(vrcScene(w, h, false, 0, true), lines, cam);
+    ASSERT_EQ(vrc.depth.size(), ref.depth.size());
+    auto refId = [&](int x, int y) { return ref.id[std::size_t(y) * w + x]; };
+    std::size_t compared = 0, coverageOff = 0, idOff = 0, depthOff = 0, colorOff = 0;
+    double worstDepth = 0, worstColor = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (onEdge(w, h, x, y, refId)) continue;
+            const std::size_t i = std::size_t(y) * w + x;
+            const bool rh = ref.id[i] != kBackgroundId, vh = vrc.id[i] != kBackgroundId;
+            if (rh != vh) {
+                ++coverageOff;
+                continue;
+            }
+            if (!rh) {
+                EXPECT_TRUE(std::isinf(vrc.depth[i]));
+                continue;
+            }
+            ++compared;
+            idOff += ref.id[i] != vrc.id[i];
+            // Same intersector on collinear sub-cones: float noise of t0 only (see
+            // rounded_cone_renderer_test.cpp, 1e-5 there); 1e-4 relative still catches a wrong
+            // piece or surface (>= 1e-2 here).
+            const double dd = std::abs(double(ref.depth[i]) - vrc.depth[i]) / ref.depth[i];
+            worstDepth = std::max(worstDepth, dd);
+            depthOff += dd > 1e-4;
+            // The rasterized G-buffer stores albedo in RGBA16F (<= 4.9e-4 relative).
+            for (int c = 0; c < 4; ++c) {
+                const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                worstColor = std::max(worstColor, dc);
+                colorOff += dc > 2e-3;
+            }
+        }
+    std::printf("vrc opaque vs rasterized: %zu px compared, worst depth rel %.3g, worst colour %.3g\n", compared,
+                worstDepth, worstColor);
+    EXPECT_GT(compared, std::size_t(w * h / 10));
+    EXPECT_EQ(coverageOff, 0u);
+    EXPECT_EQ(idOff, 0u);
+    EXPECT_EQ(depthOff, 0u) << "worst " << worstDepth;
+    EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+}
+
+TEST_F(GlTest, vrc_without_neighbor_tests_cuts_tubes_at_voxel_faces) {
+    // The reason render.vrc.neighbors exists: tubes that stick out of the voxels holding their
+    // axis lose those parts when only the current voxel's pieces are tested.
+    const int w = 96, h = 72;
+    const StyledLines lines = straightTubes(1.0f);
+    const Camera cam = obliqueCamera();
+    const FrameImages on = render(vrcScene(w, h, false, 0, true), lines, cam);
+    const FrameImages off = render(vrcScene(w, h, false, 0, false), lines, cam);
+    std::size_t hitsOn = 0, hitsOff = 0, offOnly = 0;
+    for (std::size_t i = 0; i < on.id.size(); ++i) {
+        hitsOn += on.id[i] != kBackgroundId;
+        hitsOff += off.id[i] != kBackgroundId;
+        offOnly += off.id[i] != kBackgroundId && on.id[i] == kBackgroundId;
+    }
+    EXPECT_LT(hitsOff, hitsOn);
+    EXPECT_EQ(offOnly, 0u);  // a subset: hits are only ever accepted inside the current voxel
+}
+
+TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straight_tubes) {
+    const int w = 128, h = 96;
+    const StyledLines lines = straightTubes(0.4f);
+    const Camera cam = obliqueCamera();
+    Scene peel;
+    peel.image.width = w;
+    peel.image.height = h;
+    peel.render.transparency = Transparency::DepthPeeling;
+    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+    const FrameImages ref = render(peel, lines, cam);
+    const FrameImages vrc = render(vrcScene(w, h, true, 0, true), lines, cam);
+    ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
+    // Alpha is piecewise constant (1 - 0.6^layers): an edge is where it changes.
+    auto layers = [&](int x, int y) { return int(std::lround(ref.rgba[4 * (std::size_t(y) * w + x) + 3] * 1000)); };
+    std::size_t compared = 0, multi = 0, alphaOff = 0, colorOff = 0;
+    double worstAlpha = 0, worstColor = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (onEdge(w, h, x, y, layers)) continue;
+            const std::size_t i = std::size_t(y) * w + x;
+            ++compared;
+            multi += ref.rgba[4 * i + 3] > 0.5f;  // two or more tubes
+            // Alpha: 1 - prod(1 - a) over the same fragments in fp32 (1e-5: a few ulps).
+            const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
+            worstAlpha = std::max(worstAlpha, da);
+            alphaOff += da > 1e-5;
+            // Colour: same intersector, shading and clamp, same order; differences are float noise
+            // of the hit point on a different (collinear) piece, amplified by the specular power
+            // (measured worst 4.4e-5). 2e-4 still catches a hit on the wrong surface (a joint cap
+            // inside the tube instead of the tangent cone: 2e-3..7e-3 on the tapered tube).
+            for (int c = 0; c < 3; ++c) {
+                const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                worstColor = std::max(worstColor, dc);
+                if (dc > 2e-4 && colorOff++ < 4)
+                    std::printf("  (%d,%d) c%d peel %.5f vrc %.5f alpha %.3f\n", x, y, c, ref.rgba[4 * i + c],
+                                vrc.rgba[4 * i + c], ref.rgba[4 * i + 3]);
+            }
+        }
+    std::printf("vrc transparent vs depth peeling: %zu px compared (%zu with 2+ tubes), worst alpha %.3g, worst "
+                "colour %.3g\n",
+                compared, multi, worstAlpha, worstColor);
+    EXPECT_GT(multi, 20u);
+    EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
+    EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+}
+
+TEST_F(GlTest, vrc_quantized_model_renders_close_to_exact_and_early_termination_only_drops_light) {
+    const int w = 96, h = 72;
+    const StyledLines lines = straightTubes(0.5f);
+    const Camera cam = obliqueCamera();
+    const FrameImages exact = render(vrcScene(w, h, true, 0, true), lines, cam);
+    Scene qs = vrcScene(w, h, true, 32, true);
+    const FrameImages quant = render(qs, lines, cam);
+    qs.render.vrc.opacityThreshold = 0.4f;
+    const FrameImages early = render(qs, lines, cam);
+    double sumDiff = 0;
+    std::size_t lessAlpha = 0, moreAlpha = 0;
+    for (std::size_t i = 0; i < exact.id.size(); ++i) {
+        sumDiff += std::abs(exact.rgba[4 * i + 3] - quant.rgba[4 * i + 3]);
+        // Early termination stops at alpha >= 0.4: what it blends is a prefix of the full sum.
+        lessAlpha += early.rgba[4 * i + 3] < quant.rgba[4 * i + 3] - 1e-6f;
+        moreAlpha += early.rgba[4 * i + 3] > quant.rgba[4 * i + 3] + 1e-6f;
+        if (early.rgba[4 * i + 3] < quant.rgba[4 * i + 3] - 1e-6f) {
+            EXPECT_GE(early.rgba[4 * i + 3], 0.4f - 1e-6f);
+        }
+    }
+    // Snapping ends by <= 1/64 voxel moves silhouettes by a fraction of a pixel: mean alpha error
+    // stays small (measured ~1e-3).
+    EXPECT_LT(sumDiff / double(exact.id.size()), 0.01);
+    EXPECT_GT(lessAlpha, 0u);  // pixels with two tubes in different voxels (0.75) stop after one (0.5)
+    EXPECT_EQ(moreAlpha, 0u);
+}
+
+TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_only) {
+    // Two parallel tubes side by side seen from +z, the light from +x (camera right): the left tube
+    // lies in the right one's shadow; the right one has nothing toward the light.
+    const int w = 96, h = 64;
+    const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
+    const StyledLines lines = makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
+                                               {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
+    Camera cam;
+    cam.eye = {0.0f, 0.0f, 2.0f};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 1.0f;
+    Scene scene = vrcScene(w, h, false, 32, true);
+    scene.lighting.direction = {1.0f, 0.0f, 0.0f};  // horizontal: cones from the visible upper halves cross the other tube
+    scene.render.ao.resolution = 48;
+    scene.render.ao.distance = 0.5f;
+    const FrameImages lit = render(scene, lines, cam);
+    scene.render.vrc.shadows = true;
+    scene.render.vrc.shadowApertureDeg = 10;
+    const FrameImages shadowed = render(scene, lines, cam);
+    // Summed red channel over each tube's pixels in the middle rows.
+    auto brightest = [&](const FrameImages& f, float xWorld) {
+        float sum = 0;
+        for (int y = h / 4; y < 3 * h / 4; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float px = (float(x) + 0.5f - 0.5f * w) / float(h) * cam.orthoHeight;
+                if (std::abs(px - xWorld) <= 0.06f) sum += f.rgba[4 * (std::size_t(y) * w + x)];
+            }
+        return sum;
+    };
+    const float leftLit = brightest(lit, -0.15f), leftShadowed = brightest(shadowed, -0.15f);
+    const float rightLit = brightest(lit, 0.15f), rightShadowed = brightest(shadowed, 0.15f);
+    std::printf("vrc soft shadows: left tube %.4f -> %.4f, right tube %.4f -> %.4f\n", leftLit, leftShadowed, rightLit,
+                rightShadowed);
+    ASSERT_GT(leftLit, 10.0f);
+    // In the other tube's shadow (measured -10 % of the summed red channel: ambient is not
+    // shadowed, and the occluder is a 48^3 density of a tube 3 voxels wide, so a 10-degree cone
+    // reads it partly, at trilinear falloff). 5 % is far above float noise (the right tube is
+    // bit-identical) and below the effect.
+    EXPECT_LT(leftShadowed, 0.95f * leftLit);
+    EXPECT_GT(rightShadowed, 0.99f * rightLit);  // its own tube does not shadow it (measured: equal)
+}
+
+TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
+    RandomSceneOptions o;
+    o.polylines = 40;
+    o.minSegments = 5;
+    o.maxSegments = 30;
+    o.radiusMin = 0.005f;
+    o.stepMin = 0.02f;
+    o.stepMax = 0.2f;
+    for (const StyledLines& lines : {randomLineScene(5, o), straightTubes(0.5f)}) {
+        for (int q : {32, 7, 0}) {
+            VrcBuildOptions b;
+            b.resolution = 20;
+            b.quantization = q;
+            b.lod = false;
+            const VrcModel cpu = buildVrcModel(lines, b);
+            const VrcModel gpu = gl::buildVrcModelGpu(lines, b);
+            ASSERT_EQ(gpu.pieceCount(), cpu.pieceCount()) << "q=" << q;
+            ASSERT_GT(cpu.pieceCount(), 100u);
+            EXPECT_EQ(gpu.size, cpu.size);
+            EXPECT_EQ(gpu.pieceVoxel, cpu.pieceVoxel) << "q=" << q;
+            std::size_t headerDiffs = 0, pieceDiffs = 0;
+            for (std::size_t v = 0; v < cpu.voxels.size(); ++v)
+                headerDiffs += gpu.voxels[v].offset != cpu.voxels[v].offset || gpu.voxels[v].count != cpu.voxels[v].count;
+            for (std::size_t i = 0; i < cpu.pieceCount(); ++i) {
+                const bool same = q > 0 ? std::memcmp(&gpu.compact[i], &cpu.compact[i], sizeof(VrcCompactPiece)) == 0
+                                        : std::memcmp(&gpu.exact[i], &cpu.exact[i], sizeof(VrcExactPiece)) == 0;
+                if (!same && pieceDiffs++ < 3) {
+                    const VrcPiece a = cpu.piece(i), g = gpu.piece(i);
+                    ADD_FAILURE() << "q=" << q << " piece " << i << ": cpu a (" << a.a.x << "," << a.a.y << "," << a.a.z
+                                  << ") r " << a.ra << " gpu a (" << g.a.x << "," << g.a.y << "," << g.a.z << ") r "
+                                  << g.ra;
+                }
+            }
+            EXPECT_EQ(headerDiffs, 0u) << "q=" << q;
+            EXPECT_EQ(pieceDiffs, 0u) << "q=" << q;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace tc::test

@@ -1,0 +1,101 @@
+// Algorithm 1 of Günther, Rössl & Theisel 2013 (core/occlusion_matrix.h): a hand-built image of
+// two crossing lines, and the parallel fast path against the reference loop.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "core/occlusion_matrix.h"
+
+namespace tc {
+namespace {
+
+// A 16 x 16 image: line A (2 parts, global 0-1, depth 1) runs along x over rows [y0, y0 + rows),
+// local w = x / 15; line B (2 parts, global 2-3, depth 2) runs along y over columns 6-9, local
+// w = y / 15. They cross in rows x 4 pixels, A in front.
+FragmentLists crossingLines(int y0, int rows) {
+    FragmentLists lists;
+    lists.offsets.clear();
+    lists.offsets.push_back(0);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            // Pushed back to front on purpose: sortByDepth must order them.
+            if (x >= 6 && x <= 9) {
+                float w = float(y) / 15.0f;
+                lists.fragments.push_back({2.0f, 2u + std::uint32_t(w), w - std::floor(w)});
+            }
+            if (y >= y0 && y < y0 + rows) {
+                float w = float(x) / 15.0f;
+                lists.fragments.push_back({1.0f, std::uint32_t(w), w - std::floor(w)});
+            }
+            lists.offsets.push_back(lists.fragments.size());
+        }
+    lists.sortByDepth();
+    return lists;
+}
+
+TEST(OpacityOcclusion, crossing_lines_give_the_expected_pattern_and_magnitudes) {
+    FragmentLists lists = crossingLines(2, 2);
+    SparseMatrixD h = occlusionMatrix(lists, 4);
+    Eigen::MatrixXd d(h);
+    // Only A's parts (rows 0, 1) occlude only B's parts (columns 2, 3).
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (i < 2 && j >= 2)
+                EXPECT_GT(d(i, j), 0.0) << i << "," << j;
+            else
+                EXPECT_EQ(d(i, j), 0.0) << i << "," << j;
+    // Part counts of B: 4 columns x sum over y of (1 - y/15) = 32, and the same for y/15.
+    std::vector<double> counts = partFragmentCounts(lists, 4);
+    EXPECT_NEAR(counts[2], 32.0, 1e-4);
+    EXPECT_NEAR(counts[3], 32.0, 1e-4);
+    // Columns 6, 7 have round(x/15) = 0, columns 8, 9 have 1: each A part covers 2 x 2 pixels of B,
+    // weighted (1 - frac, frac) with frac = y/15 for y = 2, 3.
+    const double toPart2 = 2 * ((1 - 2 / 15.0) + (1 - 3 / 15.0)), toPart3 = 2 * (2 / 15.0 + 3 / 15.0);
+    for (int i = 0; i < 2; ++i) {
+        EXPECT_NEAR(d(i, 2), toPart2 / 32.0, 1e-6);
+        EXPECT_NEAR(d(i, 3), toPart3 / 32.0, 1e-6);
+        // Weights per covered pixel sum to one: count-weighted row sums are covered pixels.
+        EXPECT_NEAR(d(i, 2) * counts[2] + d(i, 3) * counts[3], 4.0, 1e-5);
+    }
+    // Twice as many covered rows, twice the penalty.
+    Eigen::MatrixXd d2(occlusionMatrix(crossingLines(2, 4), 4));
+    const double covered2 = d2(0, 2) * counts[2] + d2(0, 3) * counts[3];
+    EXPECT_NEAR(covered2, 8.0, 1e-5);
+}
+
+TEST(OpacityOcclusion, fast_path_matches_the_reference_loop) {
+    std::mt19937 rng(42);
+    const int pixels = 48 * 48, lines = 40, m = 5;
+    std::uniform_int_distribution<int> depthCount(0, 12), line(0, lines - 1);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    FragmentLists lists;
+    lists.offsets.assign(1, 0);
+    for (int p = 0; p < pixels; ++p) {
+        int count = depthCount(rng);
+        for (int k = 0; k < count; ++k) {
+            float w = u(rng) * float(m - 1);
+            std::uint32_t part = std::min(std::uint32_t(w), std::uint32_t(m - 1));
+            float frac = part == std::uint32_t(m - 1) ? 0.0f : w - float(part);
+            lists.fragments.push_back({u(rng), std::uint32_t(line(rng) * m) + part, frac});
+        }
+        lists.offsets.push_back(lists.fragments.size());
+    }
+    lists.sortByDepth();
+    for (std::size_t p = 0; p < lists.pixelCount(); ++p)
+        for (auto k = lists.offsets[p] + 1; k < lists.offsets[p + 1]; ++k)
+            ASSERT_LE(lists.fragments[k - 1].depth, lists.fragments[k].depth);
+    SparseMatrixD ref = occlusionMatrixReference(lists, lines * m);
+    SparseMatrixD fast = occlusionMatrix(lists, lines * m);
+    ASSERT_EQ(ref.nonZeros(), fast.nonZeros());
+    ASSERT_GT(ref.nonZeros(), 1000);
+    const double diff = (Eigen::MatrixXd(ref) - Eigen::MatrixXd(fast)).cwiseAbs().maxCoeff();
+    EXPECT_LE(diff, 1e-12);
+    const double maxValue = Eigen::MatrixXd(ref).maxCoeff();
+    EXPECT_LE(maxValue, 1.0);
+    const Eigen::MatrixXd dense(ref);
+    for (int i = 0; i < lines * m; ++i) EXPECT_EQ(dense(i, i), 0.0);
+}
+
+}  // namespace
+}  // namespace tc

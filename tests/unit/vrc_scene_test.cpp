@@ -1,0 +1,57 @@
+// The render.vrc keys of the scene spec (core/scene.cpp, docs/scene-spec.md).
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/scene.h"
+
+namespace tc {
+namespace {
+
+using nlohmann::json;
+
+std::string errorOf(const json& doc) {
+    try {
+        parseScene(doc, "scene.json");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "<no error>";
+}
+
+TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
+    const Scene d = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast"}})"), "scene.json");
+    EXPECT_EQ(d.render.technique, RenderTechnique::VoxelRaycast);
+    EXPECT_EQ(d.render.vrc.resolution, 128);
+    EXPECT_EQ(d.render.vrc.quantization, 32);
+    EXPECT_FALSE(d.render.vrc.neighbors);
+    EXPECT_FLOAT_EQ(d.render.vrc.opacityThreshold, 0.99f);
+
+    const Scene s = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "transparency": "kbuffer",
+                   "vrc": {"resolution": 64, "quantization": 0, "neighbors": "on", "opacity_threshold": 0.5,
+                           "shadows": true, "shadow_aperture_deg": 20}}})"), "scene.json");
+    EXPECT_EQ(s.render.vrc.resolution, 64);
+    EXPECT_EQ(s.render.vrc.quantization, 0);
+    EXPECT_TRUE(s.render.vrc.neighbors);
+    EXPECT_FLOAT_EQ(s.render.vrc.opacityThreshold, 0.5f);
+    EXPECT_TRUE(s.render.vrc.shadows);
+    EXPECT_FLOAT_EQ(s.render.vrc.shadowApertureDeg, 20.0f);
+}
+
+TEST(VrcScene, bad_vrc_keys_are_input_errors_naming_the_key) {
+    const std::string q = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"quantization": 91}}})"));
+    EXPECT_NE(q.find("render.vrc.quantization"), std::string::npos) << q;
+    const std::string typo = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"neighbours": "on"}}})"));
+    EXPECT_NE(typo.find("render.vrc.neighbours"), std::string::npos) << typo;
+    EXPECT_NE(typo.find("neighbors"), std::string::npos) << typo;  // did you mean
+    const std::string n = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"neighbors": true}}})"));
+    EXPECT_NE(n.find("render.vrc.neighbors"), std::string::npos) << n;
+}
+
+}  // namespace
+}  // namespace tc
