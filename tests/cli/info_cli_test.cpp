@@ -74,7 +74,7 @@ TEST_F(InfoCli, SceneGetsTheDerivedAttributesItsStyleNames) {
     EXPECT_FALSE(byName["speed"]["derived"].get<bool>());           // the generator's own
 }
 
-TEST_F(InfoCli, DISABLED_TracedSceneDescribesTheStreamlines) {
+TEST_F(InfoCli, TracedSceneDescribesTheStreamlines) {
     // A 3x3x3 .vti with the uniform field (1, 0, 0): straight streamlines along x.
     std::string values;
     for (int i = 0; i < 27; ++i) values += "1 0 0 ";
@@ -117,8 +117,9 @@ TEST_F(InfoCli, DISABLED_TracedSceneDescribesTheStreamlines) {
     EXPECT_NE(bad.err.find("bad.json: dataset.trace.line: missing"), std::string::npos) << bad.err;
 }
 
-TEST_F(InfoCli, DISABLED_PresetColormapIsResolvedRelativeToTheSceneAndValidated) {
+TEST_F(InfoCli, PresetColormapIsResolvedRelativeToTheSceneAndValidated) {
     tc::Colormap map = tc::builtinColormap("magma");
+    fs::create_directories(dir / "maps");
     tc::writeParaViewPreset(map, (dir / "maps" / "mine.json").string());
     writeText(dir / "scenes" / "scene.json", R"({"dataset": {"generate": "tornado", "lines": 4, "points": 10},
         "style": {"color": {"attribute": "height", "colormap": "../maps/mine.json", "nan_color": [1, 0, 1]}}})");
@@ -129,7 +130,7 @@ TEST_F(InfoCli, DISABLED_PresetColormapIsResolvedRelativeToTheSceneAndValidated)
         "style": {"color": {"attribute": "height", "colormap": "../maps/broken.json"}}})");
     RunResult bad = run("validate scenes/broken.json");
     EXPECT_EQ(bad.code, 2);
-    EXPECT_NE(bad.err.find("scenes/broken.json: style.color.colormap: scenes/../maps/broken.json: RGBPoints: expected a flat array"),
+    EXPECT_NE(bad.err.find("scenes/broken.json: style.color.colormap: maps/broken.json: RGBPoints: expected a flat array"),
               std::string::npos)
         << bad.err;
     writeText(dir / "scenes" / "jet.json", R"({"dataset": {"generate": "tornado"},
