@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <set>
 
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 
 namespace tc {
@@ -64,6 +66,21 @@ FileSource::~FileSource() {
 }
 
 void FileSource::readRaw(std::uint64_t offset, void* dst, std::size_t n) const {
+    // Large reads (the arrays of a .tcb, 10^7 vertices = 120 MB of positions) go in parallel
+    // chunks: one thread copying out of the page cache (and faulting in the destination pages)
+    // is slower than the disk, two keep the load I/O bound (docs/performance.md, M5).
+    constexpr std::size_t kChunk = std::size_t(8) << 20;
+    if (n >= 2 * kChunk) {
+        tbb::parallel_for(std::size_t(0), (n + kChunk - 1) / kChunk, [&](std::size_t c) {
+            const std::size_t begin = c * kChunk;
+            readRange(offset + begin, static_cast<char*>(dst) + begin, std::min(kChunk, n - begin));
+        });
+        return;
+    }
+    readRange(offset, dst, n);
+}
+
+void FileSource::readRange(std::uint64_t offset, void* dst, std::size_t n) const {
     auto* out = static_cast<char*>(dst);
     while (n > 0) {
         // pread moves at most ~2 GiB per call on Linux; loop for partial reads and EINTR.

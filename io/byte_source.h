@@ -64,6 +64,7 @@ public:
 
 private:
     void readRaw(std::uint64_t offset, void* dst, std::size_t n) const override;
+    void readRange(std::uint64_t offset, void* dst, std::size_t n) const;  // one pread loop
     int m_fd = -1;
 };
 

@@ -107,6 +107,38 @@ TEST(Attribute, range_of_finite_values_and_nan_when_none) {
     EXPECT_TRUE(std::isnan(b.max));
 }
 
+// Large enough that the parallel scan and reductions split into many chunks: a clean set comes
+// back unchanged with exact bounds and ranges, and one defect in any polyline (first, middle,
+// last) still sends it through the compaction.
+TEST(CleanLineSet, clean_sets_are_left_alone_and_a_single_defect_anywhere_is_found) {
+    std::vector<std::vector<glm::vec3>> polylines(3000);
+    for (std::size_t p = 0; p < polylines.size(); ++p)
+        for (int v = 0; v < 50; ++v)
+            polylines[p].push_back({float(p) * 0.5f, std::sin(0.1f * float(v + p)), float(v) - 7.0f});
+    LineSet clean = makeLines(polylines);
+    const LineSet before = clean;
+    EXPECT_FALSE(cleanLineSet(clean).any());
+    EXPECT_EQ(clean.positions, before.positions);
+    EXPECT_EQ(clean.offsets, before.offsets);
+    EXPECT_EQ(clean.attributes[0].values, before.attributes[0].values);
+    Bounds serial;
+    for (const glm::vec3& p : before.positions) serial.extend(p);
+    EXPECT_EQ(clean.bounds.lo, serial.lo);
+    EXPECT_EQ(clean.bounds.hi, serial.hi);
+    EXPECT_EQ(clean.attributes[0].min, 0.0f);
+    EXPECT_EQ(clean.attributes[0].max, 10.0f * float(before.positions.size() - 1));
+
+    for (std::size_t p : {std::size_t(0), polylines.size() / 2, polylines.size() - 1}) {
+        LineSet duplicate = before;
+        std::size_t v = duplicate.offsets[p] + 20;
+        duplicate.positions[v] = duplicate.positions[v - 1];
+        EXPECT_EQ(cleanLineSet(duplicate).duplicateVertices, 1u) << "polyline " << p;
+        LineSet nonFinite = before;
+        nonFinite.positions[nonFinite.offsets[p + 1] - 1].y = kNaN;
+        EXPECT_EQ(cleanLineSet(nonFinite).nonFiniteVertices, 1u) << "polyline " << p;
+    }
+}
+
 TEST(LineSet, attribute_lookup_by_name) {
     LineSet lines = makeLines({{{0, 0, 0}, {1, 0, 0}}});
     ASSERT_NE(lines.attribute("s"), nullptr);
