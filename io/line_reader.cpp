@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <mutex>
 #include <numeric>
 
 #include <vtkCellArray.h>
@@ -14,10 +13,7 @@
 #include <vtkErrorCode.h>
 #include <vtkFloatArray.h>
 #include <vtkGenericDataObjectReader.h>
-#include <vtkLogger.h>
 #include <vtkNew.h>
-#include <vtkObjectFactory.h>
-#include <vtkOutputWindow.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -29,89 +25,13 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/byte_source.h"
 #include "io/line_formats.h"
+#include "io/vtk_message_capture.h"
 
 namespace tc {
 
 namespace {
-
-// Collects what VTK objects print (errors, warnings) instead of letting it reach stderr
-// unformatted. VTK routes every vtkErrorMacro without an ErrorEvent observer here, including
-// those of internal objects (the XML parser, the executive) that we cannot observe directly.
-class CapturingOutputWindow : public vtkOutputWindow {
-public:
-    static CapturingOutputWindow* New();
-    vtkTypeMacro(CapturingOutputWindow, vtkOutputWindow);
-
-    // Errors and warnings both count: the legacy reader only warns about a truncated ASCII
-    // array ("Error reading ascii data. Possible mismatch of datasize with declaration.") and
-    // returns what it got.
-    void DisplayText(const char* text) override {
-        if (!text) return;
-        MessageTypes type = GetCurrentMessageType();
-        if (type == MESSAGE_TYPE_ERROR || type == MESSAGE_TYPE_WARNING ||
-            type == MESSAGE_TYPE_GENERIC_WARNING)
-            messages.emplace_back(text);
-    }
-
-    std::vector<std::string> messages;
-};
-vtkStandardNewMacro(CapturingOutputWindow);
-
-// Installs a CapturingOutputWindow for its lifetime. The output window is process-global, so
-// the mutex serialises everything that talks to VTK through this file.
-class VtkMessageCapture {
-public:
-    VtkMessageCapture() : m_lock(mutex()) {
-        // VTK 9 also sends every message through vtkLogger (loguru), whose stderr sink prints
-        // it regardless of the output window. tubecast reports VTK problems as exceptions, so
-        // the sink is switched off for the process, once (vtkLogger has no getter to restore).
-        static std::once_flag quietLogger;
-        std::call_once(quietLogger,
-                       [] { vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF); });
-        m_previous = vtkOutputWindow::GetInstance();
-        vtkOutputWindow::SetInstance(m_window);
-    }
-    ~VtkMessageCapture() { vtkOutputWindow::SetInstance(m_previous); }
-    VtkMessageCapture(const VtkMessageCapture&) = delete;
-    VtkMessageCapture& operator=(const VtkMessageCapture&) = delete;
-
-    bool failed() const { return !m_window->messages.empty(); }
-
-    // "ERROR: In /build/.../vtkDataReader.cxx, line 123\nvtkPolyDataReader (0x55d0): Unable
-    // to open file\n\n" -> "Unable to open file": the first error, its message line only
-    // (later ones are the pipeline's "Algorithm ... returned failure" echo).
-    std::string firstError() const {
-        if (m_window->messages.empty()) return {};
-        std::string text = m_window->messages.front();
-        if (text.rfind("ERROR: In ", 0) == 0 || text.rfind("Warning: In ", 0) == 0 ||
-            text.rfind("Generic Warning: In ", 0) == 0) {
-            std::size_t nl = text.find('\n');
-            text = nl == std::string::npos ? std::string() : text.substr(nl + 1);
-        }
-        // Drop the "ClassName (0x1234): " prefix.
-        std::size_t paren = text.find(" (0x");
-        std::size_t close = paren == std::string::npos ? paren : text.find("): ", paren);
-        if (close != std::string::npos && text.find('\n') > close) text = text.substr(close + 3);
-        // The legacy reader appends " for file: PATH"; we print the path first already.
-        if (std::size_t forFile = text.find(" for file: "); forFile != std::string::npos)
-            text.erase(forFile);
-        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
-            text.pop_back();
-        for (char& c : text)
-            if (c == '\n') c = ' ';
-        return text.empty() ? "unknown error" : text;
-    }
-
-private:
-    static std::mutex& mutex() {
-        static std::mutex m;
-        return m;
-    }
-    std::lock_guard<std::mutex> m_lock;
-    vtkSmartPointer<vtkOutputWindow> m_previous;
-    vtkNew<CapturingOutputWindow> m_window;
-};
 
 // vtkErrorCode::GetStringFromErrorCode lives in VTK::CommonMisc, which tubecast does not link;
 // the enum is header-only.
@@ -132,13 +52,6 @@ std::string errorCodeText(unsigned long code) {
         default:
             return "error code " + std::to_string(code);
     }
-}
-
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
 }
 
 // Gathers positions and point data of the cells' points into `lines`, one polyline per cell.
@@ -278,7 +191,7 @@ LineSet readLineSet(const std::string& path, CleanReport* report) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
     if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory");
-    const std::string ext = lowerExtension(path);
+    const std::string ext = extensionLower(path);
 
     LineSet lines;
     if (isNativeLineFormat(ext)) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/byte_source.h"
 #include "io/particle_reader_elements.h"
 
 namespace tc {
@@ -17,12 +18,6 @@ namespace tc {
 ParticleData readMmpld(const std::string& path, const std::string& bytes);  // particle_reader_mmpld.cpp
 
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
 
 std::string readAll(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -423,14 +418,14 @@ ParticleData readGro(const std::string& path, const std::string& text) {
 
 bool isParticleFile(const std::string& path) {
     if (path.empty()) return false;
-    const std::string ext = lowerExtension(path);
+    const std::string ext = extensionLower(path);
     for (const char* e : {".xyz", ".extxyz", ".pdb", ".ent", ".lammpstrj", ".dump", ".gro", ".mmpld"})
         if (ext == e) return true;
     return false;
 }
 
 ParticleData readParticles(const std::string& path) {
-    const std::string ext = lowerExtension(path);
+    const std::string ext = extensionLower(path);
     const std::string text = readAll(path);
     ParticleData data;
     if (ext == ".xyz" || ext == ".extxyz") data = readXyz(path, text);

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <mutex>
 #include <random>
 
 #include <vtkAppendFilter.h>
@@ -19,10 +18,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkExodusIIReader.h>
 #include <vtkIdList.h>
-#include <vtkLogger.h>
 #include <vtkNew.h>
-#include <vtkObjectFactory.h>
-#include <vtkOutputWindow.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -35,6 +31,8 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "core/error.h"
+#include "io/byte_source.h"
+#include "io/vtk_message_capture.h"
 
 namespace tc {
 
@@ -42,69 +40,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
-// Collects VTK's error output for the duration of a trace, like io/line_reader.cpp does for the
-// line readers (whose capture class is private to that file): VTK prints errors of internal
-// objects (readers' parsers, the executive) to the process-global output window, and tubecast
-// reports them as exceptions instead. The mutex serialises traces.
-class ErrorCapture : public vtkOutputWindow {
-public:
-    static ErrorCapture* New();
-    vtkTypeMacro(ErrorCapture, vtkOutputWindow);
-    void DisplayText(const char* text) override {
-        if (text && GetCurrentMessageType() == MESSAGE_TYPE_ERROR) messages.emplace_back(text);
-    }
-    std::vector<std::string> messages;
-};
-vtkStandardNewMacro(ErrorCapture);
-
-class CaptureScope {
-public:
-    CaptureScope() : m_lock(mutex()) {
-        static std::once_flag quiet;
-        std::call_once(quiet, [] { vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF); });
-        m_previous = vtkOutputWindow::GetInstance();
-        vtkOutputWindow::SetInstance(m_window);
-    }
-    ~CaptureScope() { vtkOutputWindow::SetInstance(m_previous); }
-    CaptureScope(const CaptureScope&) = delete;
-    CaptureScope& operator=(const CaptureScope&) = delete;
-
-    // The first error's message line, without VTK's "ERROR: In file, line" header and the
-    // "ClassName (0x...): " prefix.
-    std::string firstError() const {
-        if (m_window->messages.empty()) return {};
-        std::string text = m_window->messages.front();
-        if (text.rfind("ERROR: In ", 0) == 0) {
-            std::size_t nl = text.find('\n');
-            text = nl == std::string::npos ? std::string() : text.substr(nl + 1);
-        }
-        std::size_t paren = text.find(" (0x");
-        std::size_t close = paren == std::string::npos ? paren : text.find("): ", paren);
-        if (close != std::string::npos) text = text.substr(close + 3);
-        while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
-        std::replace(text.begin(), text.end(), '\n', ' ');
-        return text.empty() ? "unknown error" : text;
-    }
-
-private:
-    static std::mutex& mutex() {
-        static std::mutex m;
-        return m;
-    }
-    std::lock_guard<std::mutex> m_lock;
-    vtkSmartPointer<vtkOutputWindow> m_previous;
-    vtkNew<ErrorCapture> m_window;
-};
-
 // Reads the grid; composite outputs (Exodus blocks) are appended into one unstructured grid.
-vtkSmartPointer<vtkDataSet> readGrid(const std::string& path, const CaptureScope& capture) {
-    const std::string ext = lowerExtension(path);
+vtkSmartPointer<vtkDataSet> readGrid(const std::string& path, const VtkMessageCapture& capture) {
+    const std::string ext = extensionLower(path);
     vtkSmartPointer<vtkAlgorithm> reader;
     if (ext == ".vti") {
         auto r = vtkSmartPointer<vtkXMLImageDataReader>::New();
@@ -260,7 +198,7 @@ void addAttributes(vtkPolyData* lines, const std::vector<vtkIdType>& order, Line
 }  // namespace
 
 bool isTraceableGridFile(const std::string& path) {
-    const std::string ext = lowerExtension(path);
+    const std::string ext = extensionLower(path);
     for (const char* e : {".vti", ".vtr", ".vts", ".vtu", ".vtk", ".ex2", ".exo", ".e"})
         if (ext == e) return true;
     return false;
@@ -269,7 +207,7 @@ bool isTraceableGridFile(const std::string& path) {
 LineSet traceStreamlines(const std::string& path, const TraceSpec& spec, CleanReport* report) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw InputError(path + ": no such file");
-    CaptureScope capture;
+    VtkMessageCapture capture(/*warningsFail=*/false);
     vtkSmartPointer<vtkDataSet> read = readGrid(path, capture);
 
     // The grid with the vector array the tracer integrates (a shallow copy, never the reader's).
