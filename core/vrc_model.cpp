@@ -276,7 +276,7 @@ std::vector<VrcDensityLevel> buildDensityPyramid(VrcDensityLevel level0) {
     return levels;
 }
 
-VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options) {
+VrcModel emptyVrcModel(const StyledLines& lines, const VrcBuildOptions& options) {
     TC_CHECK_OP(options.resolution, >=, 2);
     TC_CHECK(options.quantization >= 0 && options.quantization <= kMaxQuantization);
     TC_CHECK_OP(lines.color.size(), ==, lines.positionRadius.size());
@@ -288,6 +288,13 @@ VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options)
     model.size = grid.size;
     model.origin = grid.origin;
     model.voxelSize = grid.voxelSize;
+    return model;
+}
+
+VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options) {
+    VrcModel model = emptyVrcModel(lines, options);
+    if (lines.positionRadius.empty()) return model;
+    const DensityGrid grid = makeDensityGrid(lines.bounds, options.resolution);
     const int q = options.quantization;
 
     // Polylines: vertex ranges [FirstOfPolyline, LastOfPolyline].

@@ -145,6 +145,10 @@ struct VrcBuildOptions {
 // vertex (StyledLines keeps them contiguous).
 VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options);
 
+// The model's grid and settings without any voxel content (sizes from makeDensityGrid): the
+// common start of the CPU build above and the GPU build (gl/vrc_renderer.h).
+VrcModel emptyVrcModel(const StyledLines& lines, const VrcBuildOptions& options);
+
 // World position of end `code` of a piece in voxel `voxel` (q = the model's quantization > 0).
 glm::vec3 decodeEnd(const VrcModel& model, glm::ivec3 voxel, std::uint32_t code);
 // The code of world point `p` on face `face` (or inside, kInteriorFace) of `voxel`.

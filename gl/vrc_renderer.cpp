@@ -49,16 +49,9 @@ void dispatch1D(GLuint program, std::size_t count) {
 }  // namespace
 
 VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs) {
-    TC_CHECK_OP(options.resolution, >=, 2);
-    TC_CHECK(options.quantization >= 0 && options.quantization <= kMaxQuantization);
-    VrcModel model;
-    model.quantization = options.quantization;
-    model.maxRadius = lines.maxRadius;
+    VrcModel model = emptyVrcModel(lines, options);
     if (lines.positionRadius.empty()) return model;
     const DensityGrid grid = makeDensityGrid(lines.bounds, options.resolution);
-    model.size = grid.size;
-    model.origin = grid.origin;
-    model.voxelSize = grid.voxelSize;
     const bool quantized = options.quantization > 0;
 
     std::vector<glm::uvec2> ranges;
