@@ -16,6 +16,7 @@
 
 #include <tbb/parallel_sort.h>
 
+#include "bench_util.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/gl_api.h"
@@ -25,31 +26,11 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using namespace tc::bench;
 
 struct Pair {
     std::uint32_t key, value;
 };
-
-double msSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-std::vector<std::size_t> parseSizes(const char* text) {
-    std::vector<std::size_t> sizes;
-    for (const char* p = text; *p;) {
-        char* end = nullptr;
-        sizes.push_back(std::strtoull(p, &end, 10));
-        p = *end == ',' ? end + 1 : end;
-        if (end == p && *p) break;
-    }
-    return sizes;
-}
 
 template <class Sort>
 double timeCpu(const std::vector<Pair>& input, int reps, Sort sort) {
@@ -71,7 +52,7 @@ int main(int argc, char** argv) try {
     tc::gl::RadixSort::Config config;
     for (int i = 1; i + 1 < argc; i += 2) {
         std::string flag = argv[i];
-        if (flag == "--sizes") sizes = parseSizes(argv[i + 1]);
+        if (flag == "--sizes") sizes = parseList(argv[i + 1]);
         else if (flag == "--reps") reps = std::atoi(argv[i + 1]);
         else if (flag == "--digit-bits") config.digitBits = std::atoi(argv[i + 1]);
         else if (flag == "--lanes") config.lanes = std::atoi(argv[i + 1]);

@@ -19,6 +19,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "bench_util.h"
 #include "core/error.h"
 #include "core/generators.h"
 #include "core/scene.h"
@@ -27,29 +28,7 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-std::vector<std::size_t> parseList(const char* text) {
-    std::vector<std::size_t> values;
-    for (const char* p = text; *p;) {
-        char* end = nullptr;
-        values.push_back(std::size_t(std::strtoull(p, &end, 10)));
-        if (end == p) break;
-        p = *end == ',' ? end + 1 : end;
-    }
-    return values;
-}
-
-double megabytes(std::size_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+using namespace tc::bench;
 
 }  // namespace
 
