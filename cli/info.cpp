@@ -50,7 +50,10 @@ void addInfoCommand(CLI::App& app) {
                 return;
             }
             DatasetLoad data = loadDataset(scene.dataset);
-            if (data.isParticles()) throw InputError(options->path + ": info: generated particle datasets have no file to describe");
+            if (data.isParticles()) {  // a generator or a VTK point cloud
+                printParticleInfo(data.particles, data.source, options->json);
+                return;
+            }
             lines = std::move(data.lines);
             cleaned = data.cleaned;
             for (const std::string* name : {&scene.style.radius.attribute, &scene.style.color.attribute,
@@ -61,6 +64,13 @@ void addInfoCommand(CLI::App& app) {
             } catch (const InputError& e) {
                 throw InputError(options->path + ": style: " + e.what());
             }
+        } else if (isVtkFile(options->path)) {
+            VtkFileData data = readVtkFile(options->path, &cleaned);
+            if (data.isPoints) {
+                printParticleInfo(ParticleData{{std::move(data.points)}}, options->path, options->json);
+                return;
+            }
+            lines = std::move(data.lines);
         } else {
             lines = readLineSet(options->path, &cleaned);
         }

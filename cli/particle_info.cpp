@@ -11,8 +11,9 @@
 
 namespace tc::cli {
 
-void printParticleInfo(const std::string& path, bool json) {
-    ParticleData data = readParticles(path);
+void printParticleInfo(const std::string& path, bool json) { printParticleInfo(readParticles(path), path, json); }
+
+void printParticleInfo(const ParticleData& data, const std::string& path, bool json) {
     const Bounds b = data.bounds();
     std::size_t total = 0;
     float rMin = std::numeric_limits<float>::infinity(), rMax = -rMin;

@@ -28,6 +28,11 @@ DatasetLoad loadDataset(const DatasetSpec& spec) {
     } else if (spec.trace) {
         load.lines = traceStreamlines(spec.path, *spec.trace, &load.cleaned);
         load.source = spec.path + " (traced)";
+    } else if (isVtkFile(spec.path)) {
+        VtkFileData data = readVtkFile(spec.path, &load.cleaned);  // lines, or points as particles
+        if (data.isPoints) load.particles.frames.push_back(std::move(data.points));
+        else load.lines = std::move(data.lines);
+        load.source = spec.path;
     } else {
         load.lines = readLineSet(spec.path, &load.cleaned);
         load.source = spec.path;

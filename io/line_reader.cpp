@@ -10,6 +10,7 @@
 #include <vtkCellArrayIterator.h>
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
+#include <vtkDataSet.h>
 #include <vtkErrorCode.h>
 #include <vtkFloatArray.h>
 #include <vtkGenericDataObjectReader.h>
@@ -54,31 +55,65 @@ std::string errorCodeText(unsigned long code) {
     }
 }
 
-// Gathers positions and point data of the cells' points into `lines`, one polyline per cell.
-class LineSetBuilder {
+// The numeric point-data arrays of a data set as scalar Attributes (see line_reader.h): makes
+// the (empty) attributes, then append(id, attributes) adds one point's values to each.
+class PointDataColumns {
 public:
-    LineSetBuilder(const std::string& path, vtkDataSet* data) : m_path(path), m_data(data) {
-        m_pointCount = data->GetNumberOfPoints();
+    // Arrays for which `skip` returns true are left out (the particle path takes radii and
+    // colours out of the point data).
+    template <class Skip>
+    PointDataColumns(vtkDataSet* data, std::vector<Attribute>& attributes, Skip skip) {
+        const vtkIdType pointCount = data->GetNumberOfPoints();
         vtkPointData* pd = data->GetPointData();
         for (int i = 0; pd && i < pd->GetNumberOfArrays(); ++i) {
             vtkDataArray* array = pd->GetArray(i);  // null for string arrays
-            if (!array || array->GetNumberOfTuples() != m_pointCount) continue;
+            if (!array || array->GetNumberOfTuples() != pointCount || skip(array)) continue;
             m_arrays.push_back(array);
             std::string name = array->GetName() && *array->GetName() ? array->GetName()
                                                                      : "array" + std::to_string(i);
             const int k = array->GetNumberOfComponents();
             if (k == 1) {
-                m_lines.attributes.push_back({name, {}});
+                attributes.push_back({name, {}});
                 continue;
             }
             static const char* const xyz[] = {"x", "y", "z"};
             for (int c = 0; c < k; ++c) {
                 std::string component = c < 3 ? std::string(xyz[c]) : std::to_string(c);
-                m_lines.attributes.push_back({name + '_' + component, {}});
+                attributes.push_back({name + '_' + component, {}});
             }
-            m_lines.attributes.push_back({name + "_magnitude", {}});
+            attributes.push_back({name + "_magnitude", {}});
         }
     }
+    PointDataColumns(vtkDataSet* data, std::vector<Attribute>& attributes)
+        : PointDataColumns(data, attributes, [](vtkDataArray*) { return false; }) {}
+
+    void append(vtkIdType id, std::vector<Attribute>& attributes) const {
+        std::size_t a = 0;
+        for (vtkDataArray* array : m_arrays) {
+            const int k = array->GetNumberOfComponents();
+            if (k == 1) {
+                attributes[a++].values.push_back(float(array->GetComponent(id, 0)));
+                continue;
+            }
+            double sum = 0.0;
+            for (int c = 0; c < k; ++c) {
+                double v = array->GetComponent(id, c);
+                sum += v * v;
+                attributes[a++].values.push_back(float(v));
+            }
+            attributes[a++].values.push_back(float(std::sqrt(sum)));
+        }
+    }
+
+private:
+    std::vector<vtkDataArray*> m_arrays;
+};
+
+// Gathers positions and point data of the cells' points into `lines`, one polyline per cell.
+class LineSetBuilder {
+public:
+    LineSetBuilder(const std::string& path, vtkDataSet* data)
+        : m_path(path), m_data(data), m_pointCount(data->GetNumberOfPoints()), m_columns(data, m_lines.attributes) {}
 
     void addCell(vtkIdType cell, vtkIdType n, const vtkIdType* ids) {
         vtkPoints* points = pointsOf();
@@ -91,21 +126,7 @@ public:
             double p[3];
             points->GetPoint(id, p);
             m_lines.positions.emplace_back(float(p[0]), float(p[1]), float(p[2]));
-            std::size_t a = 0;
-            for (vtkDataArray* array : m_arrays) {
-                const int k = array->GetNumberOfComponents();
-                if (k == 1) {
-                    m_lines.attributes[a++].values.push_back(float(array->GetComponent(id, 0)));
-                    continue;
-                }
-                double sum = 0.0;
-                for (int c = 0; c < k; ++c) {
-                    double v = array->GetComponent(id, c);
-                    sum += v * v;
-                    m_lines.attributes[a++].values.push_back(float(v));
-                }
-                m_lines.attributes[a++].values.push_back(float(std::sqrt(sum)));
-            }
+            m_columns.append(id, m_lines.attributes);
         }
         if (m_lines.positions.size() > std::numeric_limits<std::uint32_t>::max())
             throw InputError(m_path + ": more than 2^32 polyline vertices are not supported");
@@ -123,14 +144,83 @@ private:
     const std::string& m_path;
     vtkDataSet* m_data;
     vtkIdType m_pointCount = 0;
-    std::vector<vtkDataArray*> m_arrays;
-    LineSet m_lines;
+    LineSet m_lines;  // before m_columns, which adds its attributes
+    PointDataColumns m_columns;
 };
 
 [[noreturn]] void throwNoPolylines(const std::string& path, vtkDataSet* data,
                                    vtkIdType otherCells) {
     throw InputError(path + ": no polylines (" + std::to_string(data->GetNumberOfPoints()) +
                      " points, " + std::to_string(otherCells) + " cells of other types)");
+}
+
+// Line and polyline cells of a PolyData or UnstructuredGrid (0 for other data sets).
+vtkIdType lineCellCount(vtkDataObject* object) {
+    if (auto* poly = vtkPolyData::SafeDownCast(object)) return poly->GetLines() ? poly->GetLines()->GetNumberOfCells() : 0;
+    vtkIdType lineCells = 0;
+    if (auto* grid = vtkUnstructuredGrid::SafeDownCast(object))
+        for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+            int type = grid->GetCellType(c);
+            lineCells += type == VTK_LINE || type == VTK_POLY_LINE;
+        }
+    return lineCells;
+}
+
+bool isRadiusArray(vtkDataArray* array) {
+    if (array->GetNumberOfComponents() != 1 || !array->GetName()) return false;
+    std::string name = array->GetName();
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return name == "radius" || name == "radii";
+}
+
+// VTK's convention for colours (vtkScalarsToColors, ParaView's "Map Scalars" off): unsigned
+// char RGB or RGBA point data.
+bool isColorArray(vtkDataArray* array) {
+    const int k = array->GetNumberOfComponents();
+    return array->GetDataType() == VTK_UNSIGNED_CHAR && (k == 3 || k == 4);
+}
+
+// Every point of the data set as a particle (vertex cells or none: a point cloud), with its
+// point data; the first 1-component array called radius/radii gives radii, the first unsigned
+// char RGB(A) array colours.
+ParticleSet extractPoints(const std::string& path, vtkDataSet* data) {
+    ParticleSet set;
+    vtkPointData* pd = data->GetPointData();
+    vtkDataArray* radius = nullptr;
+    vtkDataArray* color = nullptr;
+    for (int i = 0; pd && i < pd->GetNumberOfArrays(); ++i) {
+        vtkDataArray* array = pd->GetArray(i);
+        if (!array || array->GetNumberOfTuples() != data->GetNumberOfPoints()) continue;
+        if (!radius && isRadiusArray(array)) radius = array;
+        else if (!color && isColorArray(array)) color = array;
+    }
+    PointDataColumns columns(data, set.attributes, [&](vtkDataArray* a) { return a == radius || a == color; });
+    const vtkIdType n = data->GetNumberOfPoints();
+    set.positions.reserve(std::size_t(n));
+    for (vtkIdType id = 0; id < n; ++id) {
+        double p[3];
+        data->GetPoint(id, p);
+        const glm::vec3 position{float(p[0]), float(p[1]), float(p[2])};
+        if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z))
+            throw InputError(path + ": point " + std::to_string(id) + ": non-finite position");
+        set.positions.push_back(position);
+        columns.append(id, set.attributes);
+        if (radius) {
+            const double r = radius->GetComponent(id, 0);
+            if (!(r > 0.0) || !std::isfinite(r))
+                throw InputError(path + ": point " + std::to_string(id) + ": " + radius->GetName() + " " +
+                                 std::to_string(r) + " (expected a positive radius)");
+            set.radii.push_back(float(r));
+        }
+        if (color) {
+            const int k = color->GetNumberOfComponents();
+            glm::vec4 c(1.0f);
+            for (int j = 0; j < k; ++j) c[j] = float(color->GetComponent(id, j) / 255.0);
+            set.colors.push_back(c);
+        }
+    }
+    set.update();
+    return set;
 }
 
 LineSet extractLines(const std::string& path, vtkDataObject* object) {
@@ -185,6 +275,41 @@ vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader
     return reader->GetOutputDataObject(0);
 }
 
+// The data object of a .vtk / .vtp / .vtu file (isVtkFile).
+vtkSmartPointer<vtkDataObject> readVtkObject(const std::string& path) {
+    const std::string ext = extensionLower(path);
+    VtkMessageCapture capture;
+    if (ext == ".vtk") {
+        // Generic rather than vtkPolyDataReader: also takes UNSTRUCTURED_GRID files.
+        vtkNew<vtkGenericDataObjectReader> reader;
+        // By default the legacy reader keeps only the first SCALARS / VECTORS / ... section of
+        // each kind (the "active" one) and silently drops the others.
+        reader->ReadAllScalarsOn();
+        reader->ReadAllVectorsOn();
+        reader->ReadAllNormalsOn();
+        reader->ReadAllTensorsOn();
+        reader->ReadAllColorScalarsOn();
+        reader->ReadAllTCoordsOn();
+        reader->ReadAllFieldsOn();
+        return runReader(path, reader.Get(), capture);
+    }
+    if (ext == ".vtp") {
+        vtkNew<vtkXMLPolyDataReader> reader;
+        return runReader(path, reader.Get(), capture);
+    }
+    TC_CHECK(ext == ".vtu");
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    return runReader(path, reader.Get(), capture);
+}
+
+LineSet cleanedLines(const std::string& path, LineSet lines, CleanReport* report) {
+    CleanReport cleaned = cleanLineSet(lines);
+    if (report) *report = cleaned;
+    if (lines.polylineCount() == 0)
+        throw InputError(path + ": no polylines left after cleaning (" + cleaned.summary() + ")");
+    return lines;
+}
+
 }  // namespace
 
 LineSet readLineSet(const std::string& path, CleanReport* report) {
@@ -196,31 +321,34 @@ LineSet readLineSet(const std::string& path, CleanReport* report) {
     LineSet lines;
     if (isNativeLineFormat(ext)) {
         lines = readNativeLineFile(path);  // .trk, .tck (+ .tsf), .obj, .tcb: io/line_formats.h
+    } else if (isVtkFile(path)) {
+        lines = extractLines(path, readVtkObject(path));
     } else {
-        VtkMessageCapture capture;
-        vtkSmartPointer<vtkDataObject> output;
-        if (ext == ".vtk") {
-            // Generic rather than vtkPolyDataReader: also takes UNSTRUCTURED_GRID files.
-            vtkNew<vtkGenericDataObjectReader> reader;
-            output = runReader(path, reader.Get(), capture);
-        } else if (ext == ".vtp") {
-            vtkNew<vtkXMLPolyDataReader> reader;
-            output = runReader(path, reader.Get(), capture);
-        } else if (ext == ".vtu") {
-            vtkNew<vtkXMLUnstructuredGridReader> reader;
-            output = runReader(path, reader.Get(), capture);
-        } else {
-            throw InputError(path + ": unsupported file extension '" + ext +
-                             "' (supported: .vtk, .vtp, .vtu, .trk, .tck, .obj, .tcb)");
-        }
-        lines = extractLines(path, output);
+        throw InputError(path + ": unsupported file extension '" + ext +
+                         "' (supported: .vtk, .vtp, .vtu, .trk, .tck, .obj, .tcb)");
     }
+    return cleanedLines(path, std::move(lines), report);
+}
 
-    CleanReport cleaned = cleanLineSet(lines);
-    if (report) *report = cleaned;
-    if (lines.polylineCount() == 0)
-        throw InputError(path + ": no polylines left after cleaning (" + cleaned.summary() + ")");
-    return lines;
+bool isVtkFile(const std::string& path) {
+    const std::string ext = extensionLower(path);
+    return ext == ".vtk" || ext == ".vtp" || ext == ".vtu";
+}
+
+VtkFileData readVtkFile(const std::string& path, CleanReport* report) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory");
+    vtkSmartPointer<vtkDataObject> object = readVtkObject(path);
+    VtkFileData data;
+    auto* set = vtkDataSet::SafeDownCast(object);
+    if (lineCellCount(object) == 0 && set && set->GetNumberOfPoints() > 0) {
+        data.points = extractPoints(path, set);
+        data.isPoints = true;
+        return data;
+    }
+    data.lines = cleanedLines(path, extractLines(path, object), report);
+    return data;
 }
 
 void writeLineSetVtp(const LineSet& lines, const std::string& path) {

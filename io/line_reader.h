@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/line_set.h"
+#include "core/particle_set.h"
 
 namespace tc {
 
@@ -27,6 +28,22 @@ namespace tc {
 // "PATH: no polylines left after cleaning (<summary>)". VTK's own error output is captured,
 // not printed. Reads are serialised (VTK's output window is process-global).
 LineSet readLineSet(const std::string& path, CleanReport* report = nullptr);
+
+// .vtk, .vtp or .vtu (case-insensitive).
+bool isVtkFile(const std::string& path);
+
+// A VTK file holds either lines or particles: lines when it has line or polyline cells (read
+// as readLineSet does), otherwise, when it has points (vertex cells or a bare point cloud, the
+// way ParaView users save particles), every point as a particle. Point data becomes attributes
+// as above, except that the first 1-component array named "radius" or "radii" (any case) gives
+// the particles' radii (must be > 0) and the first unsigned-char array of 3 or 4 components
+// (VTK's colour convention) their sRGB(A) colours.
+struct VtkFileData {
+    bool isPoints = false;
+    LineSet lines;       // !isPoints
+    ParticleSet points;  // isPoints
+};
+VtkFileData readVtkFile(const std::string& path, CleanReport* report = nullptr);
 
 // Writes `lines` as VTK XML PolyData (.vtp): float points, one polyline cell per polyline,
 // one float point-data array per attribute, binary appended data (raw, zlib-compressed).

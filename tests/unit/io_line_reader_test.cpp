@@ -272,5 +272,70 @@ LINES 1 3
                   "(zero-length segments), 1 polyline with fewer than 2 vertices)");
 }
 
+// A point cloud the way ParaView saves particles: vertex cells, a radius array, unsigned-char
+// RGB colours and a vector.
+const char* const kPointCloud = R"(# vtk DataFile Version 3.0
+three particles
+ASCII
+DATASET POLYDATA
+POINTS 3 float
+0 0 0
+1 2 3
+-1 0.5 2
+VERTICES 3 6
+1 0
+1 1
+1 2
+POINT_DATA 3
+SCALARS Radius float 1
+LOOKUP_TABLE default
+0.5 0.25 2
+SCALARS density float 1
+LOOKUP_TABLE default
+7 8 9
+COLOR_SCALARS rgb 3
+1 0 0
+0 1 0
+0 0 1
+VECTORS velocity float
+3 4 0
+0 0 1
+1 0 0
+)";
+
+TEST(ReadVtkFile, points_without_line_cells_are_particles_with_radii_colours_and_attributes) {
+    const std::string path = writeText(testDir() + "/cloud.vtk", kPointCloud);
+    VtkFileData data = readVtkFile(path);
+    ASSERT_TRUE(data.isPoints);
+    const ParticleSet& p = data.points;
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_EQ(p.positions[1], glm::vec3(1, 2, 3));
+    EXPECT_EQ(p.radii, (std::vector<float>{0.5f, 0.25f, 2.0f}));
+    ASSERT_EQ(p.colors.size(), 3u);
+    // COLOR_SCALARS in a legacy file are floats in [0, 1]; VTK stores them as unsigned char.
+    EXPECT_EQ(p.colors[1], glm::vec4(0, 1, 0, 1));
+    ASSERT_NE(p.attribute("velocity_magnitude"), nullptr);
+    EXPECT_FLOAT_EQ(p.attribute("velocity_magnitude")->values[0], 5.0f);
+    EXPECT_EQ(p.attribute("Radius"), nullptr);  // taken as radii, not an attribute
+    // The legacy reader drops every SCALARS section but the first unless told to read all.
+    ASSERT_NE(p.attribute("density"), nullptr);
+    EXPECT_EQ(p.attribute("density")->values, (std::vector<float>{7, 8, 9}));
+    EXPECT_EQ(p.bounds.lo, glm::vec3(-1, 0, 0));
+    EXPECT_EQ(p.bounds.hi, glm::vec3(1, 2, 3));
+    // The same file through readLineSet is still an error that says what it has.
+    EXPECT_NE(inputErrorOf([&] { readLineSet(path); }).find("no polylines (3 points"), std::string::npos);
+}
+
+TEST(ReadVtkFile, files_with_line_cells_are_lines_and_bad_radii_name_the_point) {
+    VtkFileData lines = readVtkFile(writeText(testDir() + "/two.vtk", kLegacyAscii));
+    EXPECT_FALSE(lines.isPoints);
+    EXPECT_EQ(lines.lines.polylineCount(), 2u);
+
+    std::string bad = kPointCloud;
+    bad.replace(bad.find("0.5 0.25 2"), 10, "0.5 -1 2");
+    const std::string path = writeText(testDir() + "/bad.vtk", bad);
+    EXPECT_EQ(inputErrorOf([&] { readVtkFile(path); }), path + ": point 1: Radius -1.000000 (expected a positive radius)");
+}
+
 }  // namespace
 }  // namespace tc
