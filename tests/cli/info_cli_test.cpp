@@ -156,4 +156,28 @@ TEST_F(InfoCli, OpacityPointErrorsNameTheElement) {
         << range.err;
 }
 
+TEST_F(InfoCli, VtkPointCloudSceneIsAParticleDataset) {
+    writeText(dir / "cloud.vtk", R"(# vtk DataFile Version 3.0
+cloud
+ASCII
+DATASET POLYDATA
+POINTS 2 float
+0 0 0
+1 1 1
+POINT_DATA 2
+SCALARS radii float 1
+LOOKUP_TABLE default
+0.1 0.2
+)");
+    writeText(dir / "scene.json", R"({"dataset": {"path": "cloud.vtk"}, "render": {"technique": "spheres"}})");
+    RunResult r = run("info scene.json --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["kind"], "particles");
+    EXPECT_EQ(j["particles_total"], 2);
+    RunResult file = run("info cloud.vtk --json");
+    ASSERT_EQ(file.code, 0) << file.err;
+    EXPECT_EQ(nlohmann::json::parse(file.out)["particles_total"], 2);
+}
+
 }  // namespace
