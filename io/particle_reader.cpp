@@ -286,6 +286,112 @@ ParticleData readPdb(const std::string& path, const std::string& text) {
     return data;
 }
 
+// --- mmCIF (PDBx) ---------------------------------------------------------------------------
+
+// Whitespace-separated CIF tokens of one line; '...' and "..." quote a token (the closing quote
+// must be followed by whitespace or the end, so O5'' atom names survive), '#' starts a comment.
+std::vector<std::string> cifTokens(const Lines& lines, const std::string& line) {
+    std::vector<std::string> tokens;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        if (i >= line.size() || line[i] == '#') break;
+        if (line[i] == '\'' || line[i] == '"') {
+            const char quote = line[i];
+            std::size_t end = i + 1;
+            while (end < line.size() &&
+                   !(line[end] == quote && (end + 1 == line.size() || std::isspace(static_cast<unsigned char>(line[end + 1])))))
+                ++end;
+            if (end >= line.size()) lines.fail("unterminated quoted value");
+            tokens.push_back(line.substr(i + 1, end - i - 1));
+            i = end + 1;
+        } else {
+            std::size_t end = i;
+            while (end < line.size() && !std::isspace(static_cast<unsigned char>(line[end]))) ++end;
+            tokens.push_back(line.substr(i, end - i));
+            i = end;
+        }
+    }
+    return tokens;
+}
+
+// The atom_site loop of a PDBx/mmCIF file: Cartn_x/y/z (Angstrom), the element from type_symbol
+// (else from the atom name), pdbx_PDB_model_num changes = frames; occupancy, B_iso_or_equiv and
+// the residue number as attributes, as for PDB. '?' and '.' are missing values.
+ParticleData readMmcif(const std::string& path, const std::string& text) {
+    Lines lines(path, text);
+    // Find "loop_" followed by _atom_site.* names.
+    std::vector<std::string> names;
+    while (!lines.done() && names.empty()) {
+        if (trim(lines.next("")) != "loop_") continue;
+        while (!lines.done() && trim(lines.peek()).rfind("_atom_site.", 0) == 0)
+            names.push_back(trim(lines.next("")).substr(11));
+    }
+    if (names.empty()) throw InputError(path + ": no _atom_site loop (not a PDBx/mmCIF coordinate file?)");
+    const std::size_t header = lines.lineNumber();
+    auto index = [&](std::initializer_list<const char*> candidates) -> int {
+        for (const char* c : candidates)
+            for (std::size_t i = 0; i < names.size(); ++i)
+                if (names[i] == c) return int(i);
+        return -1;
+    };
+    const int x = index({"Cartn_x"}), y = index({"Cartn_y"}), z = index({"Cartn_z"});
+    if (x < 0 || y < 0 || z < 0) lines.fail(header, "_atom_site loop without Cartn_x, Cartn_y and Cartn_z");
+    const int element = index({"type_symbol"}), atomName = index({"label_atom_id", "auth_atom_id"});
+    const int model = index({"pdbx_PDB_model_num"}), group = index({"group_PDB"});
+    const int occupancy = index({"occupancy"}), bfactor = index({"B_iso_or_equiv"}),
+              residue = index({"auth_seq_id", "label_seq_id"});
+
+    ParticleData data;
+    ParticleSet current;
+    std::string currentModel;
+    auto finishFrame = [&] {
+        if (current.positions.empty()) return;
+        current.update();
+        data.frames.push_back(std::move(current));
+        current = ParticleSet{};
+    };
+    auto value = [](const std::string& v) { return v == "?" || v == "." ? std::string() : v; };
+    std::vector<std::string> row;
+    while (!lines.done()) {
+        const std::string next = trim(lines.peek());
+        if (next.rfind("loop_", 0) == 0 || next.rfind("data_", 0) == 0 || (!next.empty() && next[0] == '_')) break;
+        const std::string& line = lines.next("");
+        if (!line.empty() && line[0] == ';') lines.fail("multi-line text fields are not supported in _atom_site");
+        for (std::string& t : cifTokens(lines, line)) row.push_back(std::move(t));
+        if (row.size() < names.size()) continue;  // a row may span lines
+        if (row.size() > names.size())
+            lines.fail(std::to_string(row.size()) + " values for " + std::to_string(names.size()) + " _atom_site columns");
+        const glm::vec3 p(float(number(lines, row[x], "Cartn_x")), float(number(lines, row[y], "Cartn_y")),
+                          float(number(lines, row[z], "Cartn_z")));
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) lines.fail("non-finite position");
+        if (model >= 0 && row[model] != currentModel) {
+            finishFrame();
+            currentModel = row[model];
+        }
+        std::string symbol = element >= 0 ? value(row[element]) : std::string();
+        if (symbol.empty() && atomName >= 0)
+            symbol = elementFromAtomName(value(row[atomName]), group >= 0 && row[group] == "HETATM");
+        current.positions.push_back(p);
+        addElement(current, symbol);
+        auto optional = [&](int column, double fallback, const char* what) {
+            const std::string v = column >= 0 ? value(row[column]) : std::string();
+            return v.empty() ? fallback : number(lines, v, what);
+        };
+        attributeNamed(current, "occupancy").values.push_back(float(optional(occupancy, 1.0, "occupancy")));
+        attributeNamed(current, "b_factor").values.push_back(float(optional(bfactor, 0.0, "B_iso_or_equiv")));
+        double res = std::nan("");
+        if (residue >= 0 && !parseDouble(value(row[residue]), res)) res = std::nan("");
+        attributeNamed(current, "residue").values.push_back(float(res));
+        row.clear();
+    }
+    if (!row.empty()) lines.fail("_atom_site loop ends inside a row (" + std::to_string(row.size()) + " of " +
+                                 std::to_string(names.size()) + " values)");
+    finishFrame();
+    if (data.frames.empty()) throw InputError(path + ": _atom_site loop without atoms");
+    return data;
+}
+
 // --- LAMMPS text dump -------------------------------------------------------------------------
 
 ParticleData readLammps(const std::string& path, const std::string& text) {
@@ -419,7 +525,7 @@ ParticleData readGro(const std::string& path, const std::string& text) {
 bool isParticleFile(const std::string& path) {
     if (path.empty()) return false;
     const std::string ext = extensionLower(path);
-    for (const char* e : {".xyz", ".extxyz", ".pdb", ".ent", ".lammpstrj", ".dump", ".gro", ".mmpld"})
+    for (const char* e : {".xyz", ".extxyz", ".pdb", ".ent", ".cif", ".mmcif", ".lammpstrj", ".dump", ".gro", ".mmpld"})
         if (ext == e) return true;
     return false;
 }
@@ -430,10 +536,11 @@ ParticleData readParticles(const std::string& path) {
     ParticleData data;
     if (ext == ".xyz" || ext == ".extxyz") data = readXyz(path, text);
     else if (ext == ".pdb" || ext == ".ent") data = readPdb(path, text);
+    else if (ext == ".cif" || ext == ".mmcif") data = readMmcif(path, text);
     else if (ext == ".lammpstrj" || ext == ".dump") data = readLammps(path, text);
     else if (ext == ".gro") data = readGro(path, text);
     else if (ext == ".mmpld") data = readMmpld(path, text);
-    else throw InputError(path + ": not a particle format (.xyz, .extxyz, .pdb, .ent, .lammpstrj, .dump, .gro, .mmpld)");
+    else throw InputError(path + ": not a particle format (.xyz, .extxyz, .pdb, .ent, .cif, .mmcif, .lammpstrj, .dump, .gro, .mmpld)");
     for (const ParticleSet& f : data.frames) f.checkConsistent();
     return data;
 }

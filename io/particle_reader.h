@@ -5,6 +5,7 @@
 //                    concatenated blocks are frames.
 //   .pdb / .ent      PDB ATOM/HETATM records: element -> van der Waals radius (Angstrom) and CPK
 //                    colour; MODEL/ENDMDL blocks are frames.
+//   .cif / .mmcif    PDBx/mmCIF _atom_site loop, as PDB (pdbx_PDB_model_num = frames).
 //   .lammpstrj / .dump  LAMMPS text dump: ITEM: TIMESTEP / NUMBER OF ATOMS / BOX BOUNDS / ATOMS
 //                    with named columns (x y z, or scaled xs ys zs with the box); timesteps = frames.
 //   .gro             GROMACS: nm converted to Angstrom; element radii from the atom name; frames.

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <string>
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
@@ -77,6 +79,34 @@ TEST(ParticleReader, pdb_models_are_frames_with_element_radii_and_cpk_colours) {
     EXPECT_FLOAT_EQ(d.frames[0].attribute("occupancy")->values[2], 0.5f);
     expectError(write("bad.pdb", "ATOM      1  N   ALA A   1      11.104   6.1x4  -6.504  1.00 10.00           N\n"),
                 "bad.pdb:1: expected a number for y (columns 39-46)");
+}
+
+TEST(ParticleReader, mmcif_atom_site_models_are_frames_like_pdb) {
+    // Two models; a quoted atom name with a prime, a row split over two lines, '?' values.
+    const std::string header = "data_TEST\n#\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n"
+                               "_atom_site.label_atom_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n"
+                               "_atom_site.occupancy\n_atom_site.B_iso_or_equiv\n_atom_site.auth_seq_id\n"
+                               "_atom_site.pdbx_PDB_model_num\n";
+    const std::string rows = "ATOM 1 N N 11.104 6.134 -6.504 1.00 10.00 1 1\n"
+                             "ATOM 2 C \"C5'\" 11.639 6.071\n  -5.147 1.00 12.50 1 1\n"
+                             "HETATM 3 ? FE 1.0 2.0 3.0 0.5 ? . 1\n"
+                             "ATOM 1 N N 1 2 3 1 10 1 2\n#\n";
+    auto path = write("m.cif", header + rows);
+    ParticleData d = readParticles(path);
+    ASSERT_EQ(d.frameCount(), 2u);
+    ASSERT_EQ(d.frames[0].size(), 3u);
+    EXPECT_EQ(d.frames[1].size(), 1u);
+    EXPECT_FLOAT_EQ(d.frames[0].positions[1].z, -5.147f);
+    EXPECT_FLOAT_EQ(d.frames[0].radii[0], 1.55f);  // N
+    EXPECT_FLOAT_EQ(d.frames[0].radii[1], 1.70f);  // C (type_symbol)
+    EXPECT_FLOAT_EQ(d.frames[0].radii[2], 2.04f);  // FE from the HETATM atom name ('?' symbol)
+    EXPECT_FLOAT_EQ(d.frames[0].attribute("b_factor")->values[2], 0.0f);  // '?' = missing
+    EXPECT_TRUE(std::isnan(d.frames[0].attribute("residue")->values[2]));
+    EXPECT_FLOAT_EQ(d.frames[1].positions[0].y, 2.0f);
+
+    expectError(write("bad.cif", header + "ATOM 1 N N 11.1 6.x -6.5 1 1 1 1\n"), "bad.cif:15: expected a number for Cartn_y");
+    expectError(write("short.cif", header + "ATOM 1 N N 11.1 6.1\n"), "short.cif:15: _atom_site loop ends inside a row (6 of 11 values)");
+    expectError(write("none.cif", "data_X\n_cell.length_a 1\n"), "none.cif: no _atom_site loop");
 }
 
 TEST(ParticleReader, lammps_dump_scaled_and_unscaled_timesteps) {
