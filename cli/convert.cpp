@@ -1,4 +1,4 @@
-// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (a file, or the dataset of a scene file,
+// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (lines; particles as .vtp point clouds) (a file, or the dataset of a scene file,
 // e.g. a generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
 // scripts/bench/) see exactly the lines tubecast renders, or as .tcb (docs/formats.md) for fast
 // reloads.
@@ -27,13 +27,17 @@ void addConvertCommand(CLI::App& app) {
         const bool tcb = options->out.ends_with(".tcb");
         if (!options->out.ends_with(".vtp") && !tcb)
             throw InputError(options->out + ": output must end in .vtp (VTK XML polydata) or .tcb (tubecast binary)");
-        DatasetLoad data;
-        if (options->in.ends_with(".json")) {
-            data = loadDataset(loadScene(options->in, options->overrides).dataset);
-        } else {
-            DatasetSpec spec;
-            spec.path = options->in;
-            data = loadDataset(spec);
+        DatasetSpec spec;
+        if (options->in.ends_with(".json")) spec = loadScene(options->in, options->overrides).dataset;
+        else spec.path = options->in;
+        DatasetLoad data = loadDataset(spec);
+        if (data.isParticles()) {
+            if (tcb) throw InputError(options->out + ": .tcb holds lines; write particles as .vtp");
+            // A time series: the first frame, or the one dataset.frame pins.
+            const ParticleSet& frame = data.particles.frames[data.particles.dataFrameFor(0, spec.frame)];
+            writeParticleSetVtp(frame, options->out);
+            std::cerr << "tubecast: wrote " << options->out << " (" << frame.size() << " particles)\n";
+            return;
         }
         if (tcb) {
             writeTcb(data.lines, options->out);

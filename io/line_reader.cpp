@@ -19,6 +19,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -351,16 +352,52 @@ VtkFileData readVtkFile(const std::string& path, CleanReport* report) {
     return data;
 }
 
+namespace {
+
+vtkNew<vtkPoints> floatPoints(const std::vector<glm::vec3>& positions) {
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToFloat();
+    points->SetNumberOfPoints(vtkIdType(positions.size()));
+    auto* coords = vtkFloatArray::SafeDownCast(points->GetData());
+    TC_CHECK(coords != nullptr);
+    if (!positions.empty()) std::copy_n(&positions.data()->x, 3 * positions.size(), coords->GetPointer(0));
+    return points;
+}
+
+void addFloatArray(vtkPolyData* poly, const std::string& name, const std::vector<float>& values) {
+    TC_CHECK_OP(vtkIdType(values.size()), ==, poly->GetNumberOfPoints());
+    vtkNew<vtkFloatArray> array;
+    array->SetName(name.c_str());
+    array->SetNumberOfTuples(vtkIdType(values.size()));
+    std::copy(values.begin(), values.end(), array->GetPointer(0));
+    poly->GetPointData()->AddArray(array);
+}
+
+// Raw binary appended data, 64-bit headers (arrays over 4 GiB), through an AtomicFile.
+void writePolyData(vtkPolyData* poly, const std::string& path) {
+    AtomicFile file(path);
+    {
+        VtkMessageCapture capture;
+        vtkNew<vtkXMLPolyDataWriter> writer;
+        writer->SetFileName(file.tempPath().c_str());
+        writer->SetInputData(poly);
+        writer->SetDataModeToAppended();
+        writer->EncodeAppendedDataOff();  // raw binary, not base64
+        writer->SetHeaderTypeToUInt64();
+        const int ok = writer->Write();
+        if (!ok || capture.failed() || writer->GetErrorCode() != 0)
+            throw OutputError(
+                path + ": cannot write: " +
+                (capture.failed() ? capture.firstError() : errorCodeText(writer->GetErrorCode())));
+    }
+    file.commit();
+}
+
+}  // namespace
+
 void writeLineSetVtp(const LineSet& lines, const std::string& path) {
     TC_CHECK(!lines.offsets.empty());
     TC_CHECK_OP(std::size_t(lines.offsets.back()), ==, lines.positions.size());
-
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToFloat();
-    points->SetNumberOfPoints(vtkIdType(lines.positions.size()));
-    auto* coords = vtkFloatArray::SafeDownCast(points->GetData());
-    TC_CHECK(coords != nullptr);
-    std::copy_n(&lines.positions.data()->x, 3 * lines.positions.size(), coords->GetPointer(0));
 
     vtkNew<vtkCellArray> cells;
     cells->AllocateExact(vtkIdType(lines.polylineCount()), vtkIdType(lines.positions.size()));
@@ -372,33 +409,35 @@ void writeLineSetVtp(const LineSet& lines, const std::string& path) {
     }
 
     vtkNew<vtkPolyData> poly;
-    poly->SetPoints(points);
+    poly->SetPoints(floatPoints(lines.positions));
     poly->SetLines(cells);
-    for (const Attribute& a : lines.attributes) {
-        TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
-        vtkNew<vtkFloatArray> array;
-        array->SetName(a.name.c_str());
-        array->SetNumberOfTuples(vtkIdType(a.values.size()));
-        std::copy(a.values.begin(), a.values.end(), array->GetPointer(0));
-        poly->GetPointData()->AddArray(array);
-    }
+    for (const Attribute& a : lines.attributes) addFloatArray(poly, a.name, a.values);
+    writePolyData(poly, path);
+}
 
-    AtomicFile file(path);
-    {
-        VtkMessageCapture capture;
-        vtkNew<vtkXMLPolyDataWriter> writer;
-        writer->SetFileName(file.tempPath().c_str());
-        writer->SetInputData(poly);
-        writer->SetDataModeToAppended();
-        writer->EncodeAppendedDataOff();  // raw binary, not base64
-        writer->SetHeaderTypeToUInt64();  // arrays over 4 GiB
-        const int ok = writer->Write();
-        if (!ok || capture.failed() || writer->GetErrorCode() != 0)
-            throw OutputError(
-                path + ": cannot write: " +
-                (capture.failed() ? capture.firstError() : errorCodeText(writer->GetErrorCode())));
+void writeParticleSetVtp(const ParticleSet& particles, const std::string& path) {
+    particles.checkConsistent();
+    vtkNew<vtkCellArray> cells;  // one vertex cell per particle, as ParaView writes point clouds
+    cells->AllocateExact(vtkIdType(particles.size()), vtkIdType(particles.size()));
+    for (vtkIdType i = 0; i < vtkIdType(particles.size()); ++i) cells->InsertNextCell(1, &i);
+
+    vtkNew<vtkPolyData> poly;
+    poly->SetPoints(floatPoints(particles.positions));
+    poly->SetVerts(cells);
+    if (!particles.radii.empty()) addFloatArray(poly, "radius", particles.radii);
+    if (!particles.colors.empty()) {
+        vtkNew<vtkUnsignedCharArray> colors;
+        colors->SetName("colors");
+        colors->SetNumberOfComponents(4);
+        colors->SetNumberOfTuples(vtkIdType(particles.size()));
+        for (std::size_t i = 0; i < particles.size(); ++i)
+            for (int c = 0; c < 4; ++c)
+                colors->SetValue(vtkIdType(4 * i + c),
+                                 static_cast<unsigned char>(std::lround(std::clamp(particles.colors[i][c], 0.0f, 1.0f) * 255.0f)));
+        poly->GetPointData()->AddArray(colors);
     }
-    file.commit();
+    for (const Attribute& a : particles.attributes) addFloatArray(poly, a.name, a.values);
+    writePolyData(poly, path);
 }
 
 }  // namespace tc

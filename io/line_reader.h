@@ -50,4 +50,9 @@ VtkFileData readVtkFile(const std::string& path, CleanReport* report = nullptr);
 // Written through an AtomicFile. Throws OutputError "PATH: cannot write: ...".
 void writeLineSetVtp(const LineSet& lines, const std::string& path);
 
+// Writes particles as VTK XML PolyData with one vertex cell per particle: a "radius" array and
+// unsigned-char RGBA "colors" when the set carries them, one float array per attribute; what
+// readVtkFile reads back as particles. Same encoding and errors as writeLineSetVtp.
+void writeParticleSetVtp(const ParticleSet& particles, const std::string& path);
+
 }  // namespace tc

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "core/particle_generators.h"
 #include "io/line_reader.h"
 #include "test_tmp.h"
 
@@ -335,6 +336,27 @@ TEST(ReadVtkFile, files_with_line_cells_are_lines_and_bad_radii_name_the_point) 
     bad.replace(bad.find("0.5 0.25 2"), 10, "0.5 -1 2");
     const std::string path = writeText(testDir() + "/bad.vtk", bad);
     EXPECT_EQ(inputErrorOf([&] { readVtkFile(path); }), path + ": point 1: Radius -1.000000 (expected a positive radius)");
+}
+
+TEST(ReadVtkFile, particles_written_as_vtp_read_back_exactly) {
+    ParticleSet in = generateDroplets(300, 7);
+    in.colors.clear();
+    for (std::size_t i = 0; i < in.size(); ++i) in.colors.push_back({float(i % 256) / 255.0f, 0.0f, 1.0f, 0.5f});
+    const std::string path = testDir() + "/droplets.vtp";
+    writeParticleSetVtp(in, path);
+    VtkFileData out = readVtkFile(path);
+    ASSERT_TRUE(out.isPoints);
+    EXPECT_EQ(out.points.positions, in.positions);
+    EXPECT_EQ(out.points.radii, in.radii);
+    ASSERT_EQ(out.points.colors.size(), in.size());
+    for (std::size_t i = 0; i < in.size(); ++i)  // 8-bit colours: exact for k/255, alpha 0.5 -> 128/255
+        EXPECT_NEAR(out.points.colors[i].w, 0.5f, 0.5f / 255.0f + 1e-6f);
+    EXPECT_FLOAT_EQ(out.points.colors[200].x, in.colors[200].x);
+    ASSERT_EQ(out.points.attributes.size(), in.attributes.size());
+    for (const Attribute& a : in.attributes) {
+        ASSERT_NE(out.points.attribute(a.name), nullptr) << a.name;
+        EXPECT_EQ(out.points.attribute(a.name)->values, a.values) << a.name;
+    }
 }
 
 }  // namespace
