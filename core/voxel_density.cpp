@@ -171,40 +171,23 @@ bool voxelizeSegment(const glm::vec4& pa, const glm::vec4& pb, float alphaA, flo
 
     const glm::dvec3 start = a + s0 * d;
     glm::ivec3 v;
-    glm::ivec3 step;
-    glm::dvec3 invD;
     for (int i = 0; i < 3; ++i) {
         // floor: a point on a face belongs to the voxel with the larger index; the outer face
         // (coordinate == size) belongs to the last voxel.
         v[i] = std::clamp(int(std::floor(start[i])), 0, grid.size[i] - 1);
-        step[i] = d[i] > 0.0 ? 1 : (d[i] < 0.0 ? -1 : 0);
-        invD[i] = d[i] != 0.0 ? 1.0 / d[i] : 0.0;
     }
+    const VoxelWalk walk(a, d);
 
     double sCur = s0, fCur = f(s0);
     for (;;) {
-        // Amanatides & Woo: the next voxel face the axis crosses. The parameter of each face is
-        // computed from the face's coordinate rather than accumulated, so it does not drift; ties
-        // (crossing an edge or corner) step x before y before z, so an axis through an edge
-        // visits a fixed neighbour with a zero-length piece.
-        double sNext = s1;
-        int axis = -1;
-        for (int i = 0; i < 3; ++i) {
-            if (step[i] == 0) continue;
-            const double face = step[i] > 0 ? v[i] + 1 : v[i];
-            const double si = (face - a[i]) * invD[i];
-            if (si < sNext) {
-                sNext = si;
-                axis = i;
-            }
-        }
-        sNext = std::max(sNext, sCur);
+        int axis;
+        const double sNext = walk.nextFace(v, sCur, s1, axis);
         const double fNext = f(sNext);
         const double amount = k * (sNext - sCur) * (fCur + 4.0 * f(0.5 * (sCur + sNext)) + fNext);
         const auto fixed = static_cast<std::int64_t>(amount + 0.5);
         if (fixed != 0) pending.add(acc, acc.index(v), fixed);
         if (axis < 0) break;
-        v[axis] += step[axis];
+        v[axis] += walk.step[axis];
         // Rounding at the clip boundary can put the last face crossing just before s1.
         if (v[axis] < 0 || v[axis] >= grid.size[axis]) break;
         sCur = sNext;

@@ -2,6 +2,7 @@
 // The density volume behind line ambient occlusion (Groß & Gumhold 2020, Sect. 5.3): how much of
 // each voxel the tubes fill, weighted by their opacity. Built on the CPU with oneTBB; the GL side
 // uploads `density` as a single-channel float 3D texture and builds its mip pyramid.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -83,5 +84,39 @@ DensityGrid makeDensityGrid(const Bounds& bounds, int resolution);
 // associative, so the result is bit-identical for any thread count, schedule or segment order. Peak
 // memory: grid.bytes() + grid.accumulatorBytes().
 void voxelizeLines(const StyledLines& lines, DensityGrid& grid);
+
+// Amanatides & Woo traversal of a line a + s d in grid coordinates (voxel v covers [v, v + 1)),
+// shared by the density voxelization and the VRC model (core/vrc_model.cpp).
+struct VoxelWalk {
+    glm::dvec3 a, invD;
+    glm::ivec3 step;
+
+    VoxelWalk(const glm::dvec3& a, const glm::dvec3& d) : a(a) {
+        for (int k = 0; k < 3; ++k) {
+            step[k] = d[k] > 0.0 ? 1 : (d[k] < 0.0 ? -1 : 0);
+            invD[k] = d[k] != 0.0 ? 1.0 / d[k] : 0.0;
+        }
+    }
+
+    // The first face of voxel v the line crosses after parameter `s`, if before `sEnd`: returns
+    // its parameter (>= s) and sets `axis`; otherwise returns max(sEnd, s) with axis = -1. Each
+    // face's parameter comes from the face's coordinate rather than an accumulated one, so it
+    // does not drift; ties (an edge or corner) step x before y before z, so a line through an
+    // edge visits a fixed neighbour with a zero-length piece.
+    double nextFace(const glm::ivec3& v, double s, double sEnd, int& axis) const {
+        double sNext = sEnd;
+        axis = -1;
+        for (int k = 0; k < 3; ++k) {
+            if (step[k] == 0) continue;
+            const double face = step[k] > 0 ? v[k] + 1 : v[k];
+            const double sk = (face - a[k]) * invD[k];
+            if (sk < sNext) {
+                sNext = sk;
+                axis = k;
+            }
+        }
+        return std::max(sNext, s);
+    }
+};
 
 }  // namespace tc

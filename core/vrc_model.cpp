@@ -119,28 +119,12 @@ std::size_t walkPolyline(const StyledLines& lines, std::uint32_t first, std::uin
         const double segLength = glm::length(d);
         const glm::vec4 pa = lines.positionRadius[i], pb = lines.positionRadius[i + 1];
         const glm::vec4 ca = lines.color[i], cb = lines.color[i + 1];
-        glm::ivec3 step;
-        glm::dvec3 invD;
-        for (int k = 0; k < 3; ++k) {
-            step[k] = d[k] > 0.0 ? 1 : (d[k] < 0.0 ? -1 : 0);
-            invD[k] = d[k] != 0.0 ? 1.0 / d[k] : 0.0;
-        }
+        const VoxelWalk walk(a, d);
+        const glm::ivec3 step = walk.step;
         double s = 0.0;
         for (;;) {
-            // Amanatides & Woo: the next face the segment crosses, from the face's coordinate (no
-            // drift); ties step x before y before z.
-            double sNext = 1.0;
-            int axis = -1;
-            for (int k = 0; k < 3; ++k) {
-                if (step[k] == 0) continue;
-                const double face = step[k] > 0 ? v[k] + 1 : v[k];
-                const double sk = (face - a[k]) * invD[k];
-                if (sk < sNext) {
-                    sNext = sk;
-                    axis = k;
-                }
-            }
-            sNext = std::max(sNext, s);
+            int axis;
+            const double sNext = walk.nextFace(v, s, 1.0, axis);
             const double ds = (sNext - s) * segLength;
             const double alphaMid = ca.w + (cb.w - ca.w) * 0.5 * (s + sNext);
             length += ds;
