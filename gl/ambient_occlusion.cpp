@@ -47,6 +47,21 @@ void AmbientOcclusion::apply(GLuint p) const {
     glProgramUniform1f(p, uniformLocation(p, "uAoStrength"), m_spec.strength);
     glProgramUniform1f(p, uniformLocation(p, "uAoStartOffset"), m_startOffset);
     glProgramUniform1f(p, uniformLocation(p, "uConeOwnArea"), m_ownArea);
+    if (m_lineCache) m_lineCache->bind();
+}
+
+void AmbientOcclusion::buildLineCache(const LineGeometry& geometry, const StyledLines& lines) {
+    if (m_spec.cache != AoSpec::Cache::Segments) return;
+    // One sample per voxel of segment length: AO from the density volume changes over about a
+    // voxel (its finest read), and most segments of dense data sets are shorter, so this is
+    // mostly the two ends.
+    m_lineCache = AoLineCache::build(geometry, lines, m_volume.voxelSize(), [this](GLuint p) { apply(p); });
+}
+
+std::vector<std::string> AmbientOcclusion::lineDefines() const {
+    std::vector<std::string> defines{"AMBIENT_OCCLUSION"};
+    if (m_lineCache) defines.push_back("AO_LINE_CACHE");
+    return defines;
 }
 
 nlohmann::json AmbientOcclusion::describe() const {
@@ -61,7 +76,8 @@ nlohmann::json AmbientOcclusion::describe() const {
             {"voxelize_ms", m_voxelizeMs},
             {"upload_and_mips_ms", m_uploadMs},
             {"volume_mb", double(std::size_t(s.x) * s.y * s.z * 4) / (1024.0 * 1024.0)},
-            {"clamped_segments", m_clampedSegments}};
+            {"clamped_segments", m_clampedSegments},
+            {"cache", m_lineCache ? m_lineCache->describe() : nlohmann::json("none: cone traced per shaded point")}};
 }
 
 }  // namespace tc::gl

@@ -3,10 +3,15 @@
 // density volume is voxelized on the CPU once per dataset (core/voxel_density.h), uploaded with a
 // mip pyramid (gl/density_volume.h) and cone traced per shaded point (shaders/cone_tracing.glsl).
 // Programs that trace cones are compiled with the define AMBIENT_OCCLUSION.
+#include <optional>
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "gl/ao_line_cache.h"
 #include "gl/density_volume.h"
 
 namespace tc::gl {
@@ -18,7 +23,13 @@ public:
 
     // Binds the volume and sets the cone tracing uniforms of `program` (uAoCones, uAoAperture,
     // uAoDistance, uAoStrength, uAoStartOffset, uConeOwnArea and the density uniforms).
+    // With the line cache built, also binds it (gl/ao_line_cache.h).
     void apply(GLuint program) const;
+    // The rasterized line renderers: builds the per-segment AO cache when spec.cache asks for it
+    // (once per dataset; `geometry` holds `lines`). Then lineDefines() selects it in the shaders.
+    void buildLineCache(const LineGeometry& geometry, const StyledLines& lines);
+    // Defines of programs shading lines with lineAmbientOcclusion (shaders/ambient_occlusion.glsl).
+    std::vector<std::string> lineDefines() const;
     nlohmann::json describe() const;
 
 private:
@@ -29,6 +40,7 @@ private:
     float m_ownArea = 0;      // pi maxRadius^2 / voxelSize^2 (uConeOwnArea)
     double m_voxelizeMs = 0, m_uploadMs = 0;
     std::size_t m_clampedSegments = 0;
+    std::optional<AoLineCache> m_lineCache;
 };
 
 }  // namespace tc::gl

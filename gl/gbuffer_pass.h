@@ -28,6 +28,7 @@ public:
 
     const Texture& albedo() const { return m_albedo; }
     const Texture& normalDepth() const { return m_normalDepth; }
+    const Texture& segments() const { return m_segments; }  // visible segment id (R32UI)
     int width() const { return m_width; }
     int height() const { return m_height; }
 

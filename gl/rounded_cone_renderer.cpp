@@ -27,7 +27,8 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
     std::vector<std::string> defines;
     if (scene.render.ao.enabled) {
         r->m_ao = AmbientOcclusion::create(scene.render.ao, lines);
-        defines.push_back("AMBIENT_OCCLUSION");
+        r->m_ao->buildLineCache(r->m_geometry, lines);
+        defines = r->m_ao->lineDefines();
     }
     r->m_shadingProgram = compileProgram(
         {{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "deferred_shading.frag"}}, defines);
@@ -65,6 +66,8 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     if (m_ao) m_ao->apply(s);
     glBindTextureUnit(0, m_gbuffer.albedo().id());
     glBindTextureUnit(1, m_gbuffer.normalDepth().id());
+    glBindTextureUnit(2, m_gbuffer.segments().id());
+    m_geometry.bind();
     glDrawArrays(GL_TRIANGLES, 0, 3);
     timer.end();
 

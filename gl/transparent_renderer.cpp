@@ -53,7 +53,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     std::vector<std::string> syncDefines;
     if (rs.ao.enabled) {
         r->m_ao = AmbientOcclusion::create(rs.ao, lines);
-        syncDefines.push_back("AMBIENT_OCCLUSION");
+        r->m_ao->buildLineCache(r->m_geometry, lines);
+        syncDefines = r->m_ao->lineDefines();
     }
     const ContextInfo& context = currentContextInfo();
     if (context.hasExtension("GL_ARB_fragment_shader_interlock")) {
@@ -77,7 +78,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     switch (r->m_mode) {
     case Transparency::ObjectOrder: {
         std::vector<std::string> defines = sortedDefines;
-        if (rs.ao.enabled) defines.push_back("AMBIENT_OCCLUSION");
+        if (r->m_ao)
+            for (const std::string& d : r->m_ao->lineDefines()) defines.push_back(d);
         r->m_blendProgram = r->m_geometry.compileDrawProgram("object_order.frag", defines);
         break;
     }

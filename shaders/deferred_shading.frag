@@ -8,6 +8,7 @@
 
 layout(binding = 0) uniform sampler2D uAlbedo;
 layout(binding = 1) uniform sampler2D uNormalDepth;
+layout(binding = 2) uniform usampler2D uSegments;  // the visibility buffer (cached AO reads it)
 uniform vec3 uLightDir;    // world space, toward the light
 uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 
@@ -26,7 +27,7 @@ void main() {
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
     float t = uOrthographic ? nd.w : nd.w / dot(ray.dir, uForward);
     vec3 facing = dot(nd.xyz, ray.dir) <= 0.0 ? nd.xyz : -nd.xyz;
-    outAo = ambientOcclusion(ray.origin + t * ray.dir, facing);
+    outAo = lineAmbientOcclusion(texelFetch(uSegments, pixel, 0).r, ray.origin + t * ray.dir, facing);
     vec3 rgb = shadeBlinnPhong(albedo.rgb * outAo, nd.xyz, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y,
                                uLightTerms.z, uLightTerms.w);
     outColor = vec4(rgb, 1.0);

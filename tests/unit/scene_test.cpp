@@ -359,6 +359,13 @@ TEST(Scene, BadEnumValuesListTheValidOnes) {
               "scene.json: output.formats: expected at least one of \"png\", \"exr\"");
 }
 
+TEST(Scene, AoCacheDefaultsToSegmentsAndTakesNone) {
+    EXPECT_EQ(parseScene(with(R"({"render": {"ao": {}}})"), "scene.json").render.ao.cache, AoSpec::Cache::Segments);
+    EXPECT_EQ(parseScene(with(R"({"render": {"ao": {"cache": "none"}}})"), "scene.json").render.ao.cache, AoSpec::Cache::None);
+    EXPECT_EQ(errorOf(with(R"({"render": {"ao": {"cache": "vertex"}}})")),
+              "scene.json: render.ao.cache: expected one of \"segments\", \"none\", got \"vertex\"");
+}
+
 // ---- attribute mappings ----------------------------------------------------------------------
 
 TEST(Scene, AttributeMappingsRequireTheAttribute) {

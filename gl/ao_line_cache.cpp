@@ -1,0 +1,73 @@
+#include "gl/ao_line_cache.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/error.h"
+#include "gl/shader_library.h"
+
+namespace tc::gl {
+
+AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& lines, float spacing,
+                               const std::function<void(GLuint)>& setAoUniforms) {
+    TC_CHECK(spacing > 0.0f);
+    const auto t0 = std::chrono::steady_clock::now();
+    AoLineCache cache;
+    cache.m_spacing = spacing;
+    const std::size_t segments = lines.segmentCount();
+    std::vector<std::uint32_t> offsets(segments + 1);
+    std::size_t total = 0;
+    for (std::size_t s = 0; s < segments; ++s) {
+        offsets[s] = std::uint32_t(total);
+        const glm::vec3 a(lines.positionRadius[lines.segmentVertices[2 * s]]);
+        const glm::vec3 b(lines.positionRadius[lines.segmentVertices[2 * s + 1]]);
+        const float steps = std::ceil(glm::length(b - a) / spacing);
+        total += std::size_t(std::clamp(steps + 1.0f, 2.0f, float(kMaxSamplesPerSegment)));
+    }
+    offsets[segments] = std::uint32_t(total);
+    TC_CHECK(total < (std::size_t(1) << 31));  // 2 words per sample, uint indices in the shaders
+    cache.m_sampleCount = total;
+    cache.m_offsets = makeBuffer(offsets.size() * sizeof(std::uint32_t), offsets.data());
+    cache.m_samples = makeBuffer(2 * total * sizeof(std::uint32_t));
+
+    // AO_LINE_CACHE too: the shader library's include-once expansion ignores #ifdef, so the
+    // conditional include of ao_line_cache.glsl in ambient_occlusion.glsl must be the live one.
+    const Program program = compileProgram({{GL_COMPUTE_SHADER, "ao_line_cache_build.comp"}},
+                                           {"AMBIENT_OCCLUSION", "AO_LINE_CACHE"});
+    const GLuint p = program.id();
+    setAoUniforms(p);
+    geometry.bind();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOffsetBinding, cache.m_offsets.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBuildOutputBinding, cache.m_samples.id());
+    glUseProgram(p);
+    glProgramUniform1ui(p, uniformLocation(p, "uSegmentCount"), GLuint(segments));
+    // Chunks keep each dispatch within the 65535 work groups per dimension GL guarantees.
+    constexpr std::size_t kGroup = 64, kChunk = kGroup * 65535;
+    for (std::size_t first = 0; first < segments; first += kChunk) {
+        const std::size_t n = std::min(kChunk, segments - first);
+        glProgramUniform1ui(p, uniformLocation(p, "uFirstSegment"), GLuint(first));
+        glDispatchCompute(GLuint((n + kGroup - 1) / kGroup), 1, 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glFinish();
+    cache.m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return cache;
+}
+
+void AoLineCache::bind() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCacheBinding, m_samples.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOffsetBinding, m_offsets.id());
+}
+
+nlohmann::json AoLineCache::describe() const {
+    return {{"method", "exact cone traced AO cached per segment sample x 8 azimuths, interpolated per fragment"},
+            {"samples", m_sampleCount},
+            {"sample_spacing_world", m_spacing},
+            {"cache_mb", double(m_sampleCount * 8) / (1024.0 * 1024.0)},
+            {"build_ms", m_buildMs}};
+}
+
+}  // namespace tc::gl

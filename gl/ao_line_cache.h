@@ -1,0 +1,42 @@
+#pragma once
+// Cached line ambient occlusion (render.ao.cache "segments"): AO from the density volume does not
+// depend on the view, so instead of tracing cones for every shaded fragment (per pixel in the
+// opaque deferred pass, per fragment before k-buffer insertion, which on llvmpipe tripled the
+// k-buffer frame) the exact cone traced AO is evaluated once per dataset at samples along every
+// segment, for 8 normals around its axis, and shaders/ao_line_cache.glsl interpolates it per
+// fragment (position along the segment, azimuth of the normal). Layout and lookup: that file.
+#include <cstddef>
+#include <functional>
+
+#include <nlohmann/json.hpp>
+
+#include "core/styled_lines.h"
+#include "gl/line_geometry.h"
+#include "gl/objects.h"
+
+namespace tc::gl {
+
+class AoLineCache {
+public:
+    // SSBO bindings shared with shaders/ao_line_cache.glsl and ao_line_cache_build.comp.
+    static constexpr GLuint kCacheBinding = 24, kOffsetBinding = 25, kBuildOutputBinding = 26;
+
+    // Samples per segment: one every `spacing` world units along it, at least its two ends, at
+    // most kMaxSamplesPerSegment. Needs a current context; `setAoUniforms` binds the density
+    // volume and sets the cone tracing uniforms of the build program (AmbientOcclusion::apply).
+    static constexpr int kMaxSamplesPerSegment = 64;
+    static AoLineCache build(const LineGeometry& geometry, const StyledLines& lines, float spacing,
+                             const std::function<void(GLuint)>& setAoUniforms);
+
+    // Binds the cache SSBOs (kCacheBinding, kOffsetBinding).
+    void bind() const;
+    nlohmann::json describe() const;
+
+private:
+    Buffer m_samples, m_offsets;
+    std::size_t m_sampleCount = 0;
+    float m_spacing = 0;
+    double m_buildMs = 0;
+};
+
+}  // namespace tc::gl

@@ -1,0 +1,81 @@
+// Cached line ambient occlusion (gl/ao_line_cache.h): the exact cone traced AO of
+// shaders/cone_tracing.glsl, evaluated once per dataset at samples along every segment and
+// kAoCacheAzimuths normals around its axis, and interpolated per shaded point from the shaded
+// segment id, the point's position along the segment and the normal's azimuth around the axis.
+// AO from the density volume is view-independent, so the per-fragment cost drops from ~3 cones x
+// ~10-20 quadrilinear 3D fetches to four byte loads. GLSL 4.50 chunk; needs line_buffers.glsl.
+//
+// Layout. Segment S owns samples aoCacheOffset[S] .. aoCacheOffset[S + 1] - 1 (>= 2), evenly
+// spaced from its first vertex (s = 0) to its second (s = 1); sample i stores kAoCacheAzimuths AO
+// values as unorm8 in words aoCache[2i] (azimuths 0-3) and aoCache[2i + 1] (4-7), azimuth k being
+// the normal cos(phi) t + sin(phi) b, phi = 2 pi k / kAoCacheAzimuths, with (t, b) the
+// coneTangentFrame of the segment's unit axis, at the surface point centre + radius * normal.
+#include "line_buffers.glsl"
+#include "cone_tracing.glsl"
+
+layout(std430, binding = 24) readonly buffer AoCache { uint aoCache[]; };
+layout(std430, binding = 25) readonly buffer AoCacheOffsets { uint aoCacheOffset[]; };
+
+const int kAoCacheAzimuths = 8;
+
+// The segment's unit axis (z for a degenerate segment) and the position of p along it in [0, 1].
+void aoCacheSegmentAxis(vec3 a, vec3 b, vec3 p, out vec3 axis, out float s)
+{
+    vec3 d = b - a;
+    float len2 = dot(d, d);
+    axis = len2 > 0.0 ? d * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+    s = len2 > 0.0 ? clamp(dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+}
+
+// Unit normal around `axis` at cached azimuth k (what the build evaluates).
+vec3 aoCacheNormal(vec3 axis, int k)
+{
+    vec3 t, b;
+    coneTangentFrame(axis, t, b);
+    float phi = 6.28318530718 * float(k) / float(kAoCacheAzimuths);
+    return cos(phi) * t + sin(phi) * b;
+}
+
+float aoCacheValue(uint sampleIndex, int k)
+{
+    uint word = aoCache[2u * sampleIndex + uint(k >> 2)];
+    return float((word >> (8u * uint(k & 3))) & 0xffu) * (1.0 / 255.0);
+}
+
+// Linear in azimuth between the two neighbouring cached normals; where the normal points along
+// the axis (the pole of an end cap) the azimuth is undefined, so it fades to the ring's mean.
+float aoCacheRing(uint sampleIndex, float azimuth, float ringWeight)
+{
+    int k0 = int(floor(azimuth));
+    float f = azimuth - float(k0);
+    float ring = mix(aoCacheValue(sampleIndex, k0 % kAoCacheAzimuths),
+                     aoCacheValue(sampleIndex, (k0 + 1) % kAoCacheAzimuths), f);
+    if (ringWeight >= 1.0) return ring;
+    vec4 sum = unpackUnorm4x8(aoCache[2u * sampleIndex]) + unpackUnorm4x8(aoCache[2u * sampleIndex + 1u]);
+    return mix(dot(sum, vec4(1.0 / float(kAoCacheAzimuths))), ring, ringWeight);
+}
+
+// AO factor (1 = unoccluded) at `position` on segment `segment` with unit `normal`.
+float cachedLineOcclusion(uint segment, vec3 position, vec3 normal)
+{
+    vec3 a = positionRadius[segmentVertices[2u * segment]].xyz;
+    vec3 b = positionRadius[segmentVertices[2u * segment + 1u]].xyz;
+    vec3 axis;
+    float s;
+    aoCacheSegmentAxis(a, b, position, axis, s);
+    vec3 t, bt;
+    coneTangentFrame(axis, t, bt);
+    vec3 across = normal - dot(normal, axis) * axis;
+    float acrossLength = length(across);
+    float azimuth = acrossLength > 1e-6 ? atan(dot(across, bt), dot(across, t)) : 0.0;
+    azimuth *= float(kAoCacheAzimuths) / 6.28318530718;
+    if (azimuth < 0.0) azimuth += float(kAoCacheAzimuths);
+    float ringWeight = clamp(acrossLength * 2.0, 0.0, 1.0);  // full from 30 degrees off the axis
+
+    uint first = aoCacheOffset[segment];
+    uint count = aoCacheOffset[segment + 1u] - first;
+    float x = s * float(count - 1u);
+    uint j = min(uint(x), count - 2u);
+    return mix(aoCacheRing(first + j, azimuth, ringWeight), aoCacheRing(first + j + 1u, azimuth, ringWeight),
+               x - float(j));
+}

@@ -1,0 +1,38 @@
+// Builds the cached line AO of shaders/ao_line_cache.glsl (layout there): one invocation per
+// segment evaluates the exact cone traced AO (shaders/ambient_occlusion.glsl, compiled with
+// AMBIENT_OCCLUSION and AO_LINE_CACHE) at each of its samples and cached azimuths. gl::AoLineCache::build
+// dispatches it in chunks of segments.
+#include "ambient_occlusion.glsl"
+#include "ao_line_cache.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 26) writeonly buffer AoCacheOut { uint aoCacheOut[]; };
+
+uniform uint uFirstSegment;
+uniform uint uSegmentCount;
+
+void main()
+{
+    uint segment = uFirstSegment + gl_GlobalInvocationID.x;
+    if (segment >= uSegmentCount) return;
+    vec4 a = positionRadius[segmentVertices[2u * segment]];
+    vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
+    vec3 axis;
+    float unused;
+    aoCacheSegmentAxis(a.xyz, b.xyz, a.xyz, axis, unused);
+    uint first = aoCacheOffset[segment];
+    uint count = aoCacheOffset[segment + 1u] - first;
+    for (uint j = 0u; j < count; ++j) {
+        float s = float(j) / float(count - 1u);
+        vec4 c = mix(a, b, s);
+        uint words[2] = uint[2](0u, 0u);
+        for (int k = 0; k < kAoCacheAzimuths; ++k) {
+            vec3 n = aoCacheNormal(axis, k);
+            float ao = ambientOcclusion(c.xyz + c.w * n, n);
+            words[k >> 2] |= uint(round(clamp(ao, 0.0, 1.0) * 255.0)) << (8u * uint(k & 3));
+        }
+        aoCacheOut[2u * (first + j)] = words[0];
+        aoCacheOut[2u * (first + j) + 1u] = words[1];
+    }
+}
