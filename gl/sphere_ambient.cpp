@@ -15,6 +15,7 @@ namespace {
 
 constexpr GLuint kVolumeUnit = 9;      // texture unit of uSphereVolume (8 is the line density volume's)
 constexpr GLuint kAccumulatorBinding = 4;
+constexpr GLuint kCacheBinding = 6;       // AmbientCube in shaders/sphere_ambient.glsl
 constexpr GLuint kGroup = 64;          // local_size_x of the voxelize and resolve shaders
 constexpr std::size_t kMaxGroups = 65535;
 constexpr glm::ivec3 kMipGroup(8, 8, 1);  // shaders/density_mip.comp
@@ -23,9 +24,11 @@ GLuint divUp(int n, int d) { return GLuint((n + d - 1) / d); }
 
 }  // namespace
 
-SphereAmbient SphereAmbient::create(const AoSpec& spec) {
+SphereAmbient SphereAmbient::create(const AoSpec& spec, bool cached) {
     SphereAmbient a;
     a.m_spec = spec;
+    a.m_cached = cached;
+    if (cached) a.m_cacheBuild = compileProgram({{GL_COMPUTE_SHADER, "sphere_ambient_cache.comp"}});
     a.m_voxelize = compileProgram({{GL_COMPUTE_SHADER, "sphere_voxelize.comp"}});
     a.m_resolve = compileProgram({{GL_COMPUTE_SHADER, "sphere_volume_resolve.comp"}});
     // The line density volume's mip filter (mean-preserving for any size), on four channels.
@@ -108,6 +111,36 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    if (m_cached) buildCache(centerRadius, count);
+}
+
+void SphereAmbient::buildCache(const Buffer& centerRadius, std::size_t count) {
+    const std::size_t items = 6 * count;
+    if (items == 0) return;
+    if (items > m_cacheCount) {
+        m_cache = makeBuffer(items * sizeof(GLuint));
+        m_cacheCount = items;
+    }
+    GLuint p = m_cacheBuild.id();
+    apply(p);
+    glProgramUniform1ui(p, uniformLocation(p, "uCount"), GLuint(items));
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCacheBinding, m_cache.id());
+    const std::size_t perDispatch = kMaxGroups * kGroup;
+    for (std::size_t first = 0; first < items; first += perDispatch) {
+        const std::size_t n = std::min(perDispatch, items - first);
+        glProgramUniform1ui(p, uniformLocation(p, "uFirst"), GLuint(first));
+        glDispatchCompute(GLuint((n + kGroup - 1) / kGroup), 1, 1);
+    }
+    glUseProgram(0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+std::vector<std::uint32_t> SphereAmbient::readCache() const {
+    std::vector<std::uint32_t> v(m_cached ? m_cacheCount : 0);
+    if (!v.empty()) glGetNamedBufferSubData(m_cache.id(), 0, GLsizeiptr(v.size() * sizeof(GLuint)), v.data());
+    return v;
 }
 
 void SphereAmbient::apply(GLuint p) const {
@@ -123,6 +156,7 @@ void SphereAmbient::apply(GLuint p) const {
     glProgramUniform1f(p, uniformLocation(p, "uAoStrength"), m_spec.strength);
     // The shaded sphere deposited itself around the point: start one and a half voxels out.
     glProgramUniform1f(p, uniformLocation(p, "uAoStartOffset"), 1.5f * m_voxelSize);
+    if (m_cached && m_cache.id()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCacheBinding, m_cache.id());
 }
 
 nlohmann::json SphereAmbient::describe() const {
@@ -132,7 +166,8 @@ nlohmann::json SphereAmbient::describe() const {
             {"cones", m_spec.cones},
             {"aperture_deg", m_spec.apertureDeg},
             {"distance", m_distance},
-            {"strength", m_spec.strength}};
+            {"strength", m_spec.strength},
+            {"cache", m_cached ? "ambient cube per sphere (6 traced normals, once per data frame)" : "none"}};
 }
 
 std::vector<glm::vec4> SphereAmbient::readLevel0() const {

@@ -3,6 +3,9 @@
 // Sect. 3 and 5.1): the spheres voxelized on the GPU into an RGBA 3D texture (coverage-weighted
 // colour, coverage) with a mip pyramid, cone traced per shaded point (shaders/sphere_ambient.glsl)
 // into A_O (Eq. 2) and L_A (Eq. 7). Programs that trace cones are compiled with AMBIENT_OCCLUSION.
+// With the cache, both terms are traced once per data frame at six points per sphere (normals
+// along the axes) and blended per fragment (shaders/sphere_ambient_cache.comp); programs that
+// read the cache are compiled with AMBIENT_CACHE too.
 #include <cstdint>
 #include <vector>
 
@@ -18,8 +21,10 @@ namespace tc::gl {
 
 class SphereAmbient {
 public:
-    // Compiles the voxelization and mip programs. Needs a current context.
-    static SphereAmbient create(const AoSpec& spec);
+    // Compiles the voxelization and mip programs (and the cache build when `cached`). Needs a
+    // current context.
+    static SphereAmbient create(const AoSpec& spec, bool cached);
+    bool cached() const { return m_cached; }
 
     // Voxelizes the spheres into a grid of spec.resolution voxels along the longest axis of
     // `bounds` (cubic voxels) and rebuilds the mip pyramid. Per voxel, the coverage w is the
@@ -30,10 +35,13 @@ public:
     // The same from particle buffers already on the GPU (vec4 centre+radius, vec4 linear RGBA).
     void voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds);
 
-    // Binds the volume and sets the cone tracing uniforms of `program`.
+    // Binds the volume (and the cache) and sets the cone tracing uniforms of `program`.
     void apply(GLuint program) const;
     nlohmann::json describe() const;
 
+    // The ambient cube of each sphere (6 packUnorm4x8 of (L_A, A_O): +x, -x, +y, -y, +z, -z),
+    // read back, for tests. Empty without the cache.
+    std::vector<std::uint32_t> readCache() const;
     // Level 0 of the volume read back (RGBA per voxel, x fastest), for tests.
     std::vector<glm::vec4> readLevel0() const;
     glm::ivec3 size() const { return m_size; }
@@ -43,8 +51,13 @@ public:
 private:
     SphereAmbient() = default;
 
+    void buildCache(const Buffer& centerRadius, std::size_t count);
+
     AoSpec m_spec;
-    Program m_voxelize, m_resolve, m_mip;
+    bool m_cached = false;
+    Program m_voxelize, m_resolve, m_mip, m_cacheBuild;
+    Buffer m_cache;  // 6 uint per sphere
+    std::size_t m_cacheCount = 0;
     Buffer m_accumulator;  // 4 uint per voxel: sub-sample counts x colour (fixed point), count
     Texture m_volume;
     int m_levels = 0;

@@ -56,8 +56,9 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const
     r->m_lighting = scene.lighting;
     std::vector<std::string> defines;
     if (rs.ao.enabled) {
-        r->m_ambient = std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao));
+        r->m_ambient = std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao, rs.ao.cache != AoSpec::Cache::None));
         defines.push_back("AMBIENT_OCCLUSION");
+        if (r->m_ambient->cached()) defines.push_back("AMBIENT_CACHE");
     }
     auto opaqueDefines = defines;
     opaqueDefines.push_back("OPAQUE");

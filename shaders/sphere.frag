@@ -47,7 +47,9 @@ void main() {
     vec3 n = (p - cr.xyz) / cr.w;
     float ao = 1.0;
     vec3 ambientLight = vec3(0.0);
-#ifdef AMBIENT_OCCLUSION
+#if defined(AMBIENT_CACHE)
+    sphereAmbientCached(vParticle, n, ao, ambientLight);
+#elif defined(AMBIENT_OCCLUSION)
     sphereAmbient(p, n, ao, ambientLight);
 #endif
 #ifdef OPAQUE

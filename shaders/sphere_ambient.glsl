@@ -73,3 +73,19 @@ void sphereAmbient(vec3 p, vec3 n, out float ao, out vec3 ambientLight) {
     ao = visible / weightSum;
     ambientLight /= weightSum;
 }
+
+#ifdef AMBIENT_CACHE
+layout(std430, binding = 6) readonly buffer AmbientCube { uint ambientCube[]; };  // sphere_ambient_cache.comp
+
+// The cached ambient cube of sphere `sphere` at unit normal n: faces weighted by n^2 (the
+// weights sum to 1), so an axis-aligned normal gets exactly the traced value.
+void sphereAmbientCached(uint sphere, vec3 n, out float ao, out vec3 ambientLight) {
+    vec3 w = n * n;
+    uvec3 face = uvec3(n.x < 0.0 ? 1u : 0u, n.y < 0.0 ? 3u : 2u, n.z < 0.0 ? 5u : 4u);
+    vec4 v = w.x * unpackUnorm4x8(ambientCube[6u * sphere + face.x]) +
+             w.y * unpackUnorm4x8(ambientCube[6u * sphere + face.y]) +
+             w.z * unpackUnorm4x8(ambientCube[6u * sphere + face.z]);
+    ao = v.a;
+    ambientLight = v.rgb;
+}
+#endif
