@@ -15,8 +15,8 @@ namespace tc {
 // is divided by its alpha (alpha 0 -> black), clamped to [0,1], encoded with linearToSrgb and
 // rounded to the nearest 8-bit value. Written through an AtomicFile. `text` becomes PNG tEXt
 // chunks (key -> value), e.g. the scene hash that --resume checks. `zlibLevel` 0..9 (zlib's
-// scale; 6 is libpng's default): the frame loop writes with kPngFrameZlibLevel, because at
-// 1920x1080 the default level costs more than a ray-traced frame (docs/performance.md, M10).
+// scale; 6 is libpng's default), rows unfiltered: at 1920x1080 libpng's defaults cost more than a
+// ray-traced frame, level 1 unfiltered a quarter of that (docs/performance.md, M10).
 // Throws OutputError "PATH: cannot write PNG: <reason>".
 constexpr int kPngFrameZlibLevel = 1;
 void writePng(const FrameImages& frame, const std::string& path,
