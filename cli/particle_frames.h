@@ -14,6 +14,10 @@ class SphereRenderer;
 class StageTimer;
 }  // namespace tc::gl
 
+namespace tc::rt {
+class RaytracedParticles;
+}  // namespace tc::rt
+
 namespace tc::cli {
 
 class ParticleFrames {
@@ -27,8 +31,8 @@ public:
     const Bounds& bounds() const { return m_bounds; }
     std::size_t particleCount() const { return m_maxCount; }
 
-    // The sphere renderer for the scene (render.technique must be "spheres"; anything else is an
-    // InputError: particles have no polylines). The context must be current. `firstFrame` is the
+    // The sphere renderer for the scene (render.technique must be "spheres", or "raytraced" for
+    // rt/raytraced_particles.h; anything else is an InputError: particles have no polylines). The context must be current. `firstFrame` is the
     // first animation frame to be rendered.
     std::unique_ptr<gl::Technique> createTechnique(int firstFrame);
 
@@ -43,6 +47,7 @@ private:
     std::size_t m_maxCount = 0;
     std::size_t m_current = 0;
     gl::SphereRenderer* m_renderer = nullptr;  // owned by the Technique createTechnique returned
+    rt::RaytracedParticles* m_raytraced = nullptr;  // the same, for render.technique "raytraced"
 };
 
 }  // namespace tc::cli

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "gl/gpu_timer.h"
+#include "rt/raytraced_particles.h"
 #include "rt/raytraced_renderer.h"
 
 namespace tc::cli {
@@ -23,9 +24,11 @@ private:
     gl::StageTimer& m_timer;
 };
 
+// Renderer: rt::RaytracedRenderer (tubes) or rt::RaytracedParticles.
+template <class Renderer>
 class RaytracedTechnique final : public gl::Technique {
 public:
-    explicit RaytracedTechnique(std::unique_ptr<rt::RaytracedRenderer> r) : m_renderer(std::move(r)) {}
+    explicit RaytracedTechnique(std::unique_ptr<Renderer> r) : m_renderer(std::move(r)) {}
     void render(const gl::FrameSetup& setup, FrameImages& out, gl::StageTimer& timer) override {
         StageTimerSink sink(timer);
         m_renderer->render(setup.camera, setup.width, setup.height, out, sink);
@@ -33,7 +36,7 @@ public:
     nlohmann::json describe() const override { return m_renderer->describe(); }
 
 private:
-    std::unique_ptr<rt::RaytracedRenderer> m_renderer;
+    std::unique_ptr<Renderer> m_renderer;
 };
 
 }  // namespace
@@ -55,7 +58,7 @@ RenderTechnique resolveTechnique(RenderTechnique requested, const std::string& g
 std::unique_ptr<gl::Technique> makeTechnique(const Scene& scene, const StyledLines& lines) {
     switch (scene.render.technique) {
     case RenderTechnique::Raytraced:
-        return std::make_unique<RaytracedTechnique>(rt::RaytracedRenderer::create(scene, lines));
+        return std::make_unique<RaytracedTechnique<rt::RaytracedRenderer>>(rt::RaytracedRenderer::create(scene, lines));
     case RenderTechnique::Spheres:  // a line dataset as spheres, one per vertex (gl::createTechnique)
     case RenderTechnique::Rasterized:
     case RenderTechnique::VoxelRaycast:  // gl::createTechnique; scene.cpp rejects ray_traced AO for it
@@ -66,6 +69,13 @@ std::unique_ptr<gl::Technique> makeTechnique(const Scene& scene, const StyledLin
     case RenderTechnique::Auto: break;
     }
     throw Error(ExitCode::Internal, "makeTechnique: render.technique auto must be resolved first");
+}
+
+std::unique_ptr<gl::Technique> makeRaytracedParticles(const Scene& scene, const StyledParticles& particles,
+                                                      rt::RaytracedParticles*& renderer) {
+    auto r = rt::RaytracedParticles::create(scene, particles);
+    renderer = r.get();
+    return std::make_unique<RaytracedTechnique<rt::RaytracedParticles>>(std::move(r));
 }
 
 }  // namespace tc::cli

@@ -7,7 +7,12 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/styled_particles.h"
 #include "gl/technique.h"
+
+namespace tc::rt {
+class RaytracedParticles;
+}
 
 namespace tc::cli {
 
@@ -18,5 +23,10 @@ RenderTechnique resolveTechnique(RenderTechnique requested, const std::string& g
 // The technique for `scene` (render.technique resolved, not Auto). Throws InputError for
 // combinations that do not exist (render.ao.method "ray_traced" with "rasterized").
 std::unique_ptr<gl::Technique> makeTechnique(const Scene& scene, const StyledLines& lines);
+
+// A particle dataset ray traced (render.technique "raytraced", rt/raytraced_particles.h). `renderer`
+// receives the ray tracer inside the technique (valid while it lives) for new data frames.
+std::unique_ptr<gl::Technique> makeRaytracedParticles(const Scene& scene, const StyledParticles& particles,
+                                                      rt::RaytracedParticles*& renderer);
 
 }  // namespace tc::cli

@@ -29,18 +29,24 @@ glm::mat4 Camera::worldToCamera() const {
     return m;
 }
 
-Ray pixelRay(const Camera& camera, int width, int height, float px, float py) {
+PixelRays::PixelRays(const Camera& camera, int width, int height)
+    : m_eye(camera.eye), m_forward(camera.forward()), m_right(camera.right()), m_up(camera.trueUp()),
+      m_width(float(width)), m_height(float(height)), m_aspect(float(width) / float(height)),
+      m_halfExtent(camera.projection == Projection::Orthographic ? 0.5f * camera.orthoHeight
+                                                                 : std::tan(glm::radians(camera.fovYDeg) * 0.5f)),
+      m_ortho(camera.projection == Projection::Orthographic) {}
+
+Ray PixelRays::operator()(float px, float py) const {
     // NDC of the pixel centre; py = 0 is the top row.
-    float sx = 2.0f * (px + 0.5f) / float(width) - 1.0f;
-    float sy = 1.0f - 2.0f * (py + 0.5f) / float(height);
-    float aspect = float(width) / float(height);
-    glm::vec3 f = camera.forward(), r = camera.right(), u = camera.trueUp();
-    if (camera.projection == Projection::Orthographic) {
-        float h = 0.5f * camera.orthoHeight;
-        return {camera.eye + (sx * h * aspect) * r + (sy * h) * u, f};
-    }
-    float t = std::tan(glm::radians(camera.fovYDeg) * 0.5f);
-    return {camera.eye, glm::normalize(f + (sx * t * aspect) * r + (sy * t) * u)};
+    float sx = 2.0f * (px + 0.5f) / m_width - 1.0f;
+    float sy = 1.0f - 2.0f * (py + 0.5f) / m_height;
+    float h = m_halfExtent;
+    if (m_ortho) return {m_eye + (sx * h * m_aspect) * m_right + (sy * h) * m_up, m_forward};
+    return {m_eye, glm::normalize(m_forward + (sx * h * m_aspect) * m_right + (sy * h) * m_up)};
+}
+
+Ray pixelRay(const Camera& camera, int width, int height, float px, float py) {
+    return PixelRays(camera, width, height)(px, py);
 }
 
 glm::mat4 projectionMatrix(const Camera& camera, float aspect, float zNear, float zFar) {

@@ -32,6 +32,21 @@ struct Ray {
 // View-space depth of a point p is dot(p - eye, forward()).
 Ray pixelRay(const Camera& camera, int width, int height, float px, float py);
 
+// pixelRay with the camera basis computed once: the CPU ray casters generate millions of rays per
+// frame, and the basis (two normalisations and crosses per call) cost as much as the ray itself.
+// Gives bit-identical rays to pixelRay (which is implemented with it).
+class PixelRays {
+public:
+    PixelRays(const Camera& camera, int width, int height);
+    Ray operator()(float px, float py) const;
+
+private:
+    glm::vec3 m_eye, m_forward, m_right, m_up;
+    float m_width, m_height, m_aspect;
+    float m_halfExtent;  // tan(fov / 2) (perspective) or orthoHeight / 2
+    bool m_ortho;
+};
+
 // Projection (OpenGL clip space, depth 0..1 not used by the ray casters) for near/far planes.
 glm::mat4 projectionMatrix(const Camera& camera, float aspect, float zNear, float zFar);
 

@@ -14,10 +14,13 @@ namespace tc {
 // 8-bit RGBA PNG, sRGB, straight (unassociated) alpha: each pixel's premultiplied linear colour
 // is divided by its alpha (alpha 0 -> black), clamped to [0,1], encoded with linearToSrgb and
 // rounded to the nearest 8-bit value. Written through an AtomicFile. `text` becomes PNG tEXt
-// chunks (key -> value), e.g. the scene hash that --resume checks.
+// chunks (key -> value), e.g. the scene hash that --resume checks. `zlibLevel` 0..9 (zlib's
+// scale; 6 is libpng's default), rows unfiltered: at 1920x1080 libpng's defaults cost more than a
+// ray-traced frame, level 1 unfiltered a quarter of that (docs/performance.md, M10).
 // Throws OutputError "PATH: cannot write PNG: <reason>".
+constexpr int kPngFrameZlibLevel = 1;
 void writePng(const FrameImages& frame, const std::string& path,
-              const std::map<std::string, std::string>& text = {});
+              const std::map<std::string, std::string>& text = {}, int zlibLevel = kPngFrameZlibLevel);
 
 // Which optional EXR channels to write, and string metadata for the header (scene name,
 // technique, tubecast version, ...). Keys are written as given.

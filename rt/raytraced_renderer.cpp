@@ -5,8 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
@@ -14,52 +12,25 @@
 #include "core/shading.h"
 #include "rt/ao_estimator.h"
 #include "rt/embree_lines.h"
+#include "rt/hit_collector.h"
+#include "rt/primary_rays.h"
 
 namespace tc::rt {
 namespace {
 
-constexpr int kTile = 8;
 // Hits gathered per Embree traversal of a transparent ray. A pass keeps the K nearest hits not yet
 // composited (the filter below); when a pixel needs more, the next pass starts behind the K-th.
 // Cut-off rays usually stop within the first pass; exact ones take fewer passes with a larger K.
 constexpr int kHitsPerPassCutoff = 16;
 constexpr int kHitsPerPassExact = 48;
-constexpr int kMaxHitsPerPass = 48;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-struct RayHitRecord {
-    float t;
-    std::uint32_t prim;
-    std::uint32_t back;  // 1 = back-facing (leaving a tube)
-    glm::vec3 ng;        // unnormalised geometric normal from Embree (outward)
-};
-
-// Total order of hits along a ray: by t, then segment, then front before back, so hits at equal t
-// are composited deterministically (as the references sort by (depth, segment)).
-bool hitLess(const RayHitRecord& a, const RayHitRecord& b) {
-    if (a.t != b.t) return a.t < b.t;
-    if (a.prim != b.prim) return a.prim < b.prim;
-    return a.back < b.back;
-}
-
-// Embree calls the context filter for every candidate hit with ray.tfar already set to the hit's
-// t. The collector keeps the `capacity` nearest hits strictly after `last` (the hits composited by
-// earlier passes); when it is full it accepts only a hit that became the farthest kept one, so
-// Embree's tfar shrinks to the K-th nearest and traversal prunes everything behind it. Every other
-// hit is rejected (valid = 0), which makes Embree continue as if it had missed.
-struct HitCollector {
-    RTCIntersectContext context;  // first member: Embree hands back a pointer to it
-    RayHitRecord hits[kMaxHitsPerPass];
-    int capacity = 0;
-    int count = 0;
-    bool haveLast = false;
-    RayHitRecord last{};
-};
-
+// The context filter of transparent tube rays (rt/hit_collector.h): every hit, front- or
+// back-facing, at its own t.
 void collectHit(const RTCFilterFunctionNArguments* args) {
     if (args->valid[0] == 0) return;
-    auto* c = reinterpret_cast<HitCollector*>(const_cast<RTCIntersectContext*>(args->context));
+    HitCollector& c = HitCollector::of(args);
     const RTCRay* ray = reinterpret_cast<const RTCRay*>(args->ray);
     const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
     RayHitRecord h;
@@ -67,26 +38,7 @@ void collectHit(const RTCFilterFunctionNArguments* args) {
     h.prim = hit->primID;
     h.ng = glm::vec3(hit->Ng_x, hit->Ng_y, hit->Ng_z);
     h.back = glm::dot(h.ng, glm::vec3(ray->dir_x, ray->dir_y, ray->dir_z)) > 0.0f ? 1u : 0u;
-    if (c->haveLast && !hitLess(c->last, h)) {
-        args->valid[0] = 0;
-        return;
-    }
-    if (c->count == c->capacity) {
-        if (!hitLess(h, c->hits[c->count - 1])) {
-            args->valid[0] = 0;
-            return;
-        }
-        --c->count;  // drop the farthest
-    }
-    int i = c->count++;
-    while (i > 0 && hitLess(h, c->hits[i - 1])) {
-        c->hits[i] = c->hits[i - 1];
-        --i;
-    }
-    c->hits[i] = h;
-    // Accept (tfar = h.t) only when the list is full and h is its farthest: nothing behind it is
-    // needed in this pass. Otherwise keep traversing with the old tfar.
-    if (!(c->count == c->capacity && i == c->count - 1)) args->valid[0] = 0;
+    if (!c.offer(h)) args->valid[0] = 0;
 }
 
 RTCRayHit makeRayHit(const Ray& ray, float tnear) {
@@ -157,35 +109,24 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     const glm::vec3 forward = camera.forward();
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
     const bool ortho = camera.projection == Projection::Orthographic;
-    const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
     std::atomic<std::uint64_t> totalHits{0};
 
-    tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& range) {
+    forEachTile(camera, width, height, [&](const Tile& tile) {
         std::uint64_t hits = 0;
-        for (int tile = range.begin(); tile != range.end(); ++tile) {
-            const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
-            for (int py = y0; py < std::min(y0 + kTile, height); ++py)
-                for (int px = x0; px < std::min(x0 + kTile, width); ++px) {
-                    PixelContext c;
-                    c.ray = pixelRay(camera, width, height, float(px), float(py));
-                    c.pixel = std::uint32_t(py) * std::uint32_t(width) + std::uint32_t(px);
-                    c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
-                    c.lightDir = lightDir;
-                    if (m_transparent) shadeTransparent(c);
-                    else shadeOpaque(c);
-                    hits += c.hits;
-                    const std::size_t i = c.pixel;
-                    out.rgba[4 * i + 0] = c.rgba.x;
-                    out.rgba[4 * i + 1] = c.rgba.y;
-                    out.rgba[4 * i + 2] = c.rgba.z;
-                    out.rgba[4 * i + 3] = c.rgba.w;
-                    out.depth[i] = c.depth;
-                    out.normal[3 * i + 0] = c.normal.x;
-                    out.normal[3 * i + 1] = c.normal.y;
-                    out.normal[3 * i + 2] = c.normal.z;
-                    out.id[i] = c.id;
-                    if (!out.ao.empty()) out.ao[i] = c.ao;
-                }
+        FirstHit firstHits[kTile * kTile];
+        if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
+        for (int k = 0; k < tile.count(); ++k) {
+            PixelContext c;
+            c.ray = tile.rays[k];
+            c.pixel = std::uint32_t(tile.py(k)) * std::uint32_t(width) + std::uint32_t(tile.px(k));
+            c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
+            c.lightDir = lightDir;
+            if (m_transparent) shadeTransparent(c);
+            else if (firstHits[k].hit) shadeOpaque(c, firstHits[k]);
+            else continue;  // background: out.allocate's clear values
+            hits += c.hits;
+            storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
+            if (!out.ao.empty()) out.ao[c.pixel] = c.ao;
         }
         totalHits += hits;
     });
@@ -194,19 +135,14 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     sink.end();
 }
 
-void RaytracedRenderer::shadeOpaque(PixelContext& c) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh = makeRayHit(c.ray, 0.0f);
-    rtcIntersect1(m_embree->scene(), &context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const {
     c.hits = 1;
 
     // Re-intersect the hit segment and its polyline neighbours exactly as the CPU reference does
     // (see the header): Embree's curve intersector solves the same surface with other float
     // operations, and at joints it may attribute a point to either neighbour.
     const StyledLines& L = m_lines;
-    const std::uint32_t hitSeg = rh.hit.primID;
+    const std::uint32_t hitSeg = hit.prim;
     const std::size_t segments = L.segmentCount();
     float best = kInf;
     std::uint32_t bestSeg = hitSeg;
@@ -229,9 +165,8 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c) const {
     }
     if (best == kInf) {
         // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
-        best = rh.ray.tfar;
-        glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-        bestN = glm::dot(ng, ng) > 0.0f ? glm::normalize(ng) : -c.ray.dir;
+        best = hit.t;
+        bestN = glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir;
     }
 
     const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
@@ -320,11 +255,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
             if (m_alphaCutoff < 1.0f && alpha >= m_alphaCutoff) done = true;
         }
         if (done || n < collector.capacity) break;
-        // Continue behind the farthest hit of this pass (the filter skips it and everything before).
-        collector.haveLast = true;
-        collector.last = collector.hits[n - 1];
-        tnear = std::nextafter(collector.last.t, -kInf);
-        if (!(tnear >= 0.0f)) tnear = 0.0f;
+        tnear = collector.continueBehindLast();
     }
     c.rgba = glm::vec4(color, alpha);
 }
@@ -337,6 +268,7 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"neighbour_flags", m_joinNeighbours},
                         {"transparency", m_transparent ? "raytraced front-to-back" : "opaque"},
                         {"tile", kTile},
+                        {"traversal", traversalName(m_traversal)},
                         {"threads", tbb::this_task_arena::max_concurrency()},
                         {"segments", m_lines.segmentCount()},
                         {"bvh_build_ms", m_embree->buildMs()},

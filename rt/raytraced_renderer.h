@@ -32,6 +32,7 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "rt/primary_rays.h"
 #include "rt/stage_sink.h"
 
 namespace tc::rt {
@@ -53,6 +54,11 @@ public:
 
     nlohmann::json describe() const;
 
+    // How opaque primary rays traverse the BVH (rt/primary_rays.h; transparent rays always go one
+    // at a time: their filter callback collects hits per ray). Images do not depend on it.
+    void setTraversal(Traversal t) { m_traversal = t; }
+    Traversal traversal() const { return m_traversal; }
+
     // Total Embree hits the last render() composited or skipped (transparent: those in front of
     // the cutoff; opaque: 1 per covered pixel), for tests and timings.
     std::uint64_t lastHitCount() const { return m_lastHits; }
@@ -60,7 +66,7 @@ public:
 private:
     RaytracedRenderer() = default;
     struct PixelContext;
-    void shadeOpaque(PixelContext& px) const;
+    void shadeOpaque(PixelContext& px, const FirstHit& hit) const;
     void shadeTransparent(PixelContext& px) const;
 
     StyledLines m_lines;
@@ -71,6 +77,7 @@ private:
     float m_jointEpsilon = 0;  // world units: hits of adjacent segments this close count once
     std::unique_ptr<EmbreeLines> m_embree;
     std::unique_ptr<AoEstimator> m_ao;
+    Traversal m_traversal = Traversal::Packet8;
     mutable std::uint64_t m_lastHits = 0;
 };
 

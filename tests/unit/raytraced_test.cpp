@@ -257,6 +257,34 @@ TEST(Raytraced, exact_transparent_composites_more_layers_than_one_traversal_hold
     EXPECT_LT(d.maxColor, 1e-3f);
 }
 
+TEST(Raytraced, opaque_images_are_identical_with_single_rays_packets_and_streams) {
+    StyledLines lines = makeLines(randomPolylines(4u, 10, false, 1.0f, 1.0f));
+    Scene scene = sceneFor(Transparency::Opaque, true);
+    // 61 x 45: partial tiles at the right and bottom edges (masked packet lanes, short streams).
+    const int w = 61, h = 45;
+    for (Projection projection : {Projection::Perspective, Projection::Orthographic}) {
+        Camera cam = cameraAt({0.5f, 0.6f, 3.0f}, projection);
+        auto r = rt::RaytracedRenderer::create(scene, lines);
+        std::vector<FrameImages> images;
+        for (rt::Traversal t : {rt::Traversal::Single, rt::Traversal::Packet8, rt::Traversal::Stream}) {
+            r->setTraversal(t);
+            FrameImages img;
+            rt::CpuStageTimer timer;
+            r->render(cam, w, h, img, timer);
+            images.push_back(std::move(img));
+        }
+        int covered = 0;
+        for (std::uint32_t id : images[0].id) covered += id != kBackgroundId;
+        EXPECT_GT(covered, w * h / 10);
+        for (int k = 1; k < 3; ++k) {
+            EXPECT_EQ(images[k].rgba, images[0].rgba) << k;
+            EXPECT_EQ(images[k].depth, images[0].depth) << k;
+            EXPECT_EQ(images[k].normal, images[0].normal) << k;
+            EXPECT_EQ(images[k].id, images[0].id) << k;
+        }
+    }
+}
+
 TEST(Raytraced, images_are_identical_with_one_and_two_threads) {
     StyledLines lines = makeLines(randomPolylines(8u, 12, false, 0.3f, 0.8f));
     Camera cam = cameraAt({0.3f, 0.3f, 3.0f});

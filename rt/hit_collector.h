@@ -1,0 +1,80 @@
+#pragma once
+// The K nearest hits of one ray, gathered by an Embree context filter (RTCIntersectContext::
+// filter) for front-to-back compositing in exact order. Shared by the tubes
+// (rt/raytraced_renderer.cpp) and the particles (rt/raytraced_particles.cpp), whose filters differ
+// only in which hits count and at which key they sort.
+//
+// Embree calls the context filter for every candidate hit with ray.tfar set to the hit's t. The
+// collector keeps the `capacity` nearest hits strictly after `last` (the hits composited by
+// earlier passes); when it is full it accepts only a hit that became the farthest kept one, so
+// Embree's tfar shrinks to the K-th nearest and traversal prunes everything behind it. Every other
+// hit is rejected (valid = 0), which makes Embree continue as if it had missed. A pixel that needs
+// more than K hits traces again from just before the K-th (the filter skips it and everything
+// before by `last`).
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <embree3/rtcore.h>
+#include <glm/glm.hpp>
+
+namespace tc::rt {
+
+constexpr int kMaxHitsPerPass = 48;
+
+struct RayHitRecord {
+    float t;  // sort key along the ray (<= the hit's Embree t)
+    std::uint32_t prim;
+    std::uint32_t back;  // 1 = back-facing (leaving a surface)
+    glm::vec3 ng;        // unnormalised geometric normal from Embree (outward)
+};
+
+// Total order of hits along a ray: by t, then primitive, then front before back, so hits at equal
+// t are composited deterministically (as the references sort by (depth, primitive)).
+inline bool hitLess(const RayHitRecord& a, const RayHitRecord& b) {
+    if (a.t != b.t) return a.t < b.t;
+    if (a.prim != b.prim) return a.prim < b.prim;
+    return a.back < b.back;
+}
+
+struct HitCollector {
+    RTCIntersectContext context;  // first member: Embree hands back a pointer to it
+    RayHitRecord hits[kMaxHitsPerPass];
+    int capacity = 0;
+    int count = 0;
+    bool haveLast = false;
+    RayHitRecord last{};
+    const void* user = nullptr;  // the filter's own data (the particle renderer)
+
+    static HitCollector& of(const RTCFilterFunctionNArguments* args) {
+        return *reinterpret_cast<HitCollector*>(const_cast<RTCIntersectContext*>(args->context));
+    }
+
+    // Inserts `h` if it is among the K nearest after `last`; returns whether Embree should accept
+    // the hit (only when the list is full and h is its farthest).
+    bool offer(const RayHitRecord& h) {
+        if (haveLast && !hitLess(last, h)) return false;
+        if (count == capacity) {
+            if (!hitLess(h, hits[count - 1])) return false;
+            --count;  // drop the farthest
+        }
+        int i = count++;
+        while (i > 0 && hitLess(h, hits[i - 1])) {
+            hits[i] = hits[i - 1];
+            --i;
+        }
+        hits[i] = h;
+        return count == capacity && i == count - 1;
+    }
+
+    // Prepares the next pass behind the farthest hit of this one; returns its tnear.
+    float continueBehindLast() {
+        haveLast = true;
+        last = hits[count - 1];
+        count = 0;
+        float tnear = std::nextafter(last.t, -std::numeric_limits<float>::infinity());
+        return tnear >= 0.0f ? tnear : 0.0f;
+    }
+};
+
+}  // namespace tc::rt

@@ -1,0 +1,83 @@
+#pragma once
+// Primary rays of the ray tracers (tubes: rt/raytraced_renderer.h, particles:
+// rt/raytraced_particles.h): the image in 8x8 pixel tiles over oneTBB, the camera rays of a tile
+// (core/camera.h PixelRays, bit-identical to tc::pixelRay), and the opaque first hit of a tile by
+// one of Embree's traversal interfaces.
+#include <algorithm>
+#include <cstdint>
+
+#include <embree3/rtcore.h>
+#include <glm/glm.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/camera.h"
+#include "core/frame_images.h"
+
+namespace tc::rt {
+
+constexpr int kTile = 8;
+
+// How opaque primary rays traverse the BVH. All give identical hits; RaytracedRenderer's default
+// is the one measured fastest on the 1M tornado (docs/performance.md, M10), the others stay
+// selectable for tests/bench/raytraced_bench.cpp.
+enum class Traversal {
+    Single,   // rtcIntersect1 per pixel
+    Packet8,  // rtcIntersect8 per 8-pixel tile row, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+    Stream,   // rtcIntersect1M over the tile's 64 rays, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+};
+const char* traversalName(Traversal t);
+
+// The primary rays of one tile, row-major; pixels outside the image are not in it.
+struct Tile {
+    int x0 = 0, y0 = 0, w = 0, h = 0;
+    Ray rays[kTile * kTile];
+    int count() const { return w * h; }
+    int px(int k) const { return x0 + k % w; }
+    int py(int k) const { return y0 + k / w; }
+};
+
+struct FirstHit {
+    bool hit = false;
+    std::uint32_t prim = 0;
+    float t = 0;
+    glm::vec3 ng{0.0f};  // Embree's geometric normal, unnormalised
+};
+
+// hits[k] = the first hit of tile.rays[k] in `scene` (geometry 0).
+void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, FirstHit* hits);
+
+// Calls fn(tile) for every tile of a width x height image, in parallel; fn must only write the
+// tile's own pixels (then images do not depend on the thread count).
+template <class TileFn>
+void forEachTile(const Camera& camera, int width, int height, TileFn&& fn) {
+    const PixelRays pixelRays(camera, width, height);
+    const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
+    tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& range) {
+        Tile tile;
+        for (int t = range.begin(); t != range.end(); ++t) {
+            tile.x0 = (t % tilesX) * kTile;
+            tile.y0 = (t / tilesX) * kTile;
+            tile.w = std::min(kTile, width - tile.x0);
+            tile.h = std::min(kTile, height - tile.y0);
+            for (int k = 0; k < tile.count(); ++k) tile.rays[k] = pixelRays(float(tile.px(k)), float(tile.py(k)));
+            fn(tile);
+        }
+    });
+}
+
+// The visible surface of one pixel into the frame's buffers (core/frame_images.h).
+inline void storePixel(FrameImages& out, std::size_t i, const glm::vec4& rgba, float depth, const glm::vec3& normal,
+                       std::uint32_t id) {
+    out.rgba[4 * i + 0] = rgba.x;
+    out.rgba[4 * i + 1] = rgba.y;
+    out.rgba[4 * i + 2] = rgba.z;
+    out.rgba[4 * i + 3] = rgba.w;
+    out.depth[i] = depth;
+    out.normal[3 * i + 0] = normal.x;
+    out.normal[3 * i + 1] = normal.y;
+    out.normal[3 * i + 2] = normal.z;
+    out.id[i] = id;
+}
+
+}  // namespace tc::rt

@@ -1,0 +1,63 @@
+#pragma once
+// Particles in the CPU ray tracer (M10 with M6's model): render.technique "raytraced" on a particle
+// dataset. One Embree RTC_GEOMETRY_TYPE_SPHERE_POINT geometry (primitive i = particle i), built
+// once per data frame. Per pixel-centre ray:
+// - Opaque: the first sphere hit; depth / normal / id and the Blinn-Phong colour as
+//   core/particle_reference.h's opaque mode (sphereEmission with alpha_rv 1).
+// - Transparent: every sphere the ray crosses, sorted by its entry distance (clamped to 0 when the
+//   eye is inside it) and composited front to back ("under"), each with the emission-absorption
+//   interior of M6 evaluated from the entry / exit pair: opacity from the density model's optical
+//   depth over [tNear, tFar] (constant, squared-distance, hollow: core/sphere_glyph.h) and
+//   sphereEmission at the entry point. That is core/particle_reference.h's transparent mode (exact
+//   for spheres that do not intersect each other), stopping once the accumulated alpha reaches
+//   render.raytraced.alpha_cutoff (1 = exact). Hits are gathered by the context filter of
+//   rt/hit_collector.h: only entries count (a sphere's exit hit only when the eye is inside it).
+// No ambient occlusion yet (render.ao.enabled is an InputError): the GL sphere renderer's cone
+// traced A_O / L_A (gl/sphere_ambient.h) has no CPU twin.
+#include <cstdint>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "core/camera.h"
+#include "core/frame_images.h"
+#include "core/scene.h"
+#include "core/styled_particles.h"
+#include "rt/primary_rays.h"
+#include "rt/stage_sink.h"
+
+namespace tc::rt {
+
+class RaytracedParticles {
+public:
+    // Builds the BVH of `particles` (a copy is kept). Throws InputError for transparency modes
+    // or AO settings the ray tracer does not implement for particles.
+    static std::unique_ptr<RaytracedParticles> create(const Scene& scene, const StyledParticles& particles);
+    ~RaytracedParticles();
+
+    // Replaces the particles (a new data frame of a time series): rebuilds the BVH.
+    void upload(const StyledParticles& particles);
+
+    // Renders one frame into `out` as core/particle_reference.h defines it (rgba linear
+    // premultiplied; depth / normal / id of the first sphere). Stage "raytrace", items = hits.
+    void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const;
+
+    nlohmann::json describe() const;
+    void setTraversal(Traversal t) { m_traversal = t; }
+    std::uint64_t lastHitCount() const { return m_lastHits; }
+
+private:
+    RaytracedParticles() = default;
+    struct Bvh;
+
+    StyledParticles m_particles;
+    SpheresSpec m_spheres;
+    LightingSpec m_lighting;
+    bool m_transparent = true;
+    float m_alphaCutoff = 0.99f;
+    std::unique_ptr<Bvh> m_bvh;
+    Traversal m_traversal = Traversal::Packet8;
+    mutable std::uint64_t m_lastHits = 0;
+};
+
+}  // namespace tc::rt
