@@ -311,6 +311,37 @@ void OpacityEnergy::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
     y *= 2.0;
 }
 
+bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree,
+                                 Eigen::VectorXd& z) const {
+    z.setZero(m_n);
+    const double off = -2.0 * m_weights.s;
+    std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());
+    for (std::size_t l = 0; l + 1 < m_firstPart.size(); ++l) {
+        const Eigen::Index first = m_firstPart[l], end = first + m_partsPerLine;
+        for (Eigen::Index k0 = first; k0 < end;) {
+            if (!isFree[std::size_t(k0)]) {
+                ++k0;
+                continue;
+            }
+            Eigen::Index k1 = k0;  // the run [k0, k1) of free parts
+            while (k1 < end && isFree[std::size_t(k1)]) ++k1;
+            // Thomas algorithm; diagonally dominant (diag >= 2(p + s deg) > |off| deg), so stable.
+            for (Eigen::Index k = k0; k < k1; ++k) {
+                const std::size_t t = std::size_t(k - k0);
+                const double m = m_diagonal[k] - (t ? off * cPrime[t - 1] : 0.0);
+                cPrime[t] = off / m;
+                dPrime[t] = (r[k] - (t ? off * dPrime[t - 1] : 0.0)) / m;
+            }
+            for (Eigen::Index k = k1 - 1; k >= k0; --k) {
+                const std::size_t t = std::size_t(k - k0);
+                z[k] = dPrime[t] - (k + 1 < k1 ? cPrime[t] * z[k + 1] : 0.0);
+            }
+            k0 = k1;
+        }
+    }
+    return true;
+}
+
 double OpacityEnergy::energy(const Eigen::VectorXd& a) const {
     double e = m_weights.p * (a - Eigen::VectorXd::Ones(m_n)).squaredNorm();
     // |W^T a|^2 = |C H^T R a|^2, |V^T a|^2 = |C H R a|^2.
@@ -384,10 +415,12 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
     const Eigen::VectorXd inverseDiagonal = diagonal.cwiseMax(1e-300).cwiseInverse();
 
     // Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
-    // whenever no component is clipped. With `toBreakpoint` (dir minimises the quadratic along its
-    // ray at a step >= `step`, as a CG step on the free face does), a clipped step that fails is
-    // not halved (a product per trial) but cut to the first bound the ray meets: that step needs
-    // no product and decreases the objective. Returns false when no decrease was found.
+    // whenever no component is clipped. With `toBreakpoint` (the quadratic along the ray x + t dir
+    // is smallest at t >= `step`: true for the steepest-descent step at its exact minimiser and
+    // for a CG step on the free face), a clipped step that fails is not halved (a product per
+    // trial; these were half of all products at 8k parts) but cut to the first bound the ray
+    // meets: that step needs no product and decreases the objective, the quadratic being convex
+    // along the ray. Returns false when no decrease was found.
     auto projectedSearch = [&](const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step,
                                bool toBreakpoint) {
         for (int k = 0; k < kMaxBacktracks; ++k, step *= 0.5) {
@@ -435,6 +468,10 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
 
     Eigen::VectorXd r, z, p, qp, qpFree;
     std::vector<char> isFree(std::size_t(n), 0);
+    bool forceGradientStep = false;
+    auto precondition = [&](const Eigen::VectorXd& residual, Eigen::VectorXd& out) {
+        if (!q.precondition(residual, isFree, out)) out = inverseDiagonal.cwiseProduct(residual);
+    };
     for (;; ++result.iterations) {
         d = -projectedGradient(g, x, lo, hi);
         result.residual = d.size() ? d.lpNorm<Eigen::Infinity>() : 0.0;
@@ -444,11 +481,20 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         }
         if (result.iterations >= options.maxIterations) break;
 
-        // 1. Projected steepest descent, starting from the exact minimiser along d (g.d = -|d|^2).
-        q.multiply(d, qd);
-        ++result.products;
-        const double curvature = d.dot(qd);
-        projectedSearch(d, qd, curvature > 0 ? d.squaredNorm() / curvature : 1.0, false);
+        // 1. Projected steepest descent, starting from the exact minimiser along d (g.d = -|d|^2),
+        // to change the active face. Skipped when no variable at a bound wants to leave it (the
+        // projected gradient lives on the free variables): then the face is right and CG does
+        // better with the product (the usual case near the solution, e.g. warm started).
+        bool faceSettled = !forceGradientStep;
+        for (Eigen::Index i = 0; i < n && faceSettled; ++i)
+            if (!(x[i] > lo[i] && x[i] < hi[i]) && d[i] != 0) faceSettled = false;
+        forceGradientStep = false;
+        if (!faceSettled) {
+            q.multiply(d, qd);
+            ++result.products;
+            const double curvature = d.dot(qd);
+            projectedSearch(d, qd, curvature > 0 ? d.squaredNorm() / curvature : 1.0, curvature > 0);
+        }
 
         // 2. Truncated PCG on the face of the box the projected step landed on.
         Eigen::Index freeCount = 0;
@@ -456,18 +502,24 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             isFree[i] = x[i] > lo[i] && x[i] < hi[i];
             freeCount += isFree[i];
         }
-        if (freeCount == 0) continue;
+        if (freeCount == 0) {
+            forceGradientStep = true;
+            continue;
+        }
         r = -g;
         for (Eigen::Index i = 0; i < n; ++i)
             if (!isFree[i]) r[i] = 0;
         const double r0 = r.norm();
-        if (r0 == 0) continue;
+        if (r0 == 0) {
+            forceGradientStep = true;
+            continue;
+        }
         // Forcing term min(0.1, sqrt|r0|): loose far away, tight near the solution; and no
         // further than the stopping test needs (its max norm well under the tolerance): going
         // on costs products and buys digits nobody asked for.
         const double stop = std::min(0.1, std::sqrt(r0)) * r0;
         const double stopMax = 0.25 * options.tolerance;
-        z = inverseDiagonal.cwiseProduct(r);
+        precondition(r, z);
         p = z;
         double rz = r.dot(z);
         d.setZero(n);
@@ -486,12 +538,12 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             qd += alpha * qp;
             r -= alpha * qpFree;
             if (r.norm() <= stop || r.lpNorm<Eigen::Infinity>() <= stopMax) break;
-            z = inverseDiagonal.cwiseProduct(r);
+            precondition(r, z);
             const double rzNext = r.dot(z);
             p = z + (rzNext / rz) * p;
             rz = rzNext;
         }
-        projectedSearch(d, qd, 1.0, true);
+        if (!projectedSearch(d, qd, 1.0, true)) forceGradientStep = true;
     }
     // The residual above uses the running gradient; recompute it from scratch so the reported
     // value is the true one (rounding accumulates over many updates).

@@ -62,6 +62,13 @@ public:
     virtual Eigen::Index size() const = 0;
     virtual void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
     virtual Eigen::VectorXd diagonal() const = 0;  // for the Jacobi preconditioner
+    // A better preconditioner for CG on the free variables, if the operator has one: z = M^-1 r
+    // with M symmetric positive definite on the free variables (isFree[i] != 0), z zero elsewhere.
+    // Returns false to get Jacobi (diagonal()).
+    virtual bool precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const {
+        (void)r, (void)isFree, (void)z;
+        return false;
+    }
 };
 
 // Q given explicitly (tests, dumps).
@@ -98,6 +105,9 @@ public:
     Eigen::Index size() const override { return m_n; }
     void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
     Eigen::VectorXd diagonal() const override { return m_diagonal; }
+    // diag(Q) plus the smoothness term's coupling of adjacent parts (-2s): tridiagonal per
+    // polyline, solved exactly (Thomas algorithm) on each run of free parts.
+    bool precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const override;
 
     Eigen::VectorXd linearTerm() const { return Eigen::VectorXd::Constant(m_n, -2.0 * m_weights.p); }
     // E(a) itself (without dropping the constant p*n), for tests.

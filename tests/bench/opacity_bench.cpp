@@ -117,6 +117,9 @@ int main(int argc, char** argv) {
                 t0 = Clock::now();
                 for (int r = 0; r < reps; ++r) warm = tc::solveBoundedQp(e, c, lo, hi, *sys.solution, opt);
                 warmRate = reps / (msSince(t0) / 1000.0);
+                std::fprintf(stderr, "  cold: it %d, cg %d, search products %d; warm: it %d, cg %d, search products %d\n",
+                             cold.iterations, cold.cgIterations, cold.searchProducts, warm.iterations,
+                             warm.cgIterations, warm.searchProducts);
                 if (drops.empty()) return;
                 // Sparsification: the exact and the sparsified minimisers solved tightly, compared.
                 tc::QpSolverOptions tight;
