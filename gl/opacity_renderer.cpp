@@ -334,8 +334,11 @@ nlohmann::json OpacityRenderer::describe() const {
         {"weights", {{"p", m_spec.p}, {"q", m_spec.q}, {"r", m_spec.r}, {"s", m_spec.s}, {"lambda", m_spec.lambda}}},
         {"importance", importance[int(m_spec.importance)]},
         {"fragment_pool_nodes", m_capacity},
-        {"solver", "gradient projection + Jacobi-preconditioned CG on the free set (warm started)"},
-        {"h_assembly", "CPU, oneTBB (Algorithm 1 on read-back sorted per-pixel lists)"},
+        {"solver", "gradient projection + CG on the free set, diag + smoothness (tridiagonal) preconditioner, "
+                   "warm started"},
+        {"h_assembly", "CPU, oneTBB (Algorithm 1 on read-back sorted per-pixel lists, image tiles)"},
+        {"drop_below", m_spec.dropBelow},
+        {"resolve", "CPU (the sorted lists blended front to back)"},
         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_spec.importance == OpacityOptimizationSpec::Importance::Attribute)
         j["importance_attribute"] = m_spec.attribute;
