@@ -190,7 +190,7 @@ private:
         }
     }
 
-    std::vector<int> m_localId;         // global part -> local id, -1 outside the tile
+    std::vector<int> m_localId;          // global part -> local id, -1 outside the tile
     std::vector<std::uint32_t> m_parts;  // local id -> global part
     std::vector<double> m_sum;           // kMaxLocal x kMaxLocal
     std::vector<std::uint32_t> m_touched;

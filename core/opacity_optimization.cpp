@@ -177,7 +177,9 @@ void SparseQpOperator::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) co
 
 OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
                              const OpacityWeights& weights, double dropBelow)
-    : m_n(Eigen::Index(parts.partCount())), m_weights(weights), m_partsPerLine(parts.partsPerLine),
+    : m_n(Eigen::Index(parts.partCount())),
+      m_weights(weights),
+      m_partsPerLine(parts.partsPerLine),
       m_firstPart(parts.firstPart) {
     TC_CHECK_OP(h.rows(), ==, m_n);
     TC_CHECK_OP(h.cols(), ==, m_n);
@@ -235,8 +237,8 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
             const Eigen::Index i = parts.firstPart[l] + k;
             const double r2 = m_rowScale[i] * m_rowScale[i];
             const int neighbours = (k > 0) + (k + 1 < m);
-            m_diagonal[i] = 2.0 * (weights.p + weights.q * r2 * rowSum[i] + weights.r * r2 * colSum[i] +
-                                   weights.s * neighbours);
+            m_diagonal[i] =
+                2.0 * (weights.p + weights.q * r2 * rowSum[i] + weights.r * r2 * colSum[i] + weights.s * neighbours);
         }
 }
 
@@ -311,8 +313,7 @@ void OpacityEnergy::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
     y *= 2.0;
 }
 
-bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree,
-                                 Eigen::VectorXd& z) const {
+bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const {
     z.setZero(m_n);
     const double off = -2.0 * m_weights.s;
     std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());

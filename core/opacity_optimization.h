@@ -137,8 +137,8 @@ private:
     std::size_t m_dropped = 0;
     Eigen::VectorXd m_rowScale, m_colScale2;  // diagonals of R and C^2
     int m_partsPerLine = 1;
-    std::vector<std::uint32_t> m_firstPart;   // polyline boundaries for D^T D
-    std::vector<int> m_rowChunks;             // row ranges of about equal non-zeros, for the passes
+    std::vector<std::uint32_t> m_firstPart;  // polyline boundaries for D^T D
+    std::vector<int> m_rowChunks;            // row ranges of about equal non-zeros, for the passes
     Eigen::VectorXd m_diagonal;
 };
 
@@ -163,11 +163,11 @@ struct QpSolverOptions {
 
 struct QpResult {
     Eigen::VectorXd x;
-    int iterations = 0;    // outer iterations
-    int cgIterations = 0;  // summed over the subspace steps
-    int products = 0;      // products with Q: the cost
+    int iterations = 0;      // outer iterations
+    int cgIterations = 0;    // summed over the subspace steps
+    int products = 0;        // products with Q: the cost
     int searchProducts = 0;  // of which in the projected line searches (clipped trial steps)
-    double residual = 0;   // max norm of the projected gradient at x (KKT residual)
+    double residual = 0;     // max norm of the projected gradient at x (KKT residual)
     bool converged = false;
 };
 

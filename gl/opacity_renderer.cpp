@@ -122,7 +122,7 @@ void OpacityRenderer::resize(int width, int height) {
 }
 
 FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint64_t stored,
-                                                 std::vector<std::uint32_t>& colors) {
+                                                std::vector<std::uint32_t>& colors) {
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     std::vector<std::uint32_t> heads(pixels), next(stored);
     std::vector<GpuNode> nodes(stored);
@@ -334,8 +334,9 @@ nlohmann::json OpacityRenderer::describe() const {
         {"weights", {{"p", m_spec.p}, {"q", m_spec.q}, {"r", m_spec.r}, {"s", m_spec.s}, {"lambda", m_spec.lambda}}},
         {"importance", importance[int(m_spec.importance)]},
         {"fragment_pool_nodes", m_capacity},
-        {"solver", "gradient projection + CG on the free set, diag + smoothness (tridiagonal) preconditioner, "
-                   "warm started"},
+        {"solver",
+         "gradient projection + CG on the free set, diag + smoothness (tridiagonal) preconditioner, "
+         "warm started"},
         {"h_assembly", "CPU, oneTBB (Algorithm 1 on read-back sorted per-pixel lists, image tiles)"},
         {"drop_below", m_spec.dropBelow},
         {"resolve", "CPU (the sorted lists blended front to back)"},

@@ -122,7 +122,8 @@ int main(int argc, char** argv) {
                 t0 = Clock::now();
                 for (int r = 0; r < reps; ++r) warm = tc::solveBoundedQp(e, c, lo, hi, *sys.solution, opt);
                 warmRate = reps / (msSince(t0) / 1000.0);
-                std::fprintf(stderr, "  cold: it %d, cg %d, search products %d; warm: it %d, cg %d, search products %d\n",
+                std::fprintf(stderr,
+                             "  cold: it %d, cg %d, search products %d; warm: it %d, cg %d, search products %d\n",
                              cold.iterations, cold.cgIterations, cold.searchProducts, warm.iterations,
                              warm.cgIterations, warm.searchProducts);
                 if (drops.empty()) return;
@@ -140,8 +141,7 @@ int main(int argc, char** argv) {
                 for (double drop : drops) {
                     const tc::OpacityEnergy es(*sys.h, *sys.importance, *sys.parts, e.weights(), drop);
                     const tc::QpResult approx = tc::solveBoundedQp(es, es.linearTerm(), lo, hi, exact.x, tight);
-                    const tc::SparsificationBound bound =
-                        tc::sparsificationBound(e, es, approx.x, 2.0 * e.weights().p);
+                    const tc::SparsificationBound bound = tc::sparsificationBound(e, es, approx.x, 2.0 * e.weights().p);
                     auto t1 = Clock::now();
                     tc::QpResult c0;
                     for (int r = 0; r < reps; ++r) c0 = tc::solveBoundedQp(es, es.linearTerm(), lo, hi, hi, opt);
@@ -151,15 +151,15 @@ int main(int argc, char** argv) {
                     for (int r = 0; r < reps; ++r) w0 = tc::solveBoundedQp(es, c, lo, hi, approx.x, opt);
                     const double wRate = reps / (msSince(t1) / 1000.0);
                     char line[512];
-                    std::snprintf(line, sizeof line,
-                                  "| %lld | %g | %zu (%.1f %%) | %.1f (%d) | %.1f (%d) | %.4f | %.3f (bound %.3f) | %.2e "
-                                  "(bound %.2e) |\n",
-                                  (long long)size, drop, es.nonZeros(),
-                                  100.0 * double(es.nonZeros()) / double(std::max<std::size_t>(1, e.nonZeros())),
-                                  cRate, c0.products, wRate, w0.products,
-                                  (approx.x - exact.x).lpNorm<Eigen::Infinity>(), (approx.x - exact.x).norm(),
-                                  bound.distance, (objective(approx.x) - fExact) / std::abs(fExact),
-                                  bound.objective / std::abs(fExact));
+                    std::snprintf(
+                        line, sizeof line,
+                        "| %lld | %g | %zu (%.1f %%) | %.1f (%d) | %.1f (%d) | %.4f | %.3f (bound %.3f) | %.2e "
+                        "(bound %.2e) |\n",
+                        (long long)size, drop, es.nonZeros(),
+                        100.0 * double(es.nonZeros()) / double(std::max<std::size_t>(1, e.nonZeros())), cRate,
+                        c0.products, wRate, w0.products, (approx.x - exact.x).lpNorm<Eigen::Infinity>(),
+                        (approx.x - exact.x).norm(), bound.distance, (objective(approx.x) - fExact) / std::abs(fExact),
+                        bound.objective / std::abs(fExact));
                     dropRows += line;
                 }
             };
@@ -172,7 +172,8 @@ int main(int argc, char** argv) {
                              st.stage.c_str(), st.gpuMs, st.cpuMs);
             const auto& s = renderer->lastStats();
             std::printf(
-                "| %zu | %llu%s | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.2f | %.1f (%d) | %.1f (%d, %d) |\n",
+                "| %zu | %llu%s | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.2f | %.1f (%d) | %.1f (%d, "
+                "%d) |\n",
                 s.parts, (unsigned long long)s.fragments, s.overflow ? " (overflow)" : "", s.hNonZeros, s.listsMs,
                 s.readbackMs, s.assemblyMs, s.solveMs, s.solve.iterations, s.solve.products, s.solve.residual,
                 s.resolveMs, productMs, coldRate, cold.products, warmRate, warm.iterations, warm.products);

@@ -1,6 +1,8 @@
 // render.transparency "opacity_optimization" through the tubecast binary (M7): a two-frame orbit
 // of a small tornado with --dump-system. The dumped system is read back as another tool would
 // (Matrix Market Q, one value per line for the vectors) and checked against the solution.
+#include <gtest/gtest.h>
+
 #include <Eigen/SparseCore>
 #include <filesystem>
 #include <fstream>
@@ -8,8 +10,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_fixture.h"
 #include "io/image_io.h"

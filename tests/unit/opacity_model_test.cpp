@@ -124,7 +124,8 @@ TEST(OpacityModel, factored_energy_equals_assembled_q_and_the_quadratic_form) {
 
     // The normative definition, densely. H is stored in single precision (OpacityEnergy), so
     // the reference uses the same rounded h_ij; everything else is double.
-    Eigen::MatrixXd H = Eigen::MatrixXd(h).cast<float>().cast<double>(), G = Eigen::MatrixXd::Zero(n, n), S = Eigen::MatrixXd::Zero(n, n);
+    Eigen::MatrixXd H = Eigen::MatrixXd(h).cast<float>().cast<double>(), G = Eigen::MatrixXd::Zero(n, n),
+                    S = Eigen::MatrixXd::Zero(n, n);
     for (int i = 0; i < n; ++i) {
         G(i, i) = g[i];
         S(i, i) = std::pow(1 - g[i], w.lambda);
