@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <utility>
 
 #include "core/error.h"
 
@@ -23,49 +25,6 @@ std::uint64_t pairKey(std::uint32_t i, std::uint32_t j) {
 std::uint32_t frontPart(const LineFragmentW& f) {
     return f.frac >= 0.5f ? f.part + 1 : f.part;
 }
-
-// Open-addressing hash map from (i, j) to an accumulated weight. Hand-written because the sum
-// touches every front/back pair of every pixel (millions per frame) and std::unordered_map's node
-// allocations dominate such a loop; linear probing on a flat power-of-two table does not allocate.
-class PairAccumulator {
-public:
-    PairAccumulator() : m_keys(1u << 12, kEmpty), m_values(1u << 12, 0.0) {}
-
-    void add(std::uint64_t key, double value) {
-        if (2 * (m_size + 1) > m_keys.size()) grow();
-        std::size_t mask = m_keys.size() - 1, slot = hash(key) & mask;
-        while (m_keys[slot] != kEmpty && m_keys[slot] != key) slot = (slot + 1) & mask;
-        if (m_keys[slot] == kEmpty) {
-            m_keys[slot] = key;
-            ++m_size;
-        }
-        m_values[slot] += value;
-    }
-
-    template <class F>
-    void forEach(F&& f) const {
-        for (std::size_t s = 0; s < m_keys.size(); ++s)
-            if (m_keys[s] != kEmpty) f(m_keys[s], m_values[s]);
-    }
-    std::size_t size() const { return m_size; }
-
-private:
-    static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
-    static std::size_t hash(std::uint64_t k) { return std::size_t((k * 0x9E3779B97F4A7C15ull) >> 17); }
-    void grow() {
-        std::vector<std::uint64_t> keys(m_keys.size() * 2, kEmpty);
-        std::vector<double> values(m_keys.size() * 2, 0.0);
-        std::swap(keys, m_keys);
-        std::swap(values, m_values);
-        m_size = 0;
-        for (std::size_t s = 0; s < keys.size(); ++s)
-            if (keys[s] != kEmpty) add(keys[s], values[s]);
-    }
-
-    std::vector<std::uint64_t> m_keys;
-    std::vector<double> m_values;
-    std::size_t m_size = 0;
-};
 
 // Applies the normalisation by part j's fragment count and builds the compressed rows from
 // (key, weight) records sorted by key, each key once.
@@ -128,39 +87,221 @@ SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t p
     return buildNormalised(sorted, partFragmentCounts(lists, partCount), partCount);
 }
 
-SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount) {
-    tbb::enumerable_thread_specific<PairAccumulator> accumulators;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lists.pixelCount(), 256), [&](const auto& range) {
-        PairAccumulator& acc = accumulators.local();
-        for (std::size_t p = range.begin(); p != range.end(); ++p) {
-            const std::uint64_t end = lists.offsets[p + 1];
-            for (std::uint64_t a = lists.offsets[p]; a + 1 < end; ++a) {
-                const std::uint32_t i = frontPart(lists.fragments[a]);
-                for (std::uint64_t b = a + 1; b < end; ++b) {
-                    const LineFragmentW& fb = lists.fragments[b];
-                    if (i != fb.part) acc.add(pairKey(i, fb.part), 1.0 - fb.frac);
-                    if (fb.frac > 0 && i != fb.part + 1) acc.add(pairKey(i, fb.part + 1), fb.frac);
-                }
+namespace {
+
+// One thread's share of the fast path. Pixels are walked in small tiles: neighbouring pixels see
+// nearly the same parts, so a tile's sums go into a dense matrix over the tile's parts (local
+// ids), which stays in cache and needs no hashing; a tile's distinct pairs are then flushed as
+// records (i, j, sum). Far fewer records than per-pixel pairs leave the tile.
+class TileAccumulator {
+public:
+    static constexpr int kMaxLocal = 512;  // 512^2 doubles = 2 MB per thread
+
+    explicit TileAccumulator(std::size_t partCount)
+        : m_localId(partCount, -1), m_sum(std::size_t(kMaxLocal) * kMaxLocal, 0.0) {}
+
+    // Algorithm 1 on one sorted list. The fragments in front of B enter as distinct front parts
+    // with their multiplicity (a line's adjacent segments overlap at joints, so a part often has
+    // two fragments in one pixel): sum_{A in front} w(B) = sum_{distinct i} count_i w(B).
+    void addPixel(const LineFragmentW* f, std::size_t count) {
+        if (count < 2) return;
+        // Local ids for every part this pixel touches first, so no flush happens mid-pixel.
+        if (!assignLocal(f, count)) {
+            flush();
+            if (!assignLocal(f, count)) {
+                addPixelSlow(f, count);
+                return;
             }
         }
-    });
-    std::size_t total = 0;
-    for (const PairAccumulator& acc : accumulators) total += acc.size();
-    std::vector<std::pair<std::uint64_t, double>> records;
-    records.reserve(total);
-    for (const PairAccumulator& acc : accumulators)
-        acc.forEach([&](std::uint64_t key, double value) { records.emplace_back(key, value); });
-    tbb::parallel_sort(records.begin(), records.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    // Merge the threads' partial sums of equal keys.
-    std::size_t out = 0;
-    for (std::size_t k = 0; k < records.size(); ++k) {
-        if (out > 0 && records[out - 1].first == records[k].first)
-            records[out - 1].second += records[k].second;
-        else
-            records[out++] = records[k];
+        m_fronts.clear();
+        for (std::size_t b = 0; b < count; ++b) {
+            const LineFragmentW& fb = f[b];
+            if (b > 0) {
+                const int j = local(fb.part);
+                const int j1 = fb.frac > 0 ? local(fb.part + 1) : -1;
+                const double w0 = 1.0 - double(fb.frac), w1 = double(fb.frac);
+                for (const auto& [i, c] : m_fronts) {
+                    if (i != j) add(i, j, c * w0);
+                    if (j1 >= 0 && i != j1) add(i, j1, c * w1);
+                }
+            }
+            const int i = local(frontPart(fb));
+            auto it = std::find_if(m_fronts.begin(), m_fronts.end(), [&](const auto& e) { return e.first == i; });
+            if (it != m_fronts.end())
+                it->second += 1.0;
+            else
+                m_fronts.emplace_back(i, 1.0);
+        }
     }
-    records.resize(out);
-    return buildNormalised(records, partFragmentCounts(lists, partCount), partCount);
+
+    // Moves the tile's sums into the records and forgets the tile's parts.
+    void flush() {
+        for (std::uint32_t slot : m_touched) {
+            const std::uint32_t li = slot / kMaxLocal, lj = slot % kMaxLocal;
+            records.push_back({m_parts[li], m_parts[lj], m_sum[slot]});
+            m_sum[slot] = 0;
+        }
+        m_touched.clear();
+        for (std::uint32_t part : m_parts) m_localId[part] = -1;
+        m_parts.clear();
+    }
+
+    struct Record {
+        std::uint32_t i, j;
+        double value;
+    };
+    std::vector<Record> records;
+
+private:
+    int local(std::uint32_t part) {
+        int& id = m_localId[part];
+        if (id < 0) {
+            id = int(m_parts.size());
+            m_parts.push_back(part);
+        }
+        return id;
+    }
+    // Gives every part of the list a local id; false (and nothing changed) if they do not fit.
+    bool assignLocal(const LineFragmentW* f, std::size_t count) {
+        const std::size_t before = m_parts.size();
+        for (std::size_t k = 0; k < count && m_parts.size() <= std::size_t(kMaxLocal); ++k) {
+            local(frontPart(f[k]));
+            local(f[k].part);
+            if (f[k].frac > 0) local(f[k].part + 1);
+        }
+        if (m_parts.size() <= std::size_t(kMaxLocal)) return true;
+        for (std::size_t k = before; k < m_parts.size(); ++k) m_localId[m_parts[k]] = -1;
+        m_parts.resize(before);
+        return false;
+    }
+    void add(int i, int j, double w) {
+        const std::uint32_t slot = std::uint32_t(i) * kMaxLocal + std::uint32_t(j);
+        if (m_sum[slot] == 0) m_touched.push_back(slot);  // weights are positive: 0 = untouched
+        m_sum[slot] += w;
+    }
+    // A single list deeper than the local matrix holds: pairs go to the records directly.
+    void addPixelSlow(const LineFragmentW* f, std::size_t count) {
+        for (std::size_t a = 0; a + 1 < count; ++a) {
+            const std::uint32_t i = frontPart(f[a]);
+            for (std::size_t b = a + 1; b < count; ++b) {
+                if (i != f[b].part) records.push_back({i, f[b].part, 1.0 - double(f[b].frac)});
+                if (f[b].frac > 0 && i != f[b].part + 1) records.push_back({i, f[b].part + 1, double(f[b].frac)});
+            }
+        }
+    }
+
+    std::vector<int> m_localId;          // global part -> local id, -1 outside the tile
+    std::vector<std::uint32_t> m_parts;  // local id -> global part
+    std::vector<double> m_sum;           // kMaxLocal x kMaxLocal
+    std::vector<std::uint32_t> m_touched;
+    std::vector<std::pair<int, double>> m_fronts;  // distinct front parts so far in the pixel
+};
+
+}  // namespace
+
+SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount) {
+    const std::size_t pixels = lists.pixelCount();
+    const std::size_t width = lists.width > 0 ? std::size_t(lists.width) : std::max<std::size_t>(pixels, 1);
+    const std::size_t height = (pixels + width - 1) / width;
+    // 32 x 32 tiles: 7.7 M records for 22 M pairs at 8k parts (16 x 8 tiles: 10.8 M, and the
+    // record sort costs more than the larger local matrix).
+    constexpr std::size_t kTileW = 32, kTileH = 32;
+    const std::size_t tilesX = (width + kTileW - 1) / kTileW, tilesY = (height + kTileH - 1) / kTileH;
+
+    // 1. Tiles in parallel, each thread with its own accumulator: no shared writes.
+    tbb::enumerable_thread_specific<TileAccumulator> accumulators([&] { return TileAccumulator(partCount); });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tilesX * tilesY, 16), [&](const auto& range) {
+        TileAccumulator& acc = accumulators.local();
+        for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            const std::size_t x0 = (t % tilesX) * kTileW, y0 = (t / tilesX) * kTileH;
+            for (std::size_t y = y0; y < std::min(y0 + kTileH, height); ++y)
+                for (std::size_t x = x0; x < std::min(x0 + kTileW, width); ++x) {
+                    const std::size_t p = y * width + x;
+                    if (p >= pixels) break;
+                    const std::uint64_t begin = lists.offsets[p], end = lists.offsets[p + 1];
+                    acc.addPixel(lists.fragments.data() + begin, std::size_t(end - begin));
+                }
+            acc.flush();
+        }
+    });
+
+    // 2. Records -> compressed rows: a counting sort on i (each thread scatters its own records
+    // into slots reserved per row), then per row a sparse accumulator (a dense array over the
+    // columns plus the list of columns touched) sums duplicates in time linear in the records.
+    std::vector<std::vector<TileAccumulator::Record>*> sources;
+    for (TileAccumulator& acc : accumulators) sources.push_back(&acc.records);
+    const std::size_t threads = sources.size();
+    std::vector<std::vector<std::uint32_t>> histogram(threads);
+    tbb::parallel_for(std::size_t(0), threads, [&](std::size_t t) {
+        histogram[t].assign(partCount, 0);
+        for (const auto& r : *sources[t]) ++histogram[t][r.i];
+    });
+    std::vector<std::uint64_t> rowStart(partCount + 1, 0);
+    for (std::size_t i = 0; i < partCount; ++i) {
+        std::uint64_t at = rowStart[i];
+        for (std::size_t t = 0; t < threads; ++t) {
+            const std::uint32_t count = histogram[t][i];
+            histogram[t][i] = std::uint32_t(at - rowStart[i]);  // the thread's offset within the row
+            at += count;
+        }
+        rowStart[i + 1] = at;
+    }
+    std::vector<std::pair<std::uint32_t, double>> byRow(rowStart[partCount]);
+    tbb::parallel_for(std::size_t(0), threads, [&](std::size_t t) {
+        std::vector<std::uint32_t>& fill = histogram[t];
+        for (const auto& r : *sources[t]) byRow[rowStart[r.i] + fill[r.i]++] = {r.j, r.value};
+        std::vector<TileAccumulator::Record>().swap(*sources[t]);
+    });
+    histogram.clear();
+
+    const std::vector<double> counts = partFragmentCounts(lists, partCount);
+    std::vector<int> rowNonZeros(partCount, 0);
+    struct Spa {
+        std::vector<double> sum;
+        std::vector<std::uint32_t> touched;
+    };
+    tbb::enumerable_thread_specific<Spa> spas([&] { return Spa{std::vector<double>(partCount, 0.0), {}}; });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, partCount, 64), [&](const auto& range) {
+        Spa& spa = spas.local();
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const std::uint64_t first = rowStart[i], last = rowStart[i + 1];
+            for (std::uint64_t k = first; k < last; ++k) {
+                const auto& [j, value] = byRow[k];
+                if (spa.sum[j] == 0) spa.touched.push_back(j);  // sums are positive: 0 = untouched
+                spa.sum[j] += value;
+            }
+            std::sort(spa.touched.begin(), spa.touched.end());
+            // Normalised by part j's fragment count (columns nobody covers stay out), clamped to
+            // 1; written over the row's own records (a row has at least as many records as columns).
+            std::uint64_t out = first;
+            for (std::uint32_t j : spa.touched) {
+                if (counts[j] > 0) byRow[out++] = {j, std::min(1.0, spa.sum[j] / counts[j])};
+                spa.sum[j] = 0;
+            }
+            spa.touched.clear();
+            rowNonZeros[i] = int(out - first);
+        }
+    });
+
+    // 3. The compressed rows, written in place.
+    SparseMatrixD h{Eigen::Index(partCount), Eigen::Index(partCount)};
+    std::int64_t total = 0;
+    for (std::size_t i = 0; i < partCount; ++i) {
+        h.outerIndexPtr()[i] = int(total);
+        total += rowNonZeros[i];
+    }
+    TC_CHECK_OP(total, <=, std::int64_t(std::numeric_limits<int>::max()));
+    h.outerIndexPtr()[partCount] = int(total);
+    h.resizeNonZeros(Eigen::Index(total));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, partCount, 256), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+            for (int k = 0; k < rowNonZeros[i]; ++k) {
+                const auto& [j, value] = byRow[rowStart[i] + std::uint64_t(k)];
+                h.innerIndexPtr()[h.outerIndexPtr()[i] + k] = int(j);
+                h.valuePtr()[h.outerIndexPtr()[i] + k] = value;
+            }
+    });
+    return h;
 }
 
 }  // namespace tc

@@ -23,6 +23,7 @@ struct LineFragmentW {
 
 // Fragment lists of an image in compressed rows: pixel p owns fragments [offsets[p], offsets[p+1]).
 struct FragmentLists {
+    int width = 0;  // pixels per image row (0: unknown), for walking the image in tiles
     std::vector<std::uint64_t> offsets{0};
     std::vector<LineFragmentW> fragments;
 
@@ -38,8 +39,11 @@ std::vector<double> partFragmentCounts(const FragmentLists& lists, std::size_t p
 // reference the fast path is tested against. Lists must be sorted front to back.
 SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t partCount);
 
-// The same sum, parallel over pixels with oneTBB: each thread appends (i, j, weight) records,
-// periodically sorted and merged, and the final merge builds the compressed rows directly.
+// The same sum, parallel over image tiles with oneTBB: each thread sums a tile's pairs in a dense
+// matrix over the tile's parts and flushes them as (i, j, sum) records; a counting sort on i and
+// a per-row merge build the compressed rows. The per-pixel work is quadratic in the list length
+// by nature (every front part pairs with every part behind it, and H's per-pixel contribution
+// has that many distinct entries), but repeated front parts are counted once with multiplicity.
 SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
 
 }  // namespace tc

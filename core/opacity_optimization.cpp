@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -175,92 +176,218 @@ void SparseQpOperator::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) co
 }
 
 OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
-                             const OpacityWeights& weights)
-    : m_n(Eigen::Index(parts.partCount())), m_weights(weights) {
+                             const OpacityWeights& weights, double dropBelow)
+    : m_n(Eigen::Index(parts.partCount())),
+      m_weights(weights),
+      m_partsPerLine(parts.partsPerLine),
+      m_firstPart(parts.firstPart) {
     TC_CHECK_OP(h.rows(), ==, m_n);
     TC_CHECK_OP(h.cols(), ==, m_n);
     TC_CHECK_OP(Eigen::Index(g.size()), ==, m_n);
     // (I - G)^lambda with 0^0 = 1: lambda = 0 leaves the unimportant-first weighting out.
-    Eigen::VectorXd rowScale(m_n), colScale(m_n);
+    m_rowScale.resize(m_n);
+    m_colScale2.resize(m_n);
     for (Eigen::Index i = 0; i < m_n; ++i) {
-        rowScale[i] = std::pow(std::max(0.0, 1.0 - g[i]), weights.lambda);
-        colScale[i] = g[i];
+        m_rowScale[i] = std::pow(std::max(0.0, 1.0 - g[i]), weights.lambda);
+        m_colScale2[i] = g[i] * g[i];
     }
-    // W = (I-G)^lambda H G, V = (I-G)^lambda H^T G.
-    m_w = rowScale.asDiagonal() * h * colScale.asDiagonal();
-    m_wt = m_w.transpose();
-    SparseMatrixD ht = h.transpose();
-    m_v = rowScale.asDiagonal() * ht * colScale.asDiagonal();
-    m_vt = m_v.transpose();
-    m_w.prune(0.0);
-    m_wt.prune(0.0);
-    m_v.prune(0.0);
-    m_vt.prune(0.0);
-
-    // D: one row per pair of adjacent parts of a polyline.
-    std::vector<Eigen::Triplet<double>> triplets;
-    const int m = parts.partsPerLine;
-    Eigen::Index row = 0;
-    for (std::size_t l = 0; l < parts.polylineCount(); ++l)
-        for (int k = 0; k + 1 < m; ++k, ++row) {
-            triplets.emplace_back(row, parts.firstPart[l] + k, -1.0);
-            triplets.emplace_back(row, parts.firstPart[l] + k + 1, 1.0);
-        }
-    m_d.resize(row, m_n);
-    m_d.setFromTriplets(triplets.begin(), triplets.end());
-    m_dt = m_d.transpose();
-
-    // diag(W W^T)_i = |row i of W|^2, likewise for V; diag(D^T D)_i = |column i of D|^2.
-    m_diagonal = Eigen::VectorXd::Constant(m_n, weights.p);
+    // H in single precision, zeros and entries below dropBelow left out.
+    m_h.resize(m_n, m_n);
+    m_h.reserve(h.nonZeros());
     for (Eigen::Index i = 0; i < m_n; ++i) {
-        double d = weights.p;
-        for (SparseMatrixD::InnerIterator it(m_w, i); it; ++it) d += weights.q * it.value() * it.value();
-        for (SparseMatrixD::InnerIterator it(m_v, i); it; ++it) d += weights.r * it.value() * it.value();
-        for (SparseMatrixD::InnerIterator it(m_dt, i); it; ++it) d += weights.s * it.value() * it.value();
-        m_diagonal[i] = 2.0 * d;
+        m_h.startVec(i);
+        for (SparseMatrixD::InnerIterator it(h, i); it; ++it) {
+            if (it.value() == 0) continue;
+            if (it.value() < dropBelow) {
+                ++m_dropped;
+                continue;
+            }
+            m_h.insertBack(i, it.index()) = float(it.value());
+        }
+    }
+    m_h.finalize();
+    m_h.makeCompressed();
+
+    // Row ranges of about equal work; a few per thread so a thread slowed by other processes
+    // does not hold the pass up.
+    const int threads = tbb::this_task_arena::max_concurrency();
+    const int chunks = m_h.nonZeros() < 20000 ? 1 : std::max(1, 2 * threads);
+    const int* outer = m_h.outerIndexPtr();
+    m_rowChunks.assign(1, 0);
+    for (int c = 1; c < chunks; ++c) {
+        const std::int64_t target = std::int64_t(m_h.nonZeros()) * c / chunks;
+        const int row = int(std::lower_bound(outer, outer + m_n, target) - outer);
+        if (row > m_rowChunks.back() && row < m_n) m_rowChunks.push_back(row);
+    }
+    m_rowChunks.push_back(int(m_n));
+
+    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2,
+    // diag(D^T D)_i = the number of neighbours of part i on its polyline.
+    Eigen::VectorXd rowSum = Eigen::VectorXd::Zero(m_n), colSum = Eigen::VectorXd::Zero(m_n);
+    for (Eigen::Index i = 0; i < m_n; ++i)
+        for (SparseMatrixF::InnerIterator it(m_h, i); it; ++it) {
+            const double v2 = double(it.value()) * double(it.value());
+            rowSum[i] += v2 * m_colScale2[it.index()];
+            colSum[it.index()] += v2 * m_colScale2[i];
+        }
+    m_diagonal.resize(m_n);
+    const int m = parts.partsPerLine;
+    for (std::size_t l = 0; l < parts.polylineCount(); ++l)
+        for (int k = 0; k < m; ++k) {
+            const Eigen::Index i = parts.firstPart[l] + k;
+            const double r2 = m_rowScale[i] * m_rowScale[i];
+            const int neighbours = (k > 0) + (k + 1 < m);
+            m_diagonal[i] =
+                2.0 * (weights.p + weights.q * r2 * rowSum[i] + weights.r * r2 * colSum[i] + weights.s * neighbours);
+        }
+}
+
+void OpacityEnergy::multiplyBoth(const Eigen::VectorXd& xg, const Eigen::VectorXd& xs, Eigen::VectorXd* hx,
+                                 Eigen::VectorXd* htx) const {
+    const int* outer = m_h.outerIndexPtr();
+    const int* inner = m_h.innerIndexPtr();
+    const float* value = m_h.valuePtr();
+    const int chunks = int(m_rowChunks.size()) - 1;
+    if (hx) hx->resize(m_n);
+    // H^T xs scatters into columns: each chunk into its own buffer, summed afterwards (no atomics;
+    // n doubles per chunk stay in cache up to ~100k parts).
+    std::vector<Eigen::VectorXd> scatter(htx ? std::size_t(chunks) : 0);
+    const auto body = [&](int c) {
+        double* out = nullptr;
+        if (htx) {
+            scatter[c].setZero(m_n);
+            out = scatter[c].data();
+        }
+        for (int row = m_rowChunks[c]; row < m_rowChunks[c + 1]; ++row) {
+            const int begin = outer[row], end = outer[row + 1];
+            if (hx && out) {
+                double sum = 0;
+                const double s = xs[row];
+                for (int k = begin; k < end; ++k) {
+                    sum += double(value[k]) * xg[inner[k]];
+                    out[inner[k]] += double(value[k]) * s;
+                }
+                (*hx)[row] = sum;
+            } else if (hx) {
+                double sum = 0;
+                for (int k = begin; k < end; ++k) sum += double(value[k]) * xg[inner[k]];
+                (*hx)[row] = sum;
+            } else {
+                const double s = xs[row];
+                if (s != 0)
+                    for (int k = begin; k < end; ++k) out[inner[k]] += double(value[k]) * s;
+            }
+        }
+    };
+    if (chunks == 1)
+        body(0);
+    else
+        tbb::parallel_for(0, chunks, body);
+    if (htx) {
+        *htx = std::move(scatter[0]);
+        for (int c = 1; c < chunks; ++c) *htx += scatter[c];
     }
 }
 
 void OpacityEnergy::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    // Q x = 2(p x + q R H C^2 H^T R x + r R H^T C^2 H R x + s D^T D x).
     y = m_weights.p * x;
-    Eigen::VectorXd t, u;
-    if (m_weights.q != 0 && m_w.nonZeros() > 0) {
-        multiplyRows(m_wt, x, t);
-        multiplyRows(m_w, t, u);
-        y += m_weights.q * u;
+    const bool wTerm = m_weights.q != 0, vTerm = m_weights.r != 0;
+    if ((wTerm || vTerm) && m_h.nonZeros() > 0) {
+        const Eigen::VectorXd u = m_rowScale.cwiseProduct(x);
+        Eigen::VectorXd hu, htu, a, b;
+        multiplyBoth(u, u, vTerm ? &hu : nullptr, wTerm ? &htu : nullptr);
+        // Second pass: gather H (C^2 H^T u) for the W term, scatter H^T (C^2 H u) for the V term.
+        if (wTerm) htu = m_colScale2.cwiseProduct(htu);
+        if (vTerm) hu = m_colScale2.cwiseProduct(hu);
+        multiplyBoth(wTerm ? htu : u, vTerm ? hu : u, wTerm ? &a : nullptr, vTerm ? &b : nullptr);
+        if (wTerm) y += m_weights.q * m_rowScale.cwiseProduct(a);
+        if (vTerm) y += m_weights.r * m_rowScale.cwiseProduct(b);
     }
-    if (m_weights.r != 0 && m_v.nonZeros() > 0) {
-        multiplyRows(m_vt, x, t);
-        multiplyRows(m_v, t, u);
-        y += m_weights.r * u;
-    }
-    if (m_weights.s != 0 && m_d.rows() > 0) {
-        multiplyRows(m_d, x, t);
-        multiplyRows(m_dt, t, u);
-        y += m_weights.s * u;
-    }
+    if (m_weights.s != 0)
+        forEachNeighbourPair([&](Eigen::Index i) {
+            const double d = m_weights.s * (x[i] - x[i + 1]);
+            y[i] += d;
+            y[i + 1] -= d;
+        });
     y *= 2.0;
 }
 
+bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const {
+    z.setZero(m_n);
+    const double off = -2.0 * m_weights.s;
+    std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());
+    for (std::size_t l = 0; l + 1 < m_firstPart.size(); ++l) {
+        const Eigen::Index first = m_firstPart[l], end = first + m_partsPerLine;
+        for (Eigen::Index k0 = first; k0 < end;) {
+            if (!isFree[std::size_t(k0)]) {
+                ++k0;
+                continue;
+            }
+            Eigen::Index k1 = k0;  // the run [k0, k1) of free parts
+            while (k1 < end && isFree[std::size_t(k1)]) ++k1;
+            // Thomas algorithm; diagonally dominant (diag >= 2(p + s deg) > |off| deg), so stable.
+            for (Eigen::Index k = k0; k < k1; ++k) {
+                const std::size_t t = std::size_t(k - k0);
+                const double m = m_diagonal[k] - (t ? off * cPrime[t - 1] : 0.0);
+                cPrime[t] = off / m;
+                dPrime[t] = (r[k] - (t ? off * dPrime[t - 1] : 0.0)) / m;
+            }
+            for (Eigen::Index k = k1 - 1; k >= k0; --k) {
+                const std::size_t t = std::size_t(k - k0);
+                z[k] = dPrime[t] - (k + 1 < k1 ? cPrime[t] * z[k + 1] : 0.0);
+            }
+            k0 = k1;
+        }
+    }
+    return true;
+}
+
 double OpacityEnergy::energy(const Eigen::VectorXd& a) const {
-    Eigen::VectorXd t;
     double e = m_weights.p * (a - Eigen::VectorXd::Ones(m_n)).squaredNorm();
-    multiplyRows(m_wt, a, t);
-    e += m_weights.q * t.squaredNorm();
-    multiplyRows(m_vt, a, t);
-    e += m_weights.r * t.squaredNorm();
-    multiplyRows(m_d, a, t);
-    e += m_weights.s * t.squaredNorm();
+    // |W^T a|^2 = |C H^T R a|^2, |V^T a|^2 = |C H R a|^2.
+    Eigen::VectorXd hu, htu;
+    multiplyBoth(m_rowScale.cwiseProduct(a), m_rowScale.cwiseProduct(a), &hu, &htu);
+    e += m_weights.q * htu.cwiseAbs2().dot(m_colScale2);
+    e += m_weights.r * hu.cwiseAbs2().dot(m_colScale2);
+    forEachNeighbourPair([&](Eigen::Index i) { e += m_weights.s * (a[i + 1] - a[i]) * (a[i + 1] - a[i]); });
     return e;
 }
 
 SparseMatrixD OpacityEnergy::assemble() const {
+    Eigen::VectorXd colScale = m_colScale2.cwiseSqrt();
+    const SparseMatrixD h = m_h.cast<double>();
+    const SparseMatrixD ht = h.transpose();
+    const SparseMatrixD w = m_rowScale.asDiagonal() * h * colScale.asDiagonal();
+    const SparseMatrixD v = m_rowScale.asDiagonal() * ht * colScale.asDiagonal();
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::Index rows = 0;
+    forEachNeighbourPair([&](Eigen::Index i) {
+        triplets.emplace_back(rows, i, -1.0);
+        triplets.emplace_back(rows++, i + 1, 1.0);
+    });
+    SparseMatrixD d(rows, m_n);
+    d.setFromTriplets(triplets.begin(), triplets.end());
     SparseMatrixD identity(m_n, m_n);
     identity.setIdentity();
-    SparseMatrixD wwt = m_w * m_wt, vvt = m_v * m_vt, dtd = m_dt * m_d;
+    const SparseMatrixD wwt = w * SparseMatrixD(w.transpose()), vvt = v * SparseMatrixD(v.transpose());
+    const SparseMatrixD dtd = SparseMatrixD(d.transpose()) * d;
     SparseMatrixD q = 2.0 * (m_weights.p * identity + m_weights.q * wwt + m_weights.r * vvt + m_weights.s * dtd);
     q.prune(0.0);
     return q;
+}
+
+SparsificationBound sparsificationBound(const QpOperator& exact, const QpOperator& sparsified,
+                                        const Eigen::VectorXd& solution, double mu) {
+    TC_CHECK(mu > 0);
+    Eigen::VectorXd qa, qa2;
+    exact.multiply(solution, qa);
+    sparsified.multiply(solution, qa2);
+    SparsificationBound b;
+    b.delta = (qa - qa2).norm();
+    b.distance = b.delta / mu;
+    b.objective = b.delta * b.delta / mu;
+    return b;
 }
 
 double projectedGradientNorm(const Eigen::VectorXd& gradient, const Eigen::VectorXd& x, const Eigen::VectorXd& lo,
@@ -289,8 +416,14 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
     const Eigen::VectorXd inverseDiagonal = diagonal.cwiseMax(1e-300).cwiseInverse();
 
     // Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
-    // whenever no component is clipped. Returns false when no decrease was found.
-    auto projectedSearch = [&](const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step) {
+    // whenever no component is clipped. With `toBreakpoint` (the quadratic along the ray x + t dir
+    // is smallest at t >= `step`: true for the steepest-descent step at its exact minimiser and
+    // for a CG step on the free face), a clipped step that fails is not halved (a product per
+    // trial; these were half of all products at 8k parts) but cut to the first bound the ray
+    // meets: that step needs no product and decreases the objective, the quadratic being convex
+    // along the ray. Returns false when no decrease was found.
+    auto projectedSearch = [&](const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step,
+                               bool toBreakpoint) {
         for (int k = 0; k < kMaxBacktracks; ++k, step *= 0.5) {
             y = clampBox(x + step * dir, lo, hi);
             s = y - x;
@@ -298,14 +431,35 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             if (clipped) {
                 q.multiply(s, qs);
                 ++result.products;
+                ++result.searchProducts;
             } else {
                 qs = step * qdir;
             }
             const double gs = g.dot(s);
-            if (gs >= 0) continue;  // clipping can leave no descent at this step
-            if (gs + 0.5 * s.dot(qs) <= kArmijo * gs) {
+            if (gs < 0 && gs + 0.5 * s.dot(qs) <= kArmijo * gs) {
                 x = y;
                 qx += qs;
+                g = qx + c;
+                return true;
+            }
+            if (clipped && toBreakpoint) {
+                double breakpoint = step;
+                Eigen::Index first = -1;
+                for (Eigen::Index i = 0; i < n; ++i) {
+                    const double t = dir[i] > 0 ? (hi[i] - x[i]) / dir[i] : dir[i] < 0 ? (lo[i] - x[i]) / dir[i] : step;
+                    if (t < breakpoint) {
+                        breakpoint = t;
+                        first = i;
+                    }
+                }
+                if (!(breakpoint > 0) || first < 0) return false;
+                y = clampBox(x + breakpoint * dir, lo, hi);
+                y[first] = dir[first] > 0 ? hi[first] : lo[first];  // exactly on the bound it reached
+                s = y - x;
+                const double gb = g.dot(s);
+                if (!(gb < 0)) return false;
+                x = y;
+                qx += breakpoint * qdir;  // s = breakpoint * dir up to rounding
                 g = qx + c;
                 return true;
             }
@@ -315,6 +469,10 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
 
     Eigen::VectorXd r, z, p, qp, qpFree;
     std::vector<char> isFree(std::size_t(n), 0);
+    bool forceGradientStep = false;
+    auto precondition = [&](const Eigen::VectorXd& residual, Eigen::VectorXd& out) {
+        if (!q.precondition(residual, isFree, out)) out = inverseDiagonal.cwiseProduct(residual);
+    };
     for (;; ++result.iterations) {
         d = -projectedGradient(g, x, lo, hi);
         result.residual = d.size() ? d.lpNorm<Eigen::Infinity>() : 0.0;
@@ -324,11 +482,20 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         }
         if (result.iterations >= options.maxIterations) break;
 
-        // 1. Projected steepest descent, starting from the exact minimiser along d (g.d = -|d|^2).
-        q.multiply(d, qd);
-        ++result.products;
-        const double curvature = d.dot(qd);
-        projectedSearch(d, qd, curvature > 0 ? d.squaredNorm() / curvature : 1.0);
+        // 1. Projected steepest descent, starting from the exact minimiser along d (g.d = -|d|^2),
+        // to change the active face. Skipped when no variable at a bound wants to leave it (the
+        // projected gradient lives on the free variables): then the face is right and CG does
+        // better with the product (the usual case near the solution, e.g. warm started).
+        bool faceSettled = !forceGradientStep;
+        for (Eigen::Index i = 0; i < n && faceSettled; ++i)
+            if (!(x[i] > lo[i] && x[i] < hi[i]) && d[i] != 0) faceSettled = false;
+        forceGradientStep = false;
+        if (!faceSettled) {
+            q.multiply(d, qd);
+            ++result.products;
+            const double curvature = d.dot(qd);
+            projectedSearch(d, qd, curvature > 0 ? d.squaredNorm() / curvature : 1.0, curvature > 0);
+        }
 
         // 2. Truncated PCG on the face of the box the projected step landed on.
         Eigen::Index freeCount = 0;
@@ -336,15 +503,24 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             isFree[i] = x[i] > lo[i] && x[i] < hi[i];
             freeCount += isFree[i];
         }
-        if (freeCount == 0) continue;
+        if (freeCount == 0) {
+            forceGradientStep = true;
+            continue;
+        }
         r = -g;
         for (Eigen::Index i = 0; i < n; ++i)
             if (!isFree[i]) r[i] = 0;
         const double r0 = r.norm();
-        if (r0 == 0) continue;
-        // Forcing term min(0.1, sqrt|r0|): loose far away, tight near the solution.
+        if (r0 == 0) {
+            forceGradientStep = true;
+            continue;
+        }
+        // Forcing term min(0.1, sqrt|r0|): loose far away, tight near the solution; and no
+        // further than the stopping test needs (its max norm well under the tolerance): going
+        // on costs products and buys digits nobody asked for.
         const double stop = std::min(0.1, std::sqrt(r0)) * r0;
-        z = inverseDiagonal.cwiseProduct(r);
+        const double stopMax = 0.25 * options.tolerance;
+        precondition(r, z);
         p = z;
         double rz = r.dot(z);
         d.setZero(n);
@@ -362,13 +538,13 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             d += alpha * p;
             qd += alpha * qp;
             r -= alpha * qpFree;
-            if (r.norm() <= stop) break;
-            z = inverseDiagonal.cwiseProduct(r);
+            if (r.norm() <= stop || r.lpNorm<Eigen::Infinity>() <= stopMax) break;
+            precondition(r, z);
             const double rzNext = r.dot(z);
             p = z + (rzNext / rz) * p;
             rz = rzNext;
         }
-        projectedSearch(d, qd, 1.0);
+        if (!projectedSearch(d, qd, 1.0, true)) forceGradientStep = true;
     }
     // The residual above uses the running gradient; recompute it from scratch so the reported
     // value is the true one (rounding accumulates over many updates).

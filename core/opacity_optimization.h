@@ -62,6 +62,13 @@ public:
     virtual Eigen::Index size() const = 0;
     virtual void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
     virtual Eigen::VectorXd diagonal() const = 0;  // for the Jacobi preconditioner
+    // A better preconditioner for CG on the free variables, if the operator has one: z = M^-1 r
+    // with M symmetric positive definite on the free variables (isFree[i] != 0), z zero elsewhere.
+    // Returns false to get Jacobi (diagonal()).
+    virtual bool precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const {
+        (void)r, (void)isFree, (void)z;
+        return false;
+    }
 };
 
 // Q given explicitly (tests, dumps).
@@ -80,30 +87,73 @@ struct OpacityWeights {
     double p = 1, q = 1, r = 0.1, s = 0.3, lambda = 1;
 };
 
-// The energy in factored form: products with Q cost products with W, W^T, V, V^T and D instead of
-// forming W W^T, which is much denser than H when many parts overlap one another.
+// The energy in factored form. With R = (I-G)^lambda and C = G, W W^T = R H C^2 H^T R and
+// V V^T = R H^T C^2 H R, so one copy of H serves both terms: a product with Q is two passes over
+// H's compressed rows, each computing H u (gather) and H^T v (scatter into per-chunk buffers) at
+// once, instead of four sparse products with separate W, W^T, V, V^T, and never forming W W^T
+// (far denser than H when many parts overlap). H is stored in single precision (h_ij in [0,1]
+// comes from float fragment data; products accumulate in double); D^T D is applied along each
+// polyline's parts directly.
 class OpacityEnergy final : public QpOperator {
 public:
-    // `h` is n x n (h_ij: i occludes j), `g` the importance per part.
+    // `h` is n x n (h_ij: i occludes j), `g` the importance per part. Entries h_ij < dropBelow are
+    // left out (sparsification, render.opacity.drop_below; 0 keeps all): the solution then moves
+    // by at most sparsificationBound() from the exact one.
     OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
-                  const OpacityWeights& weights);
+                  const OpacityWeights& weights, double dropBelow = 0);
 
     Eigen::Index size() const override { return m_n; }
     void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
     Eigen::VectorXd diagonal() const override { return m_diagonal; }
+    // diag(Q) plus the smoothness term's coupling of adjacent parts (-2s): tridiagonal per
+    // polyline, solved exactly (Thomas algorithm) on each run of free parts.
+    bool precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const override;
 
     Eigen::VectorXd linearTerm() const { return Eigen::VectorXd::Constant(m_n, -2.0 * m_weights.p); }
     // E(a) itself (without dropping the constant p*n), for tests.
     double energy(const Eigen::VectorXd& a) const;
     // Q assembled (for --dump-system and tests); can be far denser than H.
     SparseMatrixD assemble() const;
+    // Non-zeros of H kept, and left out by dropBelow.
+    std::size_t nonZeros() const { return std::size_t(m_h.nonZeros()); }
+    std::size_t droppedNonZeros() const { return m_dropped; }
+    const OpacityWeights& weights() const { return m_weights; }
 
 private:
+    using SparseMatrixF = Eigen::SparseMatrix<float, Eigen::RowMajor, int>;
+    // hx = H xg and htx = H^T xs in one pass over H (either output may be null).
+    void multiplyBoth(const Eigen::VectorXd& xg, const Eigen::VectorXd& xs, Eigen::VectorXd* hx,
+                      Eigen::VectorXd* htx) const;
+    // f(i) for every pair (i, i + 1) of adjacent parts of a polyline: the rows of D.
+    template <class F>
+    void forEachNeighbourPair(F&& f) const {
+        for (std::size_t l = 0; l + 1 < m_firstPart.size(); ++l)
+            for (int k = 0; k + 1 < m_partsPerLine; ++k) f(Eigen::Index(m_firstPart[l]) + k);
+    }
+
     Eigen::Index m_n = 0;
     OpacityWeights m_weights;
-    SparseMatrixD m_w, m_wt, m_v, m_vt, m_d, m_dt;
+    SparseMatrixF m_h;
+    std::size_t m_dropped = 0;
+    Eigen::VectorXd m_rowScale, m_colScale2;  // diagonals of R and C^2
+    int m_partsPerLine = 1;
+    std::vector<std::uint32_t> m_firstPart;  // polyline boundaries for D^T D
+    std::vector<int> m_rowChunks;            // row ranges of about equal non-zeros, for the passes
     Eigen::VectorXd m_diagonal;
 };
+
+// What sparsification costs, a posteriori (exact for any convex QP whose Q >= mu I): with a' the
+// minimiser of the sparsified problem (Q', same c and box) and delta = |(Q - Q') a'|_2,
+//   |a' - a*|_2 <= delta / mu   and   0 <= f(a') - f(a*) <= delta^2 / mu
+// for the exact minimiser a* and the exact objective f = 1/2 a^T Q a + c^T a (from the two
+// variational inequalities of the KKT conditions). For the opacity energy mu = 2p.
+struct SparsificationBound {
+    double delta = 0;
+    double distance = 0;   // bound on |a' - a*|_2
+    double objective = 0;  // bound on f(a') - f(a*)
+};
+SparsificationBound sparsificationBound(const QpOperator& exact, const QpOperator& sparsified,
+                                        const Eigen::VectorXd& solution, double mu);
 
 struct QpSolverOptions {
     double tolerance = 1e-6;  // stop when the projected gradient's max norm is at most this
@@ -113,10 +163,11 @@ struct QpSolverOptions {
 
 struct QpResult {
     Eigen::VectorXd x;
-    int iterations = 0;    // outer iterations
-    int cgIterations = 0;  // summed over the subspace steps
-    int products = 0;      // products with Q: the cost
-    double residual = 0;   // max norm of the projected gradient at x (KKT residual)
+    int iterations = 0;      // outer iterations
+    int cgIterations = 0;    // summed over the subspace steps
+    int products = 0;        // products with Q: the cost
+    int searchProducts = 0;  // of which in the projected line searches (clipped trial steps)
+    double residual = 0;     // max norm of the projected gradient at x (KKT residual)
     bool converged = false;
 };
 

@@ -325,6 +325,7 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     if (op.blend <= 0.0f) o.fail("blend", "expected a number in (0, 1]");
     op.tolerance = o.getFloat("tolerance", op.tolerance, 1e-12f, 1.0f);
     op.maxIterations = o.getInt("max_iterations", op.maxIterations, 1, 1000000);
+    op.dropBelow = o.getFloat("drop_below", op.dropBelow, 0.0f, 1.0f);
     op.dumpDir = o.getString("dump_dir", op.dumpDir);
     if (o.has("importance")) {
         if (o.raw("importance").is_string()) {

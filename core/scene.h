@@ -157,6 +157,7 @@ struct OpacityOptimizationSpec {
     float blend = 1;          // per frame, displayed opacities move this fraction toward the solution
     float tolerance = 1e-4f;  // solver stop: projected-gradient max norm
     int maxIterations = 200;
+    float dropBelow = 0;      // sparsification: h_ij below this are left out of the energy
     std::string dumpDir;      // debug: write Q, c, g, bounds and the solution of each frame here
 };
 

@@ -7,10 +7,11 @@
 // transparent_fragment.glsl) go into per-pixel linked lists (A-buffer: global atomic counter,
 // per-pixel heads; shaders/opacity_build.frag) with depth, colour and the blending parameter w;
 // (2) "lists_sort" + "h_assembly": the lists are read back and sorted per pixel on the CPU
-// (oneTBB), the sorted links are written back, and Algorithm 1 builds h_ij (core/occlusion_matrix.h); (3) "solve": the
-// bounded QP, warm started from the previous frame's solution; displayed opacities move toward the solution by
-// render.opacity.blend per frame; (4) "resolve": each list is sorted and blended front to back
-// with alpha = style alpha * lerp(a_i, a_i+1, frac(w)) in the sorted order (shaders/opacity_resolve.frag).
+// (oneTBB), and Algorithm 1 builds h_ij from them (core/occlusion_matrix.h); (3) "solve": the
+// bounded QP, warm started from the previous frame's solution (h_ij below
+// render.opacity.drop_below left out); displayed opacities move toward the solution by
+// render.opacity.blend per frame; (4) "resolve": the same sorted lists are blended front to back
+// on the CPU with alpha = style alpha * lerp(a_i, a_i+1, frac(w)).
 //
 // Memory: the node pool gets what render.memory_budget_mb leaves after the colour target and the
 // heads (and at most GL_MAX_SHADER_STORAGE_BLOCK_SIZE); fragments past it are counted, not
@@ -34,6 +35,8 @@ namespace tc::gl {
 struct OpacitySystem {
     int frame = 0;
     const OpacityEnergy* energy = nullptr;  // Q (factored; assemble() for the matrix) and c
+    const SparseMatrixD* h = nullptr;       // the occlusion penalties the energy was built from
+    const OpacityParts* parts = nullptr;
     const std::vector<double>* importance = nullptr;
     const Eigen::VectorXd* solution = nullptr;
     const Eigen::VectorXd* displayed = nullptr;
@@ -70,9 +73,9 @@ public:
 private:
     explicit OpacityRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
     void resize(int width, int height);
-    // Reads the lists back, sorts each front to back, writes the sorted links back for the
-    // resolve pass and returns them in compressed rows for Algorithm 1.
-    FragmentLists readAndSortLists(int width, int height, std::uint64_t stored);
+    // Reads the lists back, sorts each front to back and returns them in compressed rows for
+    // Algorithm 1, with each sorted fragment's packed colour in `colors` for the resolve.
+    FragmentLists readAndSortLists(int width, int height, std::uint64_t stored, std::vector<std::uint32_t>& colors);
 
     OpacityOptimizationSpec m_spec;
     bool m_capClipping = true;
@@ -87,9 +90,8 @@ private:
     Eigen::VectorXd m_solution, m_displayed;  // empty before the first frame
     FrameStats m_stats;
 
-    Program m_buildProgram, m_resolveProgram;
-    VertexArray m_emptyVao;
-    Buffer m_vertexPartW, m_heads, m_nodes, m_next, m_counter, m_opacity;
+    Program m_buildProgram;
+    Buffer m_vertexPartW, m_heads, m_nodes, m_next, m_counter;
     int m_width = 0, m_height = 0;
     std::size_t m_capacity = 0;
     Texture m_color;

@@ -1,6 +1,6 @@
 // Opacity optimization, pass 1: every fragment of every rounded cone (the transparent path's
 // fragments, shaders/transparent_fragment.glsl) goes into its pixel's list with its w. The lists
-// are unordered; the CPU sorts them to build h_ij and opacity_resolve.frag sorts them to blend.
+// are unordered; the CPU sorts them to build h_ij and to blend them.
 // Writes colour 0 with blending on: llvmpipe may drop side effects of covered primitives when
 // blending is off (../shared/notes/llvmpipe.md).
 #include "transparent_fragment.glsl"

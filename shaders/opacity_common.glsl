@@ -3,8 +3,8 @@
 // Each node holds the view depth, the blending parameter w (part index and fraction, kept split
 // so the fraction keeps its precision at any part count) and the shaded straight RGBA8 colour.
 // Nodes past uCapacity are not stored but still counted: the renderer reports the overflow.
-// GLSL 4.50 chunk; bindings 11-15 (0-6 line data, 7-10 transparent renderer); the resolve pass
-// (OPACITY_RESOLVE) binds the part opacities at 15 instead of the counter.
+// GLSL 4.50 chunk; bindings 11-15 (0-6 line data, 7-10 transparent renderer). The lists are read
+// back, sorted and blended on the CPU (gl/opacity_renderer.cpp).
 
 struct PartW {
     float localW;     // t * (parts per line - 1), t the arc-length fraction of the vertex
@@ -22,9 +22,7 @@ layout(std430, binding = 11) readonly buffer VertexPartW { PartW vertexPartW[]; 
 layout(std430, binding = 12) coherent buffer ListHeads { uint listHead[]; };
 layout(std430, binding = 13) buffer FragmentNodes { FragmentNode fragmentNode[]; };
 layout(std430, binding = 14) buffer FragmentNext { uint fragmentNext[]; };
-#ifndef OPACITY_RESOLVE
 layout(std430, binding = 15) buffer FragmentCounter { uint fragmentCount; };
-#endif
 
 uniform uint uImageWidth;
 uniform uint uCapacity;
