@@ -5,6 +5,8 @@
 #include "rounded_cone.glsl"
 #include "billboard.glsl"
 #include "line_buffers.glsl"
+#define SEGMENT_VARYINGS_COMPUTE
+#include "segment_varyings.glsl"
 
 layout(local_size_x = 128) in;
 
@@ -38,4 +40,6 @@ void main() {
 #endif
     billboardCorners[2u * segment] = vec4(bb.ndc[0], bb.ndc[1]);
     billboardCorners[2u * segment + 1u] = vec4(bb.ndc[2], bb.ndc[3]);
+    // What the fragment shaders need of the segment, for the vertex shader to pass on.
+    storeSegmentRecord(segment, loadSegmentVaryings(segment));
 }
