@@ -46,6 +46,7 @@ LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) 
     g.m_segmentVertices = upload(lines.segmentVertices);
     if (path == BillboardPath::Compute) {
         g.m_billboardCorners = makeBuffer(lines.segmentCount() * 2 * sizeof(glm::vec4));
+        g.m_segmentRecords = makeBuffer(lines.segmentCount() * 6 * sizeof(glm::vec4));
         g.m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}});
     }
     g.m_emptyVao = VertexArray::create();
@@ -59,6 +60,7 @@ void LineGeometry::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentVertexBinding, m_segmentVertices.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexFlagBinding, m_flags.id());
     if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBillboardCornerBinding, m_billboardCorners.id());
+    if (m_segmentRecords) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentRecordBinding, m_segmentRecords.id());
 }
 
 const char* LineGeometry::describeBillboards() const {
@@ -92,6 +94,7 @@ void LineGeometry::setCameraUniforms(GLuint p, const FrameSetup& setup) const {
     glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
     glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
     glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
+    glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
 }
 
 Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {

@@ -28,8 +28,12 @@ public:
     const Buffer& positionRadiusBuffer() const { return m_positionRadius; }
     const Buffer& segmentVerticesBuffer() const { return m_segmentVertices; }
 
-    // Binds the line SSBOs (bindings 0-4, 6).
+    // Binds the line SSBOs (bindings 0-4, 6, 16).
     void bind() const;
+    // Whether the transparent fragment shaders clip at the joint planes (render.cap_clipping):
+    // the planes are built once per segment with the billboard (shaders/segment_varyings.glsl),
+    // so every program of this geometry gets uCapClipping from setCameraUniforms.
+    void setCapClipping(bool enabled) { m_capClipping = enabled; }
     // Sets the camera uniforms of `program` for this frame; uniforms the program lacks are skipped.
     void setCameraUniforms(GLuint program, const FrameSetup& setup) const;
     // Linear depth scale: gl_FragDepth = view depth / farDepth(setup).
@@ -54,8 +58,10 @@ private:
     BillboardPath m_path = BillboardPath::Compute;
     std::size_t m_segmentCount = 0;
     float m_maxRadius = 0;
+    bool m_capClipping = false;
     Bounds m_bounds;
     Buffer m_positionRadius, m_colors, m_polylineIds, m_flags, m_segmentVertices, m_billboardCorners;
+    Buffer m_segmentRecords;  // BillboardPath::Compute: what the fragment shaders need per segment
     Program m_billboardProgram;
     VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
 };
@@ -68,6 +74,7 @@ constexpr GLuint kSegmentVertexBinding = 3;
 constexpr GLuint kBillboardCornerBinding = 4;
 constexpr GLuint kDrawOrderBinding = 5;
 constexpr GLuint kVertexFlagBinding = 6;
+constexpr GLuint kSegmentRecordBinding = 16;  // shaders/segment_varyings.glsl
 
 GLint uniformLocation(GLuint program, const char* name);
 

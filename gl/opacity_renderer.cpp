@@ -63,6 +63,7 @@ std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, con
     const RenderSpec& rs = scene.render;
     r->m_spec = rs.opacity;
     r->m_capClipping = rs.capClipping;
+    r->m_geometry.setCapClipping(rs.capClipping);
     r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
     r->m_lighting = scene.lighting;
     r->m_sink = std::move(sink);

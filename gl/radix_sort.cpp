@@ -110,7 +110,8 @@ void RadixSort::scan(GLuint data, std::size_t count, std::size_t level) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-void RadixSort::sort(const Buffer& keys, const Buffer& values, std::size_t count) {
+void RadixSort::sort(const Buffer& keys, const Buffer& values, std::size_t count, int lowestBit) {
+    TC_CHECK(lowestBit >= 0 && lowestBit < 32 && lowestBit % (2 * m_config.digitBits) == 0);
     if (count <= 1) return;  // already sorted; no GL work
     TC_CHECK_OP(bufferSize(keys), >=, count * sizeof(GLuint));
     TC_CHECK_OP(bufferSize(values), >=, count * sizeof(GLuint));
@@ -128,7 +129,7 @@ void RadixSort::sort(const Buffer& keys, const Buffer& values, std::size_t count
 
     GLuint keysA = keys.id(), valuesA = values.id();
     GLuint keysB = m_keysScratch.id(), valuesB = m_valuesScratch.id();
-    for (int shift = 0; shift < 32; shift += m_config.digitBits) {
+    for (int shift = lowestBit; shift < 32; shift += m_config.digitBits) {
         setUint(m_histogram, "shift", shift);
         setUint(m_scatter, "shift", shift);
 

@@ -44,7 +44,11 @@ public:
     // GL state: binds shader storage buffer binding points 0..4 and leaves no program bound.
     // Ends with glMemoryBarrier(shader storage | buffer update | element array | vertex attrib |
     // command), so shaders, draws and glGetNamedBufferSubData see the result.
-    void sort(const Buffer& keys, const Buffer& values, std::size_t count);
+    // lowestBit > 0 sorts by key >> lowestBit only (stable, so ties keep their input order), with
+    // (32 - lowestBit) / digitBits passes instead of 32 / digitBits: an approximate order for
+    // callers that only need one (opaque culling, gl/segment_order.h). lowestBit must be a
+    // multiple of 2 * digitBits (an even pass count keeps the result in the caller's buffers).
+    void sort(const Buffer& keys, const Buffer& values, std::size_t count, int lowestBit = 0);
 
     const Config& config() const { return m_config; }
 

@@ -42,6 +42,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     r->m_mode = rs.transparency;
     r->m_k = rs.kbufferK;
     r->m_capClipping = rs.capClipping;
+    r->m_geometry.setCapClipping(rs.capClipping);
     r->m_maxPeelLayers = rs.maxPeelLayers;
     r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
     r->m_lighting = scene.lighting;
@@ -159,7 +160,6 @@ void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup)
     glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
     glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
                        m_lighting.specular, m_lighting.shininess);
-    glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
     glProgramUniform1ui(p, uniformLocation(p, "uImageWidth"), GLuint(setup.width));
     if (m_ao) m_ao->apply(p);
 }

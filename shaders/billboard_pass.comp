@@ -5,6 +5,8 @@
 #include "rounded_cone.glsl"
 #include "billboard.glsl"
 #include "line_buffers.glsl"
+#define SEGMENT_VARYINGS_COMPUTE
+#include "segment_varyings.glsl"
 
 layout(local_size_x = 128) in;
 
@@ -38,4 +40,12 @@ void main() {
 #endif
     billboardCorners[2u * segment] = vec4(bb.ndc[0], bb.ndc[1]);
     billboardCorners[2u * segment + 1u] = vec4(bb.ndc[2], bb.ndc[3]);
+    // What the fragment shaders need of the segment, for the vertex shader to pass on. Opaque
+    // culling draws only the visibility pass, which reads the cone alone.
+#ifdef CULL_MAX_DEPTH
+    segmentRecord[6u * segment] = a;
+    segmentRecord[6u * segment + 1u] = b;
+#else
+    storeSegmentRecord(segment, loadSegmentVaryings(segment));
+#endif
 }

@@ -1,7 +1,14 @@
-// k-buffer insertion: each fragment goes into its pixel's sorted list; when the list is full, the
-// nearest of the k + 1 candidates leaves it and is blended into the colour target with the
-// "under" operator (the segments are drawn front to back, so it is almost always the nearest
-// fragment still to come). No fragment is dropped; kbuffer_resolve.frag blends the rest.
+// k-buffer insertion: each fragment goes into its pixel's list of KBUFFER_K entries; when the
+// list is full, the nearest of the k + 1 candidates leaves it and is blended into the colour target
+// with the "under" operator (the segments are drawn front to back, so it is almost always the
+// nearest fragment still to come). No fragment is dropped; kbuffer_resolve.frag sorts and blends
+// the rest.
+//
+// The list is kept unsorted (filled slots first, kEmpty after them): one pass of k loads finds
+// the first empty slot and the nearest entry, then at most one store. A sorted list gives the
+// same evictions and the same final set, but its shifting costs up to k stores per fragment, and
+// on llvmpipe every branch of a shader runs (masked) for every fragment, so the three cases of a
+// sorted insertion cost as much as all of them together (docs/performance.md, M2).
 //
 // The read-modify-write of the list must not race between fragments of one pixel:
 // - USE_INTERLOCK: ARB/NV_fragment_shader_interlock orders the critical section;
@@ -23,34 +30,23 @@ void main() {
     if (!lineFragment(f)) discard;
     uint64_t key = packFragment(f.depth, f.color);
     uint base = kbufferBase(ivec2(gl_FragCoord.xy));
-    uint64_t evicted = kEmpty;
 #ifdef USE_INTERLOCK
     beginInvocationInterlockARB();
 #endif
-    if (kbuffer[base + uint(KBUFFER_K - 1)] == kEmpty) {
-        // Not full: insertion step, carrying the larger entry towards the end.
-        uint64_t carry = key;
-        for (int i = 0; i < KBUFFER_K; ++i) {
-            uint64_t e = kbuffer[base + uint(i)];
-            if (carry < e) {
-                kbuffer[base + uint(i)] = carry;
-                carry = e;
-            }
-            if (carry == kEmpty) break;
-        }
-    } else if (key <= kbuffer[base]) {
-        evicted = key;  // nearer than everything stored: it leaves at once
-    } else {
-        evicted = kbuffer[base];
-        // Shift entries below the new key one slot towards the front, then place the key.
-        int i = 1;
-        for (; i < KBUFFER_K; ++i) {
-            uint64_t e = kbuffer[base + uint(i)];
-            if (e >= key) break;
-            kbuffer[base + uint(i - 1)] = e;
-        }
-        kbuffer[base + uint(i - 1)] = key;
+    // Branch-free scan: constant trip count, selects only (unrolled).
+    uint64_t nearest = kEmpty;
+    int nearestSlot = 0, emptySlot = KBUFFER_K;
+    for (int i = KBUFFER_K - 1; i >= 0; --i) {
+        uint64_t e = kbuffer[base + uint(i)];
+        emptySlot = e == kEmpty ? i : emptySlot;
+        bool nearer = e <= nearest;
+        nearest = nearer ? e : nearest;
+        nearestSlot = nearer ? i : nearestSlot;
     }
+    bool full = emptySlot == KBUFFER_K;
+    // Full: the nearer of the key and the nearest entry leaves (equal keys are equal entries).
+    uint64_t evicted = full ? min(key, nearest) : kEmpty;
+    if (!full || key > nearest) kbuffer[base + uint(full ? nearestSlot : emptySlot)] = key;
 #ifdef USE_INTERLOCK
     endInvocationInterlockARB();
 #endif

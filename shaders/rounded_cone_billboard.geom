@@ -3,6 +3,8 @@
 #include "rounded_cone.glsl"
 #include "billboard.glsl"
 #include "line_buffers.glsl"
+#define SEGMENT_VARYINGS_OUT
+#include "segment_varyings.glsl"
 
 layout(points) in;
 layout(triangle_strip, max_vertices = 4) out;
@@ -31,8 +33,10 @@ void main() {
         return;
     }
 #endif
+    SegmentVaryings varyings = loadSegmentVaryings(segment);
     for (int k = 0; k < 4; ++k) {
         vSegment = segment;
+        writeSegmentVaryings(varyings);
         gl_Position = vec4(bb.ndc[k], 0.0, 1.0);
         EmitVertex();
     }

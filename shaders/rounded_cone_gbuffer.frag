@@ -8,6 +8,7 @@
 #include "frame_uniforms.glsl"
 #include "visible_hit.glsl"
 #include "hierarchical_culling.glsl"
+#include "segment_varyings.glsl"
 
 uniform float uFarDepth;  // gl_FragDepth = view depth / uFarDepth (linear, float depth buffer)
 
@@ -19,15 +20,12 @@ void main() {
 #ifdef CULLING
     // Depth slices: skip the intersection where earlier slices already cover this pixel nearer
     // than anything of this segment.
-    if (cullFragment(ivec2(gl_FragCoord.xy),
-                     cullNearestDepth(positionRadius[segmentVertices[2u * vSegment]],
-                                      positionRadius[segmentVertices[2u * vSegment + 1u]])))
-        discard;
+    if (cullFragment(ivec2(gl_FragCoord.xy), cullNearestDepth(vConeA, vConeB))) discard;
 #endif
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
     float t;
     vec3 n;
-    if (!visibleHit(ray, segmentCone(vSegment), t, n)) discard;
+    if (!visibleHit(ray, varyingCone(), t, n)) discard;
     float depth = viewDepth(ray, t);
     if (depth <= 0.0) discard;
     outSegment = vSegment;

@@ -5,6 +5,8 @@
 #include "rounded_cone.glsl"
 #include "billboard.glsl"
 #include "line_buffers.glsl"
+#define SEGMENT_VARYINGS_OUT
+#include "segment_varyings.glsl"
 
 uniform mat4 uViewProj;
 uniform vec3 uEye;
@@ -27,8 +29,12 @@ void main() {
     uint segment = segmentOfSlot(uint(gl_VertexID) / 6u);
     int corner = kCorner[gl_VertexID % 6];
     vSegment = segment;
+    // Flat varyings come from each triangle's provoking vertex (the last one, GL's default: corners
+    // 2 and 3 of the triangles 0-1-2 and 2-1-3), so only those two of the six vertices fetch them.
+    bool provoking = gl_VertexID % 6 == 2 || gl_VertexID % 6 == 5;
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
+    if (provoking) writeSegmentVaryings(readSegmentRecord(segment));
     gl_Position = vec4((corner & 1) == 0 ? pair.xy : pair.zw, 0.0, 1.0);
 #else
     vec4 a = positionRadius[segmentVertices[2u * segment]];
@@ -44,5 +50,6 @@ void main() {
     }
 #endif
     gl_Position = vec4(corners[corner], 0.0, 1.0);
+    if (provoking) writeSegmentVaryings(loadSegmentVaryings(segment));
 #endif
 }

@@ -10,16 +10,13 @@
 #include "frame_uniforms.glsl"
 #include "ambient_occlusion.glsl"
 #include "hierarchical_culling.glsl"
+#include "segment_varyings.glsl"
 
 uniform float uFarDepth;
-uniform bool uCapClipping;
 uniform vec3 uLightDir;    // world space, toward the light
 uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 
 flat in uint vSegment;
-
-const uint kFirstOfPolyline = 1u;
-const uint kLastOfPolyline = 2u;
 
 struct LineFragment {
     float depth;  // view-space depth, > 0
@@ -28,26 +25,16 @@ struct LineFragment {
 };
 
 bool lineFragment(out LineFragment f) {
-    uint v0 = segmentVertices[2u * vSegment];
-    uint v1 = segmentVertices[2u * vSegment + 1u];
-    vec4 a = positionRadius[v0];
-    vec4 b = positionRadius[v1];
 #ifdef CULLING
     // Depth slices: this pixel is already (nearly) opaque; skip the ray casting and shading.
     if (cullFragment(ivec2(gl_FragCoord.xy), 0.0)) return false;
 #endif
+    // The segment's cone, cap planes (uCapClipping) and colours: segment_varyings.glsl.
+    vec4 a = vConeA, b = vConeB;
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
-    ConeInterval cone = intersectRoundedCone(ray, RoundedCone(a.xyz, a.w, b.xyz, b.w));
-    vec4 plane0 = vec4(0.0), plane1 = vec4(0.0);
-    bool clip0 = false, clip1 = false;
-    if (uCapClipping) {
-        // Polylines are contiguous in the vertex arrays: the neighbours are v0 - 1 and v1 + 1.
-        bool hasPrev = (vertexFlags[v0] & kFirstOfPolyline) == 0u;
-        bool hasNext = (vertexFlags[v1] & kLastOfPolyline) == 0u;
-        vec3 prev = hasPrev ? positionRadius[v0 - 1u].xyz : a.xyz;
-        vec3 next = hasNext ? positionRadius[v1 + 1u].xyz : b.xyz;
-        segmentClipPlanes(prev, a.xyz, b.xyz, next, hasPrev, hasNext, plane0, plane1, clip0, clip1);
-    }
+    ConeInterval cone = intersectRoundedCone(ray, varyingCone());
+    bool clip0 = vClip0 != vec4(0.0), clip1 = vClip1 != vec4(0.0);
+    vec4 plane0 = vClip0, plane1 = vClip1;
     float t;
     vec3 n;
     if (!segmentFragment(ray, cone, plane0, plane1, clip0, clip1, t, n)) return false;
@@ -57,7 +44,7 @@ bool lineFragment(out LineFragment f) {
     vec3 axis = b.xyz - a.xyz;
     float len2 = dot(axis, axis);
     float s = len2 > 0.0 ? clamp(dot(p - a.xyz, axis) / len2, 0.0, 1.0) : 0.0;
-    vec4 albedo = mix(vertexColor[v0], vertexColor[v1], s);
+    vec4 albedo = mix(vColor0, vColor1, s);
     // Per fragment before insertion (the paper's cost model for the transparent path).
     albedo.rgb *= lineAmbientOcclusion(vSegment, p, dot(n, ray.dir) <= 0.0 ? n : -n);
     f.color = vec4(shadeBlinnPhong(albedo.rgb, n, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y, uLightTerms.z,

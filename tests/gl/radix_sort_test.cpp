@@ -156,6 +156,23 @@ TEST_F(RadixSortTest, four_bit_digits_sort_the_same_as_eight_bit_digits) {
     EXPECT_TRUE(sameAsStableSort(sort4, randomKeys(70000, 14, 0xF000000Fu), iota(70000)));
 }
 
+TEST_F(RadixSortTest, a_lowest_bit_sorts_stably_by_the_high_key_bits_only) {
+    // The approximate order of opaque culling (gl/segment_order.cpp): stable by key >> 16, so the
+    // low bits keep their input order within a bucket; that differs from a full sort here.
+    const std::size_t n = 70000;
+    Keys keys = randomKeys(n, 9, 0x00FFFFFFu), values = iota(n);
+    Keys high(n);
+    for (std::size_t i = 0; i < n; ++i) high[i] = keys[i] >> 16;
+    Pairs expected = referenceSort(high, values);
+    gl::Buffer keyBuffer = gl::makeBuffer(n * 4, keys.data());
+    gl::Buffer valueBuffer = gl::makeBuffer(n * 4, values.data());
+    sorter().sort(keyBuffer, valueBuffer, n, 16);
+    Keys sortedKeys = download(keyBuffer, n), sortedValues = download(valueBuffer, n);
+    EXPECT_EQ(sortedValues, expected.values);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(sortedKeys[i], keys[sortedValues[i]]) << i;
+    EXPECT_FALSE(std::is_sorted(sortedKeys.begin(), sortedKeys.end()));
+}
+
 TEST_F(RadixSortTest, ten_million_random_keys_match_stable_sort) {
     const std::size_t n = 10000000;
     auto start = std::chrono::steady_clock::now();
