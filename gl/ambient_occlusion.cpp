@@ -60,7 +60,10 @@ void AmbientOcclusion::buildLineCache(const LineGeometry& geometry, const Styled
 
 std::vector<std::string> AmbientOcclusion::lineDefines() const {
     std::vector<std::string> defines{"AMBIENT_OCCLUSION"};
-    if (m_lineCache) defines.push_back("AO_LINE_CACHE");
+    if (m_lineCache) {
+        defines.push_back("AO_LINE_CACHE");
+        defines.push_back(AoLineCache::define());
+    }
     return defines;
 }
 
