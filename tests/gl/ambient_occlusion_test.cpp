@@ -348,8 +348,8 @@ TEST_F(GlTest, opaque_ao_frames_are_bit_identical_across_renders_and_techniques)
 // Cached AO (render.ao.cache "segments", the default; gl/ao_line_cache.h) against cone tracing at
 // every shaded point ("none"), per covered pixel of the opaque AO AOV (same G-buffer, so the same
 // visible surface) and per colour channel of a k-buffer frame. Scenes: the bundle seen obliquely
-// (long straight segments: 26 samples each) and a tangle of random bent polylines with segments
-// of 1-2.5 voxels (mostly 2-3 samples), radius ~1 voxel, in perspective.
+// (long straight segments: 14 samples each) and a tangle of random bent polylines with segments
+// of 1-2.5 voxels (2-3 samples), radius ~1 voxel, in perspective.
 struct AoDifference {
     std::size_t pixels = 0;
     double mean = 0.0;
@@ -415,10 +415,11 @@ Camera obliqueView(glm::vec3 target, float distance) {
     return cam;
 }
 
-// Measured (llvmpipe of Debian 12, 8 azimuths, 1 sample per voxel of segment length):
-//   bundle: per pixel |diff| mean 0.118, max 0.667; per polyline |mean diff| mean 0.076, max 0.165
-//   tangle: per pixel |diff| mean 0.127, max 0.956; per polyline |mean diff| mean 0.041, max 0.171
-//   k-buffer tangle: composited colour |diff| mean 0.0235.
+// Measured (llvmpipe of Debian 12, 8 azimuths, 1 sample per 2 voxels of segment length; 1 per
+// voxel measured the same to +-0.002):
+//   bundle: per pixel |diff| mean 0.118, max 0.667; per polyline |mean diff| mean 0.078, max 0.174
+//   tangle: per pixel |diff| mean 0.127, max 0.956; per polyline |mean diff| mean 0.041, max 0.169
+//   k-buffer tangle: composited colour |diff| mean 0.0234.
 // Most of the per-pixel difference is the exact tracer's, not the cache's: its self-exclusion
 // switches mip levels with the normal (coneHemisphereLod), so its AO is discontinuous in the
 // normal. On the slot's centre tube of the bundle seen from +z, normals tilted 28 / 51 / 62
