@@ -442,8 +442,8 @@ void readRender(SpecReader r, RenderSpec& rs) {
                            ? AoSpec::Method::RayTraced
                            : AoSpec::Method::ConeTraced;
         rs.ao.samples = a.getInt("samples", rs.ao.samples, 1, 1024);
-        rs.ao.cache = a.getEnum("cache", "segments", {"segments", "none"}) == "none" ? AoSpec::Cache::None
-                                                                                  : AoSpec::Cache::Segments;
+        rs.ao.cache = a.getEnum("cache", "precomputed", {"precomputed", "none"}) == "none" ? AoSpec::Cache::None
+                                                                                  : AoSpec::Cache::Precomputed;
         a.finish();
     }
     if (r.has("opacity")) readOpacityOptimization(r.child("opacity"), rs.opacity);

@@ -128,10 +128,11 @@ struct AoSpec {
     float apertureDeg = 50;   // full apex angle of each cone, 10..90
     float distance = 0.25f;   // cone length as a fraction of the bounding-box diagonal
     float strength = 1;
-    // Rasterized line paths: "segments" evaluates the cone traced AO once per dataset at samples
-    // along each segment and interpolates it per fragment (gl/ao_line_cache.h); "none" traces
-    // cones per shaded point. Other techniques always trace per shaded point.
-    enum class Cache { Segments, None } cache = Cache::Segments;
+    // "precomputed": the cone traced AO evaluated once per data set (frame) and interpolated per
+    // fragment — rasterized lines at samples along each segment (gl/ao_line_cache.h), spheres as
+    // an ambient cube per sphere (gl/sphere_ambient.h); "none" traces cones per shaded point.
+    // Other techniques always trace per shaded point.
+    enum class Cache { Precomputed, None } cache = Cache::Precomputed;
 };
 
 // render.culling: draw the sorted segments in depth slices and skip what is already hidden

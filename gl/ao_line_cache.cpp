@@ -28,15 +28,15 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
         total += std::size_t(std::clamp(steps + 1.0f, 2.0f, float(kMaxSamplesPerSegment)));
     }
     offsets[segments] = std::uint32_t(total);
-    TC_CHECK(total < (std::size_t(1) << 31));  // 2 words per sample, uint indices in the shaders
+    TC_CHECK(total * (kAzimuths / 4) < (std::size_t(1) << 31));  // uint word indices in the shaders
     cache.m_sampleCount = total;
     cache.m_offsets = makeBuffer(offsets.size() * sizeof(std::uint32_t), offsets.data());
-    cache.m_samples = makeBuffer(2 * total * sizeof(std::uint32_t));
+    cache.m_samples = makeBuffer(std::size_t(kAzimuths / 4) * total * sizeof(std::uint32_t));
 
     // AO_LINE_CACHE too: the shader library's include-once expansion ignores #ifdef, so the
     // conditional include of ao_line_cache.glsl in ambient_occlusion.glsl must be the live one.
     const Program program = compileProgram({{GL_COMPUTE_SHADER, "ao_line_cache_build.comp"}},
-                                           {"AMBIENT_OCCLUSION", "AO_LINE_CACHE"});
+                                           {"AMBIENT_OCCLUSION", "AO_LINE_CACHE", define()});
     const GLuint p = program.id();
     setAoUniforms(p);
     geometry.bind();
@@ -63,10 +63,10 @@ void AoLineCache::bind() const {
 }
 
 nlohmann::json AoLineCache::describe() const {
-    return {{"method", "exact cone traced AO cached per segment sample x 8 azimuths, interpolated per fragment"},
+    return {{"method", "exact cone traced AO cached per segment sample x " + std::to_string(kAzimuths) + " azimuths, interpolated per fragment"},
             {"samples", m_sampleCount},
             {"sample_spacing_world", m_spacing},
-            {"cache_mb", double(m_sampleCount * 8) / (1024.0 * 1024.0)},
+            {"cache_mb", double(m_sampleCount * kAzimuths) / (1024.0 * 1024.0)},
             {"build_ms", m_buildMs}};
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Cached line ambient occlusion (render.ao.cache "segments"): AO from the density volume does not
+// Cached line ambient occlusion (render.ao.cache "precomputed"): AO from the density volume does not
 // depend on the view, so instead of tracing cones for every shaded fragment (per pixel in the
 // opaque deferred pass, per fragment before k-buffer insertion, which on llvmpipe tripled the
 // k-buffer frame) the exact cone traced AO is evaluated once per dataset at samples along every
@@ -7,6 +7,7 @@
 // fragment (position along the segment, azimuth of the normal). Layout and lookup: that file.
 #include <cstddef>
 #include <functional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +21,9 @@ class AoLineCache {
 public:
     // SSBO bindings shared with shaders/ao_line_cache.glsl and ao_line_cache_build.comp.
     static constexpr GLuint kCacheBinding = 24, kOffsetBinding = 25, kBuildOutputBinding = 26;
+    // Normals cached around each segment's axis (unorm8 each, 4 per word): AO_CACHE_AZIMUTHS.
+    static constexpr int kAzimuths = 8;
+    static std::string define() { return "AO_CACHE_AZIMUTHS " + std::to_string(kAzimuths); }
 
     // Samples per segment: one every `spacing` world units along it, at least its two ends, at
     // most kMaxSamplesPerSegment. Needs a current context; `setAoUniforms` binds the density

@@ -16,7 +16,8 @@
 layout(std430, binding = 24) readonly buffer AoCache { uint aoCache[]; };
 layout(std430, binding = 25) readonly buffer AoCacheOffsets { uint aoCacheOffset[]; };
 
-const int kAoCacheAzimuths = 8;
+const int kAoCacheAzimuths = AO_CACHE_AZIMUTHS;  // multiple of 4 (gl::AoLineCache::kAzimuths)
+const uint kAoCacheWords = uint(kAoCacheAzimuths / 4);
 
 // The segment's unit axis (z for a degenerate segment) and the position of p along it in [0, 1].
 void aoCacheSegmentAxis(vec3 a, vec3 b, vec3 p, out vec3 axis, out float s)
@@ -38,7 +39,7 @@ vec3 aoCacheNormal(vec3 axis, int k)
 
 float aoCacheValue(uint sampleIndex, int k)
 {
-    uint word = aoCache[2u * sampleIndex + uint(k >> 2)];
+    uint word = aoCache[kAoCacheWords * sampleIndex + uint(k >> 2)];
     return float((word >> (8u * uint(k & 3))) & 0xffu) * (1.0 / 255.0);
 }
 
@@ -51,7 +52,8 @@ float aoCacheRing(uint sampleIndex, float azimuth, float ringWeight)
     float ring = mix(aoCacheValue(sampleIndex, k0 % kAoCacheAzimuths),
                      aoCacheValue(sampleIndex, (k0 + 1) % kAoCacheAzimuths), f);
     if (ringWeight >= 1.0) return ring;
-    vec4 sum = unpackUnorm4x8(aoCache[2u * sampleIndex]) + unpackUnorm4x8(aoCache[2u * sampleIndex + 1u]);
+    vec4 sum = vec4(0.0);
+    for (uint w = 0u; w < kAoCacheWords; ++w) sum += unpackUnorm4x8(aoCache[kAoCacheWords * sampleIndex + w]);
     return mix(dot(sum, vec4(1.0 / float(kAoCacheAzimuths))), ring, ringWeight);
 }
 

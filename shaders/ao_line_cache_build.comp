@@ -26,13 +26,13 @@ void main()
     for (uint j = 0u; j < count; ++j) {
         float s = float(j) / float(count - 1u);
         vec4 c = mix(a, b, s);
-        uint words[2] = uint[2](0u, 0u);
+        uint words[kAoCacheWords];
+        for (uint w = 0u; w < kAoCacheWords; ++w) words[w] = 0u;
         for (int k = 0; k < kAoCacheAzimuths; ++k) {
             vec3 n = aoCacheNormal(axis, k);
             float ao = ambientOcclusion(c.xyz + c.w * n, n);
             words[k >> 2] |= uint(round(clamp(ao, 0.0, 1.0) * 255.0)) << (8u * uint(k & 3));
         }
-        aoCacheOut[2u * (first + j)] = words[0];
-        aoCacheOut[2u * (first + j) + 1u] = words[1];
+        for (uint w = 0u; w < kAoCacheWords; ++w) aoCacheOut[kAoCacheWords * (first + j) + w] = words[w];
     }
 }

@@ -158,7 +158,7 @@ TEST_F(SphereAmbientTest, cached_ambient_cube_matches_per_fragment_tracing) {
     cam.up = {0, 0, 1};
     const int w = 96, h = 72;
     std::vector<float> exact = renderWithAo(p, AoSpec::Cache::None, cam, w, h, 0.4f);
-    std::vector<float> cached = renderWithAo(p, AoSpec::Cache::Segments, cam, w, h, 0.4f);
+    std::vector<float> cached = renderWithAo(p, AoSpec::Cache::Precomputed, cam, w, h, 0.4f);
     double sum = 0, worst = 0;
     std::size_t covered = 0;
     for (std::size_t i = 0; i < exact.size(); i += 4) {
@@ -215,7 +215,7 @@ TEST_P(SphereAmbientModes, ambient_occlusion_darkens_a_sphere_among_others) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ExactAndCached, SphereAmbientModes,
-                         ::testing::Values(AoSpec::Cache::None, AoSpec::Cache::Segments));
+                         ::testing::Values(AoSpec::Cache::None, AoSpec::Cache::Precomputed));
 
 }  // namespace
 }  // namespace tc::test

@@ -359,11 +359,11 @@ TEST(Scene, BadEnumValuesListTheValidOnes) {
               "scene.json: output.formats: expected at least one of \"png\", \"exr\"");
 }
 
-TEST(Scene, AoCacheDefaultsToSegmentsAndTakesNone) {
-    EXPECT_EQ(parseScene(with(R"({"render": {"ao": {}}})"), "scene.json").render.ao.cache, AoSpec::Cache::Segments);
+TEST(Scene, AoCacheDefaultsToPrecomputedAndTakesNone) {
+    EXPECT_EQ(parseScene(with(R"({"render": {"ao": {}}})"), "scene.json").render.ao.cache, AoSpec::Cache::Precomputed);
     EXPECT_EQ(parseScene(with(R"({"render": {"ao": {"cache": "none"}}})"), "scene.json").render.ao.cache, AoSpec::Cache::None);
     EXPECT_EQ(errorOf(with(R"({"render": {"ao": {"cache": "vertex"}}})")),
-              "scene.json: render.ao.cache: expected one of \"segments\", \"none\", got \"vertex\"");
+              "scene.json: render.ao.cache: expected one of \"precomputed\", \"none\", got \"vertex\"");
 }
 
 // ---- attribute mappings ----------------------------------------------------------------------
