@@ -28,7 +28,7 @@ public:
     explicit RaytracedTechnique(std::unique_ptr<rt::RaytracedRenderer> r) : m_renderer(std::move(r)) {}
     void render(const gl::FrameSetup& setup, FrameImages& out, gl::StageTimer& timer) override {
         StageTimerSink sink(timer);
-        m_renderer->render(setup.camera, setup.width, setup.height, out, sink);
+        m_renderer->render(setup.camera, setup.width, setup.height, out, sink, setup.window);
     }
     nlohmann::json describe() const override { return m_renderer->describe(); }
 

@@ -12,6 +12,7 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/tiling.h"
 
 namespace tc::gl {
 
@@ -20,7 +21,10 @@ class StageTimer;
 struct FrameSetup {
     int frame = 0;
     Camera camera;
-    int width = 0, height = 0;
+    int width = 0, height = 0;  // the render target: the whole image, or one tile of it
+    // Which part of the full image the target is and where its samples lie (tiles, image.samples;
+    // gl/tiled_technique.h). Techniques pass it to the shaders with setViewWindowUniforms.
+    ImageWindow window;
 };
 
 class Technique {

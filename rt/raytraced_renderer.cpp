@@ -150,7 +150,8 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     return r;
 }
 
-void RaytracedRenderer::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const {
+void RaytracedRenderer::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
+                               const ImageWindow& window) const {
     sink.begin("raytrace");
     out.allocate(width, height);
     if (m_ao && !m_transparent) out.ao.assign(out.pixelCount(), 1.0f);
@@ -167,7 +168,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
             for (int py = y0; py < std::min(y0 + kTile, height); ++py)
                 for (int px = x0; px < std::min(x0 + kTile, width); ++px) {
                     PixelContext c;
-                    c.ray = pixelRay(camera, width, height, float(px), float(py));
+                    c.ray = windowPixelRay(camera, window, width, height, px, py);
                     c.pixel = std::uint32_t(py) * std::uint32_t(width) + std::uint32_t(px);
                     c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
                     c.lightDir = lightDir;

@@ -11,6 +11,7 @@ uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
 uniform vec2 uViewport;
+#include "view_window.glsl"
 
 #include "hierarchical_culling.glsl"
 
@@ -29,7 +30,7 @@ void main() {
     vSegment = segment;
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
-    gl_Position = vec4((corner & 1) == 0 ? pair.xy : pair.zw, 0.0, 1.0);
+    gl_Position = vec4(targetNdc((corner & 1) == 0 ? pair.xy : pair.zw), 0.0, 1.0);
 #else
     vec4 a = positionRadius[segmentVertices[2u * segment]];
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
@@ -43,6 +44,6 @@ void main() {
         if (gl_VertexID % 6 == 0) atomicCounterIncrement(uCulledSegments);
     }
 #endif
-    gl_Position = vec4(corners[corner], 0.0, 1.0);
+    gl_Position = vec4(targetNdc(corners[corner]), 0.0, 1.0);
 #endif
 }
