@@ -218,16 +218,25 @@ TilePlan planSceneTiles(const Scene& scene, bool particles, TileLimits limits) {
 
 std::vector<glm::vec2> sampleOffsets(int count) {
     TC_CHECK(count >= 1);
-    // g: the real root of g^3 = g + 1 (Roberts 2018, "The unreasonable effectiveness of
-    // quasirandom sequences"). Computed in double so offsets are the same on every platform.
-    const double g = 1.32471795724474602596;
-    const double a1 = 1.0 / g, a2 = 1.0 / (g * g);
+    auto radicalInverse2 = [](unsigned i) {
+        double r = 0, f = 0.5;
+        for (; i; i >>= 1, f *= 0.5) r += f * double(i & 1u);
+        return r;
+    };
+    auto quantise = [](double v) { return float(std::round(v * 256.0) / 256.0); };
     std::vector<glm::vec2> offsets;
-    for (int n = 0; n < count; ++n) {
-        const double x = 0.5 + a1 * n, y = 0.5 + a2 * n;
-        offsets.emplace_back(float(x - std::floor(x) - 0.5), float(y - std::floor(y) - 0.5));
+    for (int i = 0; i < count; ++i) {
+        const double x = (i + 0.5) / count, y = radicalInverse2(unsigned(i)) + 0.5 / count;
+        offsets.emplace_back(quantise(x - 0.5), quantise(y - std::floor(y) - 0.5));
     }
     return offsets;
+}
+
+std::size_t nearestToCentre(const std::vector<glm::vec2>& offsets) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < offsets.size(); ++i)
+        if (glm::dot(offsets[i], offsets[i]) < glm::dot(offsets[best], offsets[best])) best = i;
+    return best;
 }
 
 }  // namespace tc

@@ -19,6 +19,10 @@ namespace tc::gl {
 class StageTimer;
 
 struct FrameSetup {
+    FrameSetup() = default;
+    FrameSetup(int frame_, const Camera& camera_, int width_, int height_, const ImageWindow& window_ = {})
+        : frame(frame_), camera(camera_), width(width_), height(height_), window(window_) {}
+
     int frame = 0;
     Camera camera;
     int width = 0, height = 0;  // the render target: the whole image, or one tile of it

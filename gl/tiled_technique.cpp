@@ -10,7 +10,8 @@
 namespace tc::gl {
 
 TiledTechnique::TiledTechnique(std::unique_ptr<Technique> inner, TilePlan plan, int samples, KeptAovs keep)
-    : m_inner(std::move(inner)), m_plan(std::move(plan)), m_offsets(sampleOffsets(samples)), m_keep(keep) {
+    : m_inner(std::move(inner)), m_plan(std::move(plan)), m_offsets(sampleOffsets(samples)),
+      m_nearest(nearestToCentre(m_offsets)), m_keep(keep) {
     TC_CHECK(!m_plan.tiles.empty());
 }
 
@@ -53,7 +54,7 @@ void TiledTechnique::render(const FrameSetup& setup, FrameImages& out, StageTime
                 for (std::size_t i = 0; i < 4 * w; ++i) rgba[i] += trgba[i];
                 if (!m_tile.ao.empty())
                     for (std::size_t i = 0; i < w; ++i) out.ao[dst + i] += m_tile.ao[src + i];
-                if (s != 0) continue;  // first-surface AOVs: the centre sample's
+                if (s != m_nearest) continue;  // first-surface AOVs: one sample's, never a blend
                 if (m_keep.depth) std::memcpy(&out.depth[dst], &m_tile.depth[src], w * sizeof(float));
                 if (m_keep.normal) std::memcpy(&out.normal[3 * dst], &m_tile.normal[3 * src], 3 * w * sizeof(float));
                 if (m_keep.id) std::memcpy(&out.id[dst], &m_tile.id[src], w * sizeof(std::uint32_t));
@@ -76,7 +77,7 @@ nlohmann::json TiledTechnique::describe() const {
                   {"per_pixel_bytes", m_plan.bytesPerPixel},
                   {"largest_tile_mb", double(m_plan.largestTileBytes) / (1024.0 * 1024.0)}};
     j["samples"] = m_offsets.size();
-    j["sample_pattern"] = "R2 (Roberts 2018), sample 0 at the pixel centre; box filter";
+    j["sample_pattern"] = "centred Hammersley set, box filter; depth/normal/id of the sample nearest the centre";
     return j;
 }
 

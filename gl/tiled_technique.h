@@ -8,8 +8,8 @@
 //
 // Accumulation (a box filter over the pixel: the average of the samples, in float):
 //   rgba (premultiplied) and ao: the average of the samples;
-//   depth, normal, id: the sample nearest to the pixel centre, which is sample 0 at the centre
-//   (core/tiling.h sampleOffsets), so they hold values of actual surfaces, never a blend.
+//   depth, normal, id: the sample nearest to the pixel centre (core/tiling.h nearestToCentre),
+//   so they hold values of actual surfaces, never a blend.
 #include <memory>
 
 #include "core/tiling.h"
@@ -35,6 +35,7 @@ private:
     std::unique_ptr<Technique> m_inner;
     TilePlan m_plan;
     std::vector<glm::vec2> m_offsets;
+    std::size_t m_nearest = 0;  // the sample whose depth, normal and id are kept
     KeptAovs m_keep;
     FrameImages m_tile;  // one tile's result, reused
 };

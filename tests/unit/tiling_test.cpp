@@ -174,24 +174,33 @@ TEST(Tiling, per_pixel_bytes_follow_the_renderers_allocations) {
     EXPECT_FALSE(supportsWindows(s));
 }
 
-TEST(Tiling, r2_samples_start_at_the_centre_and_stay_in_the_pixel) {
-    const std::vector<glm::vec2> s = sampleOffsets(64);
-    EXPECT_EQ(s[0], glm::vec2(0.0f));
-    for (const glm::vec2& o : s) {
-        EXPECT_GE(o.x, -0.5f);
-        EXPECT_LT(o.x, 0.5f);
-        EXPECT_GE(o.y, -0.5f);
-        EXPECT_LT(o.y, 0.5f);
+TEST(Tiling, sample_sets_stay_in_the_pixel_one_sample_is_the_centre) {
+    EXPECT_EQ(sampleOffsets(1), std::vector<glm::vec2>{glm::vec2(0.0f)});
+    for (int n : {2, 4, 16, 64, 1000}) {
+        const std::vector<glm::vec2> s = sampleOffsets(n);
+        ASSERT_EQ(s.size(), std::size_t(n));
+        for (const glm::vec2& o : s) {
+            EXPECT_GE(o.x, -0.5f);
+            EXPECT_LE(o.x, 0.5f);
+            EXPECT_GE(o.y, -0.5f);
+            EXPECT_LE(o.y, 0.5f);
+            // Multiples of 1/256: integer pixel + offset is exact in float below 65536.
+            EXPECT_EQ(o.x * 256.0f, std::round(o.x * 256.0f));
+            EXPECT_EQ(o.y * 256.0f, std::round(o.y * 256.0f));
+            EXPECT_EQ((40000.0f + o.x) - 40000.0f, o.x);
+        }
+        const glm::vec2 c = s[nearestToCentre(s)];
+        for (const glm::vec2& o : s) EXPECT_LE(glm::dot(c, c), glm::dot(o, o));
     }
-    // Prefixes are the same sequence (deterministic, progressive).
-    const std::vector<glm::vec2> p = sampleOffsets(16);
-    EXPECT_TRUE(std::equal(p.begin(), p.end(), s.begin()));
+    // One sample per column stratum (x stratified): 16 distinct x in 16 strata.
+    const std::vector<glm::vec2> s = sampleOffsets(16);
+    for (int i = 0; i < 16; ++i) EXPECT_EQ(s[std::size_t(i)].x, (i + 0.5f) / 16.0f - 0.5f);
 }
 
-// The fraction of 16 R2 samples on one side of a straight edge through the pixel against the
+// The fraction of 16 samples on one side of a straight edge through the pixel against the
 // exact area (by 512 x 512 midpoint sampling), over edges of every angle and offset: this is the
-// tolerance the GPU anti-aliasing test (tests/gl/tiling_test.cpp) states.
-TEST(Tiling, sixteen_r2_samples_estimate_edge_coverage_within_a_tenth) {
+// tolerance the GPU anti-aliasing test (tests/gl/tiling_test.cpp) states (0.13, mean 0.04).
+TEST(Tiling, sixteen_samples_estimate_edge_coverage_within_an_eighth) {
     const std::vector<glm::vec2> s = sampleOffsets(16);
     double worst = 0, sum = 0;
     int count = 0;
@@ -212,9 +221,9 @@ TEST(Tiling, sixteen_r2_samples_estimate_edge_coverage_within_a_tenth) {
             ++count;
         }
     }
-    std::printf("[ measured ] 16 R2 samples vs exact edge coverage: max error %.4f, mean %.4f\n", worst, sum / count);
-    EXPECT_LE(worst, 0.1);
-    EXPECT_LE(sum / count, 0.03);
+    std::printf("[ measured ] 16 samples vs exact edge coverage: max error %.4f, mean %.4f\n", worst, sum / count);
+    EXPECT_LE(worst, 0.13);
+    EXPECT_LE(sum / count, 0.04);
 }
 
 TEST(Tiling, image_tiles_and_samples_parse_and_validate) {
