@@ -26,10 +26,13 @@
 #include "core/image_metrics.h"
 #include "core/scene.h"
 #include "core/styling.h"
+#include "core/tiling.h"
 #include "gl/context.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 #include "gl/technique.h"
+#include "gl/tiled_technique.h"
+#include "gl/view_window.h"
 #include "io/atomic_file.h"
 #include "io/dataset.h"
 #include "io/image_io.h"
@@ -238,8 +241,10 @@ void runRender(const RenderOptions& o) {
     if (data.cleaned.any()) std::cerr << "warning: " << data.source << ": " << data.cleaned.summary() << "\n";
     // Particle datasets (M6) go to the sphere renderer through ParticleFrames; `styled` is empty
     // then and only carries the spheres' bounds (camera fit, depth range).
+    // Techniques are created for the largest tile (planned below, once the GL's limits are known).
+    Scene techniqueScene = scene;
     std::optional<ParticleFrames> particles;
-    if (data.isParticles()) particles.emplace(scene, data.particles);
+    if (data.isParticles()) particles.emplace(techniqueScene, data.particles);
     StyledLines styled = particles ? StyledLines{} : styleLines(data.lines, scene.style, scene.file);
     if (particles) styled.bounds = particles->bounds();
     double prepareSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -273,16 +278,30 @@ void runRender(const RenderOptions& o) {
         scene.render.technique = resolveTechnique(scene.render.technique, context.info().renderer, why);
         if (!why.empty() && !o.quiet) std::cerr << "tubecast: " << why << "\n";
     }
+    // Tiles (image.tiles, or render.memory_budget_mb over the per-pixel buffers; core/tiling.h):
+    // the technique renders the largest tile, wrapped to render every tile and sample.
+    const TilePlan tilePlan = planSceneTiles(
+        scene, bool(particles), gl::currentTileLimits(perPixelStorageBufferBytes(scene, bool(particles))));
+    techniqueScene.image.width = tilePlan.largestTileWidth;
+    techniqueScene.image.height = tilePlan.largestTileHeight;
     auto technique = particles ? particles->createTechnique(todo.front().frame)
                      : scene.render.transparency == Transparency::OpacityOptimization
                          ? makeOpacityTechnique(scene, styled, data.lines)
-                         : makeTechnique(scene, styled);
+                         : makeTechnique(techniqueScene, styled);
+    const gl::KeptAovs keptAovs{out.exr && out.aovDepth, out.exr && out.aovNormal, out.exr && out.aovId};
+    technique = gl::wrapInTiles(std::move(technique), tilePlan, scene.image.samples, keptAovs);
+    if (!o.quiet && (tilePlan.tiles.size() > 1 || scene.image.samples > 1))
+        std::cerr << "tubecast: " << tilePlan.tiles.size() << " tile(s) (" << tilePlan.nx << "x" << tilePlan.ny
+                  << (tilePlan.automatic ? ", for render.memory_budget_mb" : "") << "), largest "
+                  << tilePlan.largestTileWidth << "x" << tilePlan.largestTileHeight << " with "
+                  << (tilePlan.largestTileBytes >> 20) << " MB of per-pixel buffers, " << scene.image.samples
+                  << " sample(s) per pixel\n";
     // render.reference: the same frames by depth peeling (GL) or exact ray tracing (rt/), compared
     // per frame into quality.csv.
     std::unique_ptr<gl::Technique> reference;
     const char* referenceName = scene.render.referenceRaytraced ? "raytraced" : "depth_peeling";
     if (scene.render.referenceDepthPeeling || scene.render.referenceRaytraced) {
-        Scene refScene = scene;
+        Scene refScene = techniqueScene;
         if (scene.render.referenceRaytraced) {
             refScene.render.technique = RenderTechnique::Raytraced;
             refScene.render.raytracedAlphaCutoff = 1.0f;
@@ -294,7 +313,7 @@ void runRender(const RenderOptions& o) {
             refScene.render.maxPeelLayers = 0;
         }
         refScene.output.aovDepth = refScene.output.aovNormal = refScene.output.aovId = false;
-        reference = makeTechnique(refScene, styled);
+        reference = gl::wrapInTiles(makeTechnique(refScene, styled), tilePlan, scene.image.samples, {false, false, false});
     }
 
     const float aspect = float(scene.image.width) / float(scene.image.height);

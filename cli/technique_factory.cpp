@@ -31,7 +31,7 @@ public:
     explicit RaytracedTechnique(std::unique_ptr<Renderer> r) : m_renderer(std::move(r)) {}
     void render(const gl::FrameSetup& setup, FrameImages& out, gl::StageTimer& timer) override {
         StageTimerSink sink(timer);
-        m_renderer->render(setup.camera, setup.width, setup.height, out, sink);
+        m_renderer->render(setup.camera, setup.width, setup.height, out, sink, setup.window);
     }
     nlohmann::json describe() const override { return m_renderer->describe(); }
 

@@ -1,5 +1,6 @@
 #include "core/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -309,6 +310,19 @@ void readImage(SpecReader r, ImageSpec& im) {
     im.width = r.getInt("width", im.width, 1, 65536);
     im.height = r.getInt("height", im.height, 1, 65536);
     im.background = r.getColor("background", im.background);
+    // M9 large images (core/tiling.h): "auto" or [nx, ny] with tiles at least 2 pixels wide.
+    if (r.has("tiles")) {
+        const json& t = r.raw("tiles");
+        const bool isAuto = t.is_string() && t.get<std::string>() == "auto";
+        const int maxX = std::max(1, im.width / 2), maxY = std::max(1, im.height / 2);
+        auto inRange = [](const json& v, int hi) { return v.is_number_integer() && v.get<long long>() >= 1 && v.get<long long>() <= hi; };
+        if (!isAuto && !(t.is_array() && t.size() == 2 && inRange(t[0], maxX) && inRange(t[1], maxY)))
+            r.fail("tiles", "expected \"auto\" or [nx, ny] with integers 1.." + std::to_string(maxX) + " and 1.." +
+                                std::to_string(maxY) + " (at most width/2 x height/2), got " + describeJson(t));
+        im.tilesX = isAuto ? 0 : t[0].get<int>();
+        im.tilesY = isAuto ? 0 : t[1].get<int>();
+    }
+    im.samples = r.getInt("samples", im.samples, 1, 1024);
     r.finish();
 }
 
@@ -548,6 +562,14 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);
         o.fail("name", "\"" + scene.output.name + "\" has no frame token ('####' or '{frame:04}') but the animation has " +
                            std::to_string(scene.frameCount()) + " frames");
+    }
+    if (scene.render.transparency == Transparency::OpacityOptimization &&
+        (scene.image.tilesX > 0 || scene.image.samples > 1)) {
+        // One optimisation over the whole image's fragments, blended into the next frame's.
+        SpecReader im(doc.contains("image") ? doc["image"] : json::object(), file, "image", &overridden);
+        im.fail(scene.image.samples > 1 ? "samples" : "tiles",
+                "render.transparency \"opacity_optimization\" renders the whole image at once (one optimisation over "
+                "all its fragments); remove image.tiles and image.samples");
     }
     if (scene.output.aovAo && !scene.render.ao.enabled) {
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);

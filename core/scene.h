@@ -105,6 +105,8 @@ struct ImageSpec {
     int width = 640;
     int height = 480;
     glm::vec4 background{0.0f};  // sRGB colour, straight alpha
+    int tilesX = 0, tilesY = 0;  // image.tiles [nx, ny]; 0 = "auto" (by render.memory_budget_mb; core/tiling.h)
+    int samples = 1;             // image.samples: jittered sub-pixel samples per pixel (core/tiling.h)
 };
 
 // Auto is resolved by the frame loop (cli/render.cpp): Raytraced on software GL rasterizers.

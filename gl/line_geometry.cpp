@@ -6,6 +6,7 @@
 
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
+#include "gl/view_window.h"
 
 namespace tc::gl {
 
@@ -80,7 +81,7 @@ float LineGeometry::farDepth(const FrameSetup& setup) const {
 
 void LineGeometry::setCameraUniforms(GLuint p, const FrameSetup& setup) const {
     const Camera& cam = setup.camera;
-    const float aspect = float(setup.width) / float(setup.height);
+    const float aspect = float(fullWidthOf(setup.window, setup.width)) / float(fullHeightOf(setup.window, setup.height));
     const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
     const float far = farDepth(setup);
     const glm::mat4 viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
@@ -92,7 +93,7 @@ void LineGeometry::setCameraUniforms(GLuint p, const FrameSetup& setup) const {
     glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
     glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
     glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
-    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
+    setViewWindowUniforms(p, setup);
     glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
     glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
 }

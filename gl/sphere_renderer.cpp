@@ -11,6 +11,7 @@
 #include "gl/line_geometry.h"
 #include "gl/shader_library.h"
 #include "gl/sphere_ambient.h"
+#include "gl/view_window.h"
 
 namespace tc::gl {
 
@@ -132,7 +133,7 @@ void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
     glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
     glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
     glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
-    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
+    setViewWindowUniforms(p, setup);
     // Linear depth for the opaque depth test: beyond everything the data can reach.
     const float far = glm::distance(cam.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
     glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);

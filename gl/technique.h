@@ -12,15 +12,23 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/tiling.h"
 
 namespace tc::gl {
 
 class StageTimer;
 
 struct FrameSetup {
+    FrameSetup() = default;
+    FrameSetup(int frame_, const Camera& camera_, int width_, int height_, const ImageWindow& window_ = {})
+        : frame(frame_), camera(camera_), width(width_), height(height_), window(window_) {}
+
     int frame = 0;
     Camera camera;
-    int width = 0, height = 0;
+    int width = 0, height = 0;  // the render target: the whole image, or one tile of it
+    // Which part of the full image the target is and where its samples lie (tiles, image.samples;
+    // gl/tiled_technique.h). Techniques pass it to the shaders with setViewWindowUniforms.
+    ImageWindow window;
 };
 
 class Technique {

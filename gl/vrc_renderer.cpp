@@ -12,6 +12,7 @@
 #include "gl/line_geometry.h"
 #include "gl/radix_sort.h"
 #include "gl/shader_library.h"
+#include "gl/view_window.h"
 
 namespace tc::gl {
 
@@ -34,7 +35,7 @@ void setCameraUniforms(GLuint p, const FrameSetup& setup) {
     glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
     glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
     glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
-    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(setup.width), float(setup.height));
+    setViewWindowUniforms(p, setup);
 }
 
 void dispatch1D(GLuint program, std::size_t count) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <limits>
 
 #include <OpenImageIO/half.h>
@@ -35,19 +36,29 @@ std::string oiioError(const std::string& objectError) {
     return message.empty() ? "unknown OpenImageIO error" : message;
 }
 
-// Writes `pixels` (native per-channel layout when spec.channelformats is set) to a temp file
-// next to `path` and renames it into place.
-void writeImage(const std::string& path, const ImageSpec& spec, TypeDesc format, const void* pixels,
-                const char* what) {
+// Rows converted per write_scanlines call: the conversion buffer holds this many rows, not the
+// image, so a 16384^2 frame (M9 tiles) needs no second full-size copy of its pixels.
+constexpr int kRowsPerStrip = 64;
+
+// Writes the image to a temp file next to `path` and renames it into place. `fillRows(y0, y1,
+// dst)` writes rows [y0, y1) in `format` (native per-channel layout when spec.channelformats is
+// set; TypeDesc::UNKNOWN) to dst, `rowBytes` per row; rows go out top to bottom in strips.
+void writeImage(const std::string& path, const ImageSpec& spec, TypeDesc format, std::size_t rowBytes,
+                const std::function<void(int, int, unsigned char*)>& fillRows, const char* what) {
     AtomicFile file(path);
     const std::string prefix = path + ": cannot write " + what + ": ";
     auto out = ImageOutput::create(file.tempPath());
     if (!out) throw OutputError(prefix + oiioError(""));
     if (!out->open(file.tempPath(), spec)) throw OutputError(prefix + oiioError(out->geterror()));
-    if (!out->write_image(format, pixels)) {
-        std::string message = oiioError(out->geterror());
-        out->close();
-        throw OutputError(prefix + message);
+    std::vector<unsigned char> strip(rowBytes * std::size_t(std::min(spec.height, kRowsPerStrip)));
+    for (int y0 = 0; y0 < spec.height; y0 += kRowsPerStrip) {
+        const int y1 = std::min(spec.height, y0 + kRowsPerStrip);
+        fillRows(y0, y1, strip.data());
+        if (!out->write_scanlines(y0, y1, 0, format, strip.data())) {
+            std::string message = oiioError(out->geterror());
+            out->close();
+            throw OutputError(prefix + message);
+        }
     }
     if (!out->close()) throw OutputError(prefix + oiioError(out->geterror()));
     file.commit();
@@ -82,23 +93,27 @@ void writePng(const FrameImages& frame, const std::string& path,
     TC_CHECK(frame.width > 0 && frame.height > 0);
     TC_CHECK_OP(frame.rgba.size(), ==, 4 * frame.pixelCount());
     TC_CHECK(zlibLevel >= 0 && zlibLevel <= 9);
-    std::vector<std::uint8_t> pixels(4 * frame.pixelCount());
-    // In parallel, and sRGB by table (core/srgb8.h): with the formula, three powf per pixel cost
-    // more than the compression (docs/performance.md, M10).
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frame.pixelCount(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                              const float* in = &frame.rgba[4 * i];
-                              std::uint8_t* out = &pixels[4 * i];
-                              float alpha = clamp01(in[3]);
-                              if (alpha <= 0.0f) {
-                                  out[0] = out[1] = out[2] = out[3] = 0;
-                                  continue;
+    const std::size_t w = std::size_t(frame.width);
+    // Strips of rows (writeImage), each converted in parallel and sRGB by table (core/srgb8.h):
+    // with the formula, three powf per pixel cost more than the compression (docs/performance.md,
+    // M10).
+    auto fillRows = [&](int y0, int y1, unsigned char* pixels) {
+        const std::size_t first = std::size_t(y0) * w;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::size_t(y1) * w, 4096),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                                  const float* in = &frame.rgba[4 * i];
+                                  std::uint8_t* out = pixels + 4 * (i - first);
+                                  float alpha = clamp01(in[3]);
+                                  if (alpha <= 0.0f) {
+                                      out[0] = out[1] = out[2] = out[3] = 0;
+                                      continue;
+                                  }
+                                  for (int c = 0; c < 3; ++c) out[c] = linearToSrgb8(in[c] / alpha);
+                                  out[3] = quantise(alpha);
                               }
-                              for (int c = 0; c < 3; ++c) out[c] = linearToSrgb8(in[c] / alpha);
-                              out[3] = quantise(alpha);
-                          }
-                      });
+                          });
+    };
     ImageSpec spec(frame.width, frame.height, 4, TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
     spec.attribute("png:compressionLevel", zlibLevel);
@@ -110,7 +125,7 @@ void writePng(const FrameImages& frame, const std::string& path,
     // again (pngoutput: "oiio:UnassociatedAlpha" = 1 means the data is already straight).
     spec.attribute("oiio:UnassociatedAlpha", 1);
     for (const auto& [key, value] : text) spec.attribute(key, value);  // string -> tEXt chunk
-    writeImage(path, spec, TypeDesc::UINT8, pixels.data(), "PNG");
+    writeImage(path, spec, TypeDesc::UINT8, 4 * w, fillRows, "PNG");
 }
 
 void writeExr(const FrameImages& frame, const std::string& path, const ExrOptions& options) {
@@ -167,25 +182,27 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
     // Mixed channel formats: OIIO takes one interleaved buffer in the native per-channel types
     // (TypeUnknown below). The id channel must not pass through float: ids above 2^24 would
     // round, and 0xFFFFFFFF would not survive.
-    std::vector<unsigned char> pixels(pixelBytes * n);
-    for (std::size_t i = 0; i < n; ++i) {
-        unsigned char* dst = &pixels[i * pixelBytes];
-        for (const Channel& ch : channels) {
-            if (ch.type == TypeDesc::HALF) {
-                Imath::half h(static_cast<const float*>(ch.source)[i * std::size_t(ch.stride)]);
-                std::memcpy(dst, &h, sizeof h);
-            } else if (ch.type == TypeDesc::FLOAT) {
-                std::memcpy(dst, static_cast<const float*>(ch.source) + i * std::size_t(ch.stride),
-                            4);
-            } else {
-                std::memcpy(
-                    dst, static_cast<const std::uint32_t*>(ch.source) + i * std::size_t(ch.stride),
-                    4);
+    const std::size_t w = std::size_t(frame.width);
+    auto fillRows = [&](int y0, int y1, unsigned char* pixels) {
+        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
+            unsigned char* dst = &pixels[(i - std::size_t(y0) * w) * pixelBytes];
+            for (const Channel& ch : channels) {
+                if (ch.type == TypeDesc::HALF) {
+                    Imath::half h(static_cast<const float*>(ch.source)[i * std::size_t(ch.stride)]);
+                    std::memcpy(dst, &h, sizeof h);
+                } else if (ch.type == TypeDesc::FLOAT) {
+                    std::memcpy(dst, static_cast<const float*>(ch.source) + i * std::size_t(ch.stride),
+                                4);
+                } else {
+                    std::memcpy(
+                        dst, static_cast<const std::uint32_t*>(ch.source) + i * std::size_t(ch.stride),
+                        4);
+                }
+                dst += ch.type.size();
             }
-            dst += ch.type.size();
         }
-    }
-    writeImage(path, spec, TypeDesc::UNKNOWN, pixels.data(), "EXR");
+    };
+    writeImage(path, spec, TypeDesc::UNKNOWN, pixelBytes * w, fillRows, "EXR");
 }
 
 FrameImages readExr(const std::string& path, std::map<std::string, std::string>* metadata) {

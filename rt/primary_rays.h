@@ -13,6 +13,7 @@
 
 #include "core/camera.h"
 #include "core/frame_images.h"
+#include "core/tiling.h"
 
 namespace tc::rt {
 
@@ -49,9 +50,11 @@ void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, First
 
 // Calls fn(tile) for every tile of a width x height image, in parallel; fn must only write the
 // tile's own pixels (then images do not depend on the thread count).
+// `window`: which part of the full image (and which sub-pixel sample) the width x height target
+// is (core/tiling.h: tiles, image.samples); rays are those of the full image's pixels.
 template <class TileFn>
-void forEachTile(const Camera& camera, int width, int height, TileFn&& fn) {
-    const PixelRays pixelRays(camera, width, height);
+void forEachTile(const Camera& camera, const ImageWindow& window, int width, int height, TileFn&& fn) {
+    const PixelRays pixelRays(camera, fullWidthOf(window, width), fullHeightOf(window, height));
     const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
     tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& range) {
         Tile tile;
@@ -60,7 +63,10 @@ void forEachTile(const Camera& camera, int width, int height, TileFn&& fn) {
             tile.y0 = (t / tilesX) * kTile;
             tile.w = std::min(kTile, width - tile.x0);
             tile.h = std::min(kTile, height - tile.y0);
-            for (int k = 0; k < tile.count(); ++k) tile.rays[k] = pixelRays(float(tile.px(k)), float(tile.py(k)));
+            for (int k = 0; k < tile.count(); ++k) {
+                const glm::vec2 p = fullImagePixel(window, float(tile.px(k)), float(tile.py(k)));
+                tile.rays[k] = pixelRays(p.x, p.y);
+            }
             fn(tile);
         }
     });

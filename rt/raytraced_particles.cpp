@@ -116,7 +116,8 @@ void RaytracedParticles::upload(const StyledParticles& particles) {
     m_bvh->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void RaytracedParticles::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const {
+void RaytracedParticles::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
+                                const ImageWindow& window) const {
     sink.begin("raytrace");
     out.allocate(width, height);
     const glm::vec3 forward = camera.forward();
@@ -133,7 +134,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
         return (ray.origin + tNear * ray.dir - glm::vec3(cr)) / cr.w;
     };
 
-    forEachTile(camera, width, height, [&](const Tile& tile) {
+    forEachTile(camera, window, width, height, [&](const Tile& tile) {
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
         if (!m_transparent) traceFirstHits(m_bvh->scene, m_traversal, tile, firstHits);

@@ -40,7 +40,9 @@ public:
 
     // Renders one frame into `out` as core/particle_reference.h defines it (rgba linear
     // premultiplied; depth / normal / id of the first sphere). Stage "raytrace", items = hits.
-    void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const;
+    // `window`: the part of the full image this target is (core/tiling.h; tiles, image.samples).
+    void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
+                const ImageWindow& window = {}) const;
 
     nlohmann::json describe() const;
     void setTraversal(Traversal t) { m_traversal = t; }

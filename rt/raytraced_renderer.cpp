@@ -102,7 +102,8 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     return r;
 }
 
-void RaytracedRenderer::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const {
+void RaytracedRenderer::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
+                               const ImageWindow& window) const {
     sink.begin("raytrace");
     out.allocate(width, height);
     if (m_ao && !m_transparent) out.ao.assign(out.pixelCount(), 1.0f);
@@ -111,7 +112,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     const bool ortho = camera.projection == Projection::Orthographic;
     std::atomic<std::uint64_t> totalHits{0};
 
-    forEachTile(camera, width, height, [&](const Tile& tile) {
+    forEachTile(camera, window, width, height, [&](const Tile& tile) {
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
         if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);

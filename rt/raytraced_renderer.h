@@ -32,6 +32,7 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/tiling.h"
 #include "rt/primary_rays.h"
 #include "rt/stage_sink.h"
 
@@ -50,7 +51,9 @@ public:
     // Renders one frame into `out` (allocated to width x height): rgba linear premultiplied,
     // depth / normal / id as core/frame_images.h, ao (opaque with AO enabled: the factor at the
     // visible surface, 1 on background). Stages: "raytrace" (items = Embree hits processed).
-    void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink) const;
+    // `window`: the part of the full image and the sample position this target is (core/tiling.h).
+    void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
+                const ImageWindow& window = {}) const;
 
     nlohmann::json describe() const;
 

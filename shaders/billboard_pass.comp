@@ -18,6 +18,7 @@ uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
 uniform vec2 uViewport;
+#include "view_window.glsl"
 uniform uint uSlotEnd;    // draw slots [uFirstSlot, uSlotEnd); slot = segment without DRAW_ORDER
 uniform uint uFirstSlot;  // dispatches are split to stay under the work-group count limit
 

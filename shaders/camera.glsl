@@ -11,7 +11,8 @@ struct Ray {
 // What the shader needs of a tc::Camera, filled from uniforms:
 //   forward/right/trueUp = Camera::forward()/right()/trueUp(),
 //   tanHalfFovY = std::tan(glm::radians(fovYDeg) * 0.5f), orthoHalfHeight = 0.5f * orthoHeight,
-//   viewport = (width, height) of the full image in pixels.
+//   viewport = (width, height) of the full image in pixels, pixelOffset = the full-image window
+//   coordinate of the render target's origin (shaders/view_window.glsl; 0 untiled).
 struct RayCamera {
     vec3 eye;
     vec3 forward;
@@ -21,14 +22,17 @@ struct RayCamera {
     float orthoHalfHeight;
     bool orthographic;
     vec2 viewport;
+    vec2 pixelOffset;
 };
 
 // Ray through the pixel whose centre is at window coordinate fragCoord (gl_FragCoord.xy: y = 0.5
-// is the BOTTOM row, which is tc::pixelRay's py = height - 1). Perspective rays start at the eye;
-// orthographic rays start on the plane through the eye.
+// is the BOTTOM row, which is tc::pixelRay's py = height - 1) of the render target, shifted by
+// pixelOffset into the full image. Perspective rays start at the eye; orthographic rays start on
+// the plane through the eye.
 Ray pixelRay(RayCamera cam, vec2 fragCoord) {
-    float sx = 2.0 * fragCoord.x / cam.viewport.x - 1.0;
-    float sy = 2.0 * fragCoord.y / cam.viewport.y - 1.0;
+    vec2 p = fragCoord + cam.pixelOffset;
+    float sx = 2.0 * p.x / cam.viewport.x - 1.0;
+    float sy = 2.0 * p.y / cam.viewport.y - 1.0;
     float aspect = cam.viewport.x / cam.viewport.y;
     Ray ray;
     if (cam.orthographic) {

@@ -9,9 +9,11 @@ uniform bool uOrthographic;
 uniform float uTanHalfFov;
 uniform float uOrthoHalfHeight;
 uniform vec2 uViewport;
+#include "view_window.glsl"
 
 RayCamera frameCamera() {
-    return RayCamera(uEye, uForward, uRight, uUp, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport);
+    return RayCamera(uEye, uForward, uRight, uUp, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport,
+                     uPixelOffset);
 }
 
 // View-space depth of a hit at parameter t: distance along the viewing direction. Orthographic

@@ -13,8 +13,9 @@
 // odd size leaves over, so a pixel p lies in texel min(p >> L, size - 1) at every level.
 // (A buffer, not a mip-mapped texture: on llvmpipe 22.3, texelFetch of levels >= 1 of an R32F
 // texture written with imageStore did not return what glGetTextureImage read back.)
-// GLSL 4.50 chunk; needs uEye, uForward, uViewport declared by the including shader and CULLING
+// GLSL 4.50 chunk; needs uEye, uForward and view_window.glsl included by the including shader and CULLING
 // plus one of CULL_MAX_DEPTH / CULL_MIN_OPACITY defined.
+#include "view_window.glsl"
 #ifndef TC_HIERARCHICAL_CULLING_GLSL
 #define TC_HIERARCHICAL_CULLING_GLSL
 #ifdef CULLING
@@ -65,14 +66,14 @@ bool cullBoxHidden(ivec2 lo, ivec2 hi, float nearest) {
     return true;
 }
 
-// The billboard test: corners in NDC; a billboard entirely off screen is left alone (it
-// rasterizes nothing anyway).
+// The billboard test: corners in full-image NDC; a billboard entirely off the render target is
+// left alone (it rasterizes nothing anyway). The pyramid covers the target (a tile: its pixels).
 bool cullBillboard(vec2 ndc[4], float nearest) {
-    vec2 lo = min(min(ndc[0], ndc[1]), min(ndc[2], ndc[3]));
-    vec2 hi = max(max(ndc[0], ndc[1]), max(ndc[2], ndc[3]));
-    vec2 pixelsLo = (0.5 * lo + 0.5) * uViewport, pixelsHi = (0.5 * hi + 0.5) * uViewport;
-    if (any(greaterThan(pixelsLo, uViewport)) || any(lessThan(pixelsHi, vec2(0.0)))) return false;
-    ivec2 maxPixel = ivec2(uViewport) - 1;
+    vec2 lo = targetNdc(min(min(ndc[0], ndc[1]), min(ndc[2], ndc[3])));
+    vec2 hi = targetNdc(max(max(ndc[0], ndc[1]), max(ndc[2], ndc[3])));
+    vec2 pixelsLo = (0.5 * lo + 0.5) * uTargetSize, pixelsHi = (0.5 * hi + 0.5) * uTargetSize;
+    if (any(greaterThan(pixelsLo, uTargetSize)) || any(lessThan(pixelsHi, vec2(0.0)))) return false;
+    ivec2 maxPixel = ivec2(uTargetSize) - 1;
     ivec2 p0 = clamp(ivec2(floor(pixelsLo)), ivec2(0), maxPixel);
     ivec2 p1 = clamp(ivec2(floor(pixelsHi)), ivec2(0), maxPixel);
     return cullBoxHidden(p0, p1, nearest);

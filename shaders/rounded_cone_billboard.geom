@@ -14,6 +14,7 @@ uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
 uniform vec2 uViewport;
+#include "view_window.glsl"
 
 #include "hierarchical_culling.glsl"
 
@@ -37,7 +38,7 @@ void main() {
     for (int k = 0; k < 4; ++k) {
         vSegment = segment;
         writeSegmentVaryings(varyings);
-        gl_Position = vec4(bb.ndc[k], 0.0, 1.0);
+        gl_Position = vec4(targetNdc(bb.ndc[k]), 0.0, 1.0);
         EmitVertex();
     }
     EndPrimitive();

@@ -13,6 +13,7 @@ uniform vec3 uEye;
 uniform vec3 uForward;
 uniform bool uOrthographic;
 uniform vec2 uViewport;
+#include "view_window.glsl"
 
 #include "hierarchical_culling.glsl"
 
@@ -35,7 +36,7 @@ void main() {
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
     if (provoking) writeSegmentVaryings(readSegmentRecord(segment));
-    gl_Position = vec4((corner & 1) == 0 ? pair.xy : pair.zw, 0.0, 1.0);
+    gl_Position = vec4(targetNdc((corner & 1) == 0 ? pair.xy : pair.zw), 0.0, 1.0);
 #else
     vec4 a = positionRadius[segmentVertices[2u * segment]];
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
@@ -49,7 +50,7 @@ void main() {
         if (gl_VertexID % 6 == 0) atomicCounterIncrement(uCulledSegments);
     }
 #endif
-    gl_Position = vec4(corners[corner], 0.0, 1.0);
+    gl_Position = vec4(targetNdc(corners[corner]), 0.0, 1.0);
     if (provoking) writeSegmentVaryings(loadSegmentVaryings(segment));
 #endif
 }

@@ -33,5 +33,5 @@ void main() {
     }
     rect = clamp(rect, vec4(-1.0 - pad, -1.0 - pad), vec4(1.0 + pad, 1.0 + pad));
     int corner = kCorner[gl_VertexID % 6];
-    gl_Position = vec4((corner & 1) == 0 ? rect.x : rect.z, (corner & 2) == 0 ? rect.y : rect.w, 0.0, 1.0);
+    gl_Position = vec4(targetNdc(vec2((corner & 1) == 0 ? rect.x : rect.z, (corner & 2) == 0 ? rect.y : rect.w)), 0.0, 1.0);
 }

@@ -197,7 +197,7 @@ vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, out float ao) {
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (pixel.x >= int(uViewport.x) || pixel.y >= int(uViewport.y)) return;
+    if (pixel.x >= int(uTargetSize.x) || pixel.y >= int(uTargetSize.y)) return;
     Ray ray = pixelRay(frameCamera(), vec2(pixel) + 0.5);
 
     vec4 accum = vec4(0.0);

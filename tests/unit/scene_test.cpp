@@ -300,7 +300,7 @@ TEST(Scene, UnknownNestedKeyIsAnErrorThatSuggestsTheClosestKey) {
 
 TEST(Scene, UnknownKeyFarFromAnyKnownKeyListsTheKnownKeys) {
     EXPECT_EQ(errorOf(with(R"({"image": {"quality": 9}})")),
-              "scene.json: image.quality: unknown key (known keys: \"background\", \"height\", \"width\")");
+              "scene.json: image.quality: unknown key (known keys: \"background\", \"height\", \"samples\", \"tiles\", \"width\")");
 }
 
 TEST(Scene, UnknownKeyInsideAKeyframeIsAnError) {

@@ -1,0 +1,32 @@
+#include "gl/view_window.h"
+
+#include <algorithm>
+
+#include "gl/line_geometry.h"
+
+namespace tc::gl {
+
+void setViewWindowUniforms(GLuint p, const FrameSetup& setup) {
+    const ImageWindow& w = setup.window;
+    const glm::vec2 offset = glWindowOffset(w, setup.width, setup.height);
+    const glm::vec4 ndc = ndcToTarget(w, setup.width, setup.height);
+    glProgramUniform2f(p, uniformLocation(p, "uViewport"), float(fullWidthOf(w, setup.width)),
+                       float(fullHeightOf(w, setup.height)));
+    glProgramUniform2f(p, uniformLocation(p, "uPixelOffset"), offset.x, offset.y);
+    glProgramUniform4f(p, uniformLocation(p, "uNdcToTarget"), ndc.x, ndc.y, ndc.z, ndc.w);
+    glProgramUniform2f(p, uniformLocation(p, "uTargetSize"), float(setup.width), float(setup.height));
+}
+
+TileLimits currentTileLimits(std::size_t storageBytesPerPixel) {
+    GLint maxTexture = 0, maxViewport[2] = {0, 0};
+    GLint64 maxBlock = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    TileLimits limits;
+    limits.maxEdge = std::max(0, std::min({maxTexture, maxViewport[0], maxViewport[1]}));
+    if (storageBytesPerPixel > 0 && maxBlock > 0) limits.maxPixels = std::size_t(maxBlock) / storageBytesPerPixel;
+    return limits;
+}
+
+}  // namespace tc::gl
