@@ -178,8 +178,15 @@ void addAttributes(vtkPolyData* lines, const std::vector<vtkIdType>& order, Line
         const int nc = array->GetNumberOfComponents();
         static const char* axis[] = {"_x", "_y", "_z"};
         std::vector<Attribute> attrs(std::size_t(nc > 1 ? nc + 1 : 1));
-        for (int c = 0; c < nc; ++c)
-            attrs[std::size_t(c)].name = nc == 1 ? name : name + (c < 3 ? axis[c] : "_" + std::to_string(c));
+        for (int c = 0; c < nc; ++c) {
+            // Appending (rather than "_" + to_string(c)) also avoids a GCC 12 -Wrestrict false positive.
+            std::string component = name;
+            if (nc > 1) {
+                component += c < 3 ? axis[c] : "_";
+                if (c >= 3) component += std::to_string(c);
+            }
+            attrs[std::size_t(c)].name = component;
+        }
         if (nc > 1) attrs.back().name = name + "_magnitude";
         for (auto& attr : attrs) attr.values.reserve(order.size());
         for (vtkIdType id : order) {

@@ -122,12 +122,14 @@ void expectTiledEqualsUntiled(const Scene& scene, const StyledLines& lines, bool
         ASSERT_GT(coveredPixels(full.images), 500u);
         ASSERT_LT(coveredPixels(full.images), full.images.pixelCount());
         if (scene.render.ao.enabled && scene.render.transparency == Transparency::Opaque &&
-            scene.render.technique == RenderTechnique::Rasterized)
+            scene.render.technique == RenderTechnique::Rasterized) {
             ASSERT_FALSE(full.images.ao.empty());
+        }
         // Billboard-level culls are what the counter sees; the orthographic k-buffer view culls
         // per fragment only, so the count is asserted on the perspective view.
-        if (expectCulling && p == Projection::Perspective)
+        if (expectCulling && p == Projection::Perspective) {
             EXPECT_GT(full.culled, 0u) << "culling did nothing: the comparison would not test it";
+        }
         expectIdentical(tiled.images, full.images);
     }
 }
