@@ -276,6 +276,7 @@ void runRender(const RenderOptions& o) {
     {
         std::string why;
         scene.render.technique = resolveTechnique(scene.render.technique, context.info().renderer, why);
+        techniqueScene.render.technique = scene.render.technique;
         if (!why.empty() && !o.quiet) std::cerr << "tubecast: " << why << "\n";
     }
     // Tiles (image.tiles, or render.memory_budget_mb over the per-pixel buffers; core/tiling.h):
