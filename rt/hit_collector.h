@@ -18,9 +18,14 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+
 namespace tc::rt {
 
 constexpr int kMaxHitsPerPass = 48;
+
+// Hits gathered per traversal: cut-off rays usually stop within the first pass; exact ones
+// (alpha cutoff 1) take fewer passes with a larger K.
+inline int hitsPerPass(float alphaCutoff) { return alphaCutoff >= 1.0f ? kMaxHitsPerPass : 16; }
 
 struct RayHitRecord {
     float t;  // sort key along the ray (<= the hit's Embree t)
@@ -35,6 +40,20 @@ inline bool hitLess(const RayHitRecord& a, const RayHitRecord& b) {
     if (a.t != b.t) return a.t < b.t;
     if (a.prim != b.prim) return a.prim < b.prim;
     return a.back < b.back;
+}
+
+// The candidate hit a context filter is called with: t = the ray's tfar, primitive, Embree's
+// geometric normal and whether it faces away from the ray; callers change t (the sort key) as
+// their filter needs.
+inline RayHitRecord hitRecordOf(const RTCFilterFunctionNArguments* args) {
+    const RTCRay* ray = reinterpret_cast<const RTCRay*>(args->ray);
+    const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
+    RayHitRecord h;
+    h.t = ray->tfar;
+    h.prim = hit->primID;
+    h.ng = glm::vec3(hit->Ng_x, hit->Ng_y, hit->Ng_z);
+    h.back = glm::dot(h.ng, glm::vec3(ray->dir_x, ray->dir_y, ray->dir_z)) > 0.0f ? 1u : 0u;
+    return h;
 }
 
 struct HitCollector {

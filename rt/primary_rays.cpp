@@ -18,19 +18,7 @@ void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, First
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     const int n = tile.count();
-    auto setRay = [&](RTCRayHit& rh, const Ray& r) {
-        rh.ray.org_x = r.origin.x, rh.ray.org_y = r.origin.y, rh.ray.org_z = r.origin.z;
-        rh.ray.dir_x = r.dir.x, rh.ray.dir_y = r.dir.y, rh.ray.dir_z = r.dir.z;
-        rh.ray.tnear = 0.0f;
-        rh.ray.tfar = kInf;
-        rh.ray.time = 0.0f;
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.id = 0;
-        rh.ray.flags = 0;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    };
+    auto setRay = [](RTCRayHit& rh, const Ray& r) { rh = makeRayHit(r, 0.0f); };
     auto record = [](FirstHit& h, const RTCRayHit& rh) {
         h.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         h.prim = rh.hit.primID;

@@ -5,6 +5,7 @@
 // one of Embree's traversal interfaces.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
@@ -44,6 +45,27 @@ struct FirstHit {
     float t = 0;
     glm::vec3 ng{0.0f};  // Embree's geometric normal, unnormalised
 };
+
+// A ray from `tnear` to infinity, no hit yet, for rtcIntersect1.
+inline RTCRayHit makeRayHit(const Ray& ray, float tnear) {
+    RTCRayHit rh;
+    rh.ray.org_x = ray.origin.x;
+    rh.ray.org_y = ray.origin.y;
+    rh.ray.org_z = ray.origin.z;
+    rh.ray.dir_x = ray.dir.x;
+    rh.ray.dir_y = ray.dir.y;
+    rh.ray.dir_z = ray.dir.z;
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
 
 // hits[k] = the first hit of tile.rays[k] in `scene` (geometry 0).
 void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, FirstHit* hits);

@@ -18,11 +18,6 @@
 namespace tc::rt {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-// Hits per Embree traversal of a transparent ray (rt/hit_collector.h): as the tubes.
-constexpr int kHitsPerPassCutoff = 16;
-constexpr int kHitsPerPassExact = 48;
-
 // The context filter of transparent particle rays: a sphere counts once, at its entry. Embree
 // reports both the entry (front-facing) and the exit of a sphere; the exit counts only when the
 // ray starts inside the sphere, and then sorts at 0 (core/sphere_glyph.h clamps tNear to 0).
@@ -30,14 +25,10 @@ void collectEntry(const RTCFilterFunctionNArguments* args) {
     if (args->valid[0] == 0) return;
     HitCollector& c = HitCollector::of(args);
     const RTCRay* ray = reinterpret_cast<const RTCRay*>(args->ray);
-    const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
-    RayHitRecord h;
-    h.t = ray->tfar;
-    h.prim = hit->primID;
-    h.ng = glm::vec3(hit->Ng_x, hit->Ng_y, hit->Ng_z);
-    h.back = 0;
+    RayHitRecord h = hitRecordOf(args);
     const glm::vec3 origin(ray->org_x, ray->org_y, ray->org_z);
-    if (glm::dot(h.ng, glm::vec3(ray->dir_x, ray->dir_y, ray->dir_z)) > 0.0f) {
+    if (h.back) {
+        h.back = 0;  // an exit counted as the entry of a sphere the eye is in
         const glm::vec4& cr = static_cast<const glm::vec4*>(c.user)[h.prim];
         const glm::vec3 d = origin - glm::vec3(cr);
         if (!(glm::dot(d, d) < cr.w * cr.w)) {
@@ -141,7 +132,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
         HitCollector collector;
         rtcInitIntersectContext(&collector.context);
         collector.context.filter = collectEntry;
-        collector.capacity = m_alphaCutoff >= 1.0f ? kHitsPerPassExact : kHitsPerPassCutoff;
+        collector.capacity = hitsPerPass(m_alphaCutoff);
         collector.user = S.centerRadius.data();
         for (int k = 0; k < tile.count(); ++k) {
             const Ray& ray = tile.rays[k];
@@ -167,17 +158,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
             collector.haveLast = false;
             while (!done) {
                 collector.count = 0;
-                RTCRayHit rh;
-                rh.ray.org_x = ray.origin.x, rh.ray.org_y = ray.origin.y, rh.ray.org_z = ray.origin.z;
-                rh.ray.dir_x = ray.dir.x, rh.ray.dir_y = ray.dir.y, rh.ray.dir_z = ray.dir.z;
-                rh.ray.tnear = tnear;
-                rh.ray.tfar = kInf;
-                rh.ray.time = 0.0f;
-                rh.ray.mask = 0xFFFFFFFFu;
-                rh.ray.id = 0;
-                rh.ray.flags = 0;
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                RTCRayHit rh = makeRayHit(ray, tnear);
                 rtcIntersect1(m_bvh->scene, &collector.context, &rh);
                 const int n = collector.count;
                 for (int h = 0; h < n && !done; ++h) {

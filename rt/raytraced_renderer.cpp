@@ -18,47 +18,15 @@
 namespace tc::rt {
 namespace {
 
-// Hits gathered per Embree traversal of a transparent ray. A pass keeps the K nearest hits not yet
-// composited (the filter below); when a pixel needs more, the next pass starts behind the K-th.
-// Cut-off rays usually stop within the first pass; exact ones take fewer passes with a larger K.
-constexpr int kHitsPerPassCutoff = 16;
-constexpr int kHitsPerPassExact = 48;
-
+// A transparent pass keeps the K = hitsPerPass nearest hits not yet composited (the filter below;
+// rt/hit_collector.h); when a pixel needs more, the next pass starts behind the K-th.
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // The context filter of transparent tube rays (rt/hit_collector.h): every hit, front- or
 // back-facing, at its own t.
 void collectHit(const RTCFilterFunctionNArguments* args) {
     if (args->valid[0] == 0) return;
-    HitCollector& c = HitCollector::of(args);
-    const RTCRay* ray = reinterpret_cast<const RTCRay*>(args->ray);
-    const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
-    RayHitRecord h;
-    h.t = ray->tfar;
-    h.prim = hit->primID;
-    h.ng = glm::vec3(hit->Ng_x, hit->Ng_y, hit->Ng_z);
-    h.back = glm::dot(h.ng, glm::vec3(ray->dir_x, ray->dir_y, ray->dir_z)) > 0.0f ? 1u : 0u;
-    if (!c.offer(h)) args->valid[0] = 0;
-}
-
-RTCRayHit makeRayHit(const Ray& ray, float tnear) {
-    RTCRayHit rh;
-    rh.ray.org_x = ray.origin.x;
-    rh.ray.org_y = ray.origin.y;
-    rh.ray.org_z = ray.origin.z;
-    rh.ray.dir_x = ray.dir.x;
-    rh.ray.dir_y = ray.dir.y;
-    rh.ray.dir_z = ray.dir.z;
-    rh.ray.tnear = tnear;
-    rh.ray.tfar = kInf;
-    rh.ray.time = 0.0f;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    return rh;
+    if (!HitCollector::of(args).offer(hitRecordOf(args))) args->valid[0] = 0;
 }
 
 }  // namespace
@@ -195,7 +163,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     HitCollector collector;
     rtcInitIntersectContext(&collector.context);
     collector.context.filter = collectHit;
-    collector.capacity = m_alphaCutoff >= 1.0f ? kHitsPerPassExact : kHitsPerPassCutoff;
+    collector.capacity = hitsPerPass(m_alphaCutoff);
 
     glm::vec3 color(0.0f);
     float alpha = 0.0f;
@@ -278,7 +246,7 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
     if (m_transparent) {
         j["alpha_cutoff"] = m_alphaCutoff;
-        j["hits_per_pass"] = m_alphaCutoff >= 1.0f ? kHitsPerPassExact : kHitsPerPassCutoff;
+        j["hits_per_pass"] = hitsPerPass(m_alphaCutoff);
         j["joint_epsilon"] = m_jointEpsilon;
     }
     return j;
