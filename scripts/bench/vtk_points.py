@@ -12,11 +12,10 @@ cells); RUN.json from a `tubecast render` of the same scene (camera_first_frame 
 Prints one line per frame: "frame i: S s", then the median of the frames after the first.
 """
 import argparse
-import json
-import statistics
-import time
 
 import vtk
+
+from vtk_bench_common import render_timed
 
 # ParaView's "Sphere" splat: a shaded disc that reads as a sphere (Point Gaussian representation).
 SPHERE_SPLAT = """//VTK::Color::Impl
@@ -41,10 +40,6 @@ def main():
     ap.add_argument("--resolution", type=int, default=12, help="sphere source theta/phi resolution (--glyph)")
     ap.add_argument("--png")
     args = ap.parse_args()
-
-    run = json.load(open(args.run_json))
-    cam = run["camera_first_frame"]
-    width, height = run["image"]["width"], run["image"]["height"]
 
     reader = vtk.vtkXMLPolyDataReader()
     reader.SetFileName(args.particles)
@@ -77,47 +72,7 @@ def main():
     actor.GetProperty().SetColor(0.85, 0.55, 0.25)
     actor.GetProperty().SetOpacity(args.opacity)
 
-    ren = vtk.vtkRenderer()
-    ren.AddActor(actor)
-    ren.SetBackground(1, 1, 1)
-    if args.opacity < 1.0:
-        ren.SetUseDepthPeeling(1)
-        ren.SetMaximumNumberOfPeels(0)  # no peel limit
-        ren.SetOcclusionRatio(0.0)      # exact
-    win = vtk.vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetSize(width, height)
-    win.SetAlphaBitPlanes(1)
-    win.SetMultiSamples(0)
-    win.AddRenderer(ren)
-
-    c = ren.GetActiveCamera()
-    c.SetPosition(*cam["eye"])
-    c.SetFocalPoint(*cam["target"])
-    c.SetViewUp(*cam["up"])
-    c.SetViewAngle(cam["fov_deg"])
-    ren.ResetCameraClippingRange()
-
-    times = []
-    for i in range(args.frames):
-        c.Azimuth(0.5 if i else 0.0)  # a camera change per frame, as in an orbit
-        ren.ResetCameraClippingRange()
-        t0 = time.perf_counter()
-        win.Render()
-        win.WaitForCompletion()
-        times.append(time.perf_counter() - t0)
-        print(f"frame {i}: {times[-1]:.3f} s", flush=True)
-    if args.png:
-        w2i = vtk.vtkWindowToImageFilter()
-        w2i.SetInput(win)
-        w2i.Update()
-        png = vtk.vtkPNGWriter()
-        png.SetFileName(args.png)
-        png.SetInputConnection(w2i.GetOutputPort())
-        png.Write()
-    steady = times[1:] if len(times) > 1 else times
-    print(f"median (frames after the first): {statistics.median(steady):.3f} s")
-
+    render_timed(actor, args.run_json, args.opacity < 1.0, args.frames, args.png)
 
 if __name__ == "__main__":
     main()

@@ -10,11 +10,11 @@ same scene (its camera_first_frame and image size are used, so both render the s
 Prints one line per frame: "frame i: S s", then the median.
 """
 import argparse
-import json
-import statistics
 import time
 
 import vtk
+
+from vtk_bench_common import render_timed
 
 
 def main():
@@ -28,10 +28,6 @@ def main():
     ap.add_argument("--opaque", action="store_true")
     ap.add_argument("--png")
     args = ap.parse_args()
-
-    run = json.load(open(args.run_json))
-    cam = run["camera_first_frame"]
-    width, height = run["image"]["width"], run["image"]["height"]
 
     reader = vtk.vtkXMLPolyDataReader()
     reader.SetFileName(args.lines)
@@ -52,48 +48,7 @@ def main():
     actor.GetProperty().SetColor(0.85, 0.55, 0.25)
     actor.GetProperty().SetOpacity(1.0 if args.opaque else args.opacity)
 
-    ren = vtk.vtkRenderer()
-    ren.AddActor(actor)
-    ren.SetBackground(1, 1, 1)
-    if not args.opaque:
-        ren.SetUseDepthPeeling(1)
-        ren.SetMaximumNumberOfPeels(0)  # no peel limit
-        ren.SetOcclusionRatio(0.0)      # exact
-    win = vtk.vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetSize(width, height)
-    win.SetAlphaBitPlanes(1)
-    win.SetMultiSamples(0)
-    win.AddRenderer(ren)
-
-    c = ren.GetActiveCamera()
-    c.SetPosition(*cam["eye"])
-    c.SetFocalPoint(*cam["target"])
-    c.SetViewUp(*cam["up"])
-    c.SetViewAngle(cam["fov_deg"])
-    ren.ResetCameraClippingRange()
-
-    print("renderer:", win.ReportCapabilities().splitlines()[1:3])
-    times = []
-    for i in range(args.frames):
-        c.Azimuth(0.5 if i else 0.0)  # a camera change per frame, as in an orbit
-        ren.ResetCameraClippingRange()
-        t0 = time.perf_counter()
-        win.Render()
-        win.WaitForCompletion()
-        times.append(time.perf_counter() - t0)
-        print(f"frame {i}: {times[-1]:.3f} s")
-    if args.png:
-        w2i = vtk.vtkWindowToImageFilter()
-        w2i.SetInput(win)
-        w2i.Update()
-        png = vtk.vtkPNGWriter()
-        png.SetFileName(args.png)
-        png.SetInputConnection(w2i.GetOutputPort())
-        png.Write()
-    steady = times[1:] if len(times) > 1 else times
-    print(f"median (frames after the first): {statistics.median(steady):.3f} s")
-
+    render_timed(actor, args.run_json, not args.opaque, args.frames, args.png)
 
 if __name__ == "__main__":
     main()
