@@ -82,18 +82,10 @@ float LineGeometry::farDepth(const FrameSetup& setup) const {
 void LineGeometry::setCameraUniforms(GLuint p, const FrameSetup& setup) const {
     const Camera& cam = setup.camera;
     const float aspect = float(fullWidthOf(setup.window, setup.width)) / float(fullHeightOf(setup.window, setup.height));
-    const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
     const float far = farDepth(setup);
     const glm::mat4 viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
     glProgramUniformMatrix4fv(p, uniformLocation(p, "uViewProj"), 1, GL_FALSE, &viewProj[0][0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &eye[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uRight"), 1, &right[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uUp"), 1, &up[0]);
-    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
-    glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
-    glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
-    setViewWindowUniforms(p, setup);
+    setFrameCameraUniforms(p, setup);
     glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
     glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
 }

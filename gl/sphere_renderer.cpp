@@ -125,15 +125,7 @@ void SphereRenderer::resize(int width, int height) {
 
 void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
     const Camera& cam = setup.camera;
-    const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
-    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &eye[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uRight"), 1, &right[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uUp"), 1, &up[0]);
-    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
-    glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
-    glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
-    setViewWindowUniforms(p, setup);
+    setFrameCameraUniforms(p, setup);
     // Linear depth for the opaque depth test: beyond everything the data can reach.
     const float far = glm::distance(cam.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
     glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);

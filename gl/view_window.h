@@ -12,6 +12,11 @@ namespace tc::gl {
 // does not use are skipped. Touches no other GL state.
 void setViewWindowUniforms(GLuint program, const FrameSetup& setup);
 
+// The camera uniforms of shaders/frame_uniforms.glsl (uEye, uForward, uRight, uUp,
+// uOrthographic, uTanHalfFov, uOrthoHalfHeight) plus the window uniforms above: what every
+// technique's ray-casting shader needs of the frame's camera.
+void setFrameCameraUniforms(GLuint program, const FrameSetup& setup);
+
 // The current context's limits for one render target (core/tiling.h TileLimits): the smaller of
 // GL_MAX_TEXTURE_SIZE and GL_MAX_VIEWPORT_DIMS, and GL_MAX_SHADER_STORAGE_BLOCK_SIZE over
 // `storageBytesPerPixel` (0: no per-pixel storage buffer).

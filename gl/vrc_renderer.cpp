@@ -22,22 +22,6 @@ constexpr GLuint kHeaderBinding = 0;
 constexpr GLuint kPieceBinding = 1;
 constexpr int kGroupSize = 8;  // local_size of shaders/vrc_raycast.comp
 
-// The camera uniforms of shaders/frame_uniforms.glsl. LineGeometry::setCameraUniforms sets the
-// same names but is a member of the rasterized paths' line upload, which this technique does not
-// make (it would hold a second copy of the lines on the GPU).
-void setCameraUniforms(GLuint p, const FrameSetup& setup) {
-    const Camera& cam = setup.camera;
-    const glm::vec3 eye = cam.eye, fwd = cam.forward(), right = cam.right(), up = cam.trueUp();
-    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &eye[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uRight"), 1, &right[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uUp"), 1, &up[0]);
-    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
-    glProgramUniform1f(p, uniformLocation(p, "uTanHalfFov"), std::tan(glm::radians(cam.fovYDeg) * 0.5f));
-    glProgramUniform1f(p, uniformLocation(p, "uOrthoHalfHeight"), 0.5f * cam.orthoHeight);
-    setViewWindowUniforms(p, setup);
-}
-
 void dispatch1D(GLuint program, std::size_t count) {
     const std::size_t groups = (count + 63) / 64;
     const std::size_t gx = std::min<std::size_t>(std::max<std::size_t>(groups, 1), 65535);
@@ -255,7 +239,7 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& 
 
     timer.begin("raycast");
     const GLuint p = m_program.id();
-    setCameraUniforms(p, setup);
+    setFrameCameraUniforms(p, setup);
     glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
     glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
     glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
