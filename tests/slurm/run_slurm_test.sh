@@ -1,6 +1,6 @@
 #!/bin/bash
 # A real Slurm on this machine runs tubecast's job array (scripts/slurm/):
-#   1. starts munged (unless one answers already), slurmctld and slurmd with a generated minimal
+#   1. starts its own munged, slurmctld and slurmd (scripts/slurm/local_cluster.sh) with a generated minimal
 #      slurm.conf in a temp dir (no cgroups; /work/shared/notes/slurm.md);
 #   2. submit.sh renders an 8-frame orbit in 4 array tasks; every frame must exist, decode with the
 #      scene's hash (check.sh: nothing missing) and equal the frame rendered locally;
@@ -17,80 +17,12 @@ SKIP=77
 skip() { echo "SKIP: $*"; exit $SKIP; }
 fail() { echo "FAIL: $*"; [[ -n ${tmp:-} ]] && tail -n 20 "$tmp"/*.log 2>/dev/null; exit 1; }
 
-[[ $(id -u) -eq 0 ]] || skip "needs root to run slurmctld/slurmd/munged as SlurmUser=root"
-for cmd in munged munge slurmctld slurmd sbatch squeue scancel; do
-    command -v $cmd >/dev/null || skip "$cmd not installed (scripts/install-deps.sh installs slurm-wlm and munge)"
-done
-
+source "$src/scripts/slurm/local_cluster.sh"
 mkdir -p "$work"
 tmp=$(mktemp -d "$work/slurm.XXXXXX")
-host=$(hostname -s)
-# Ports away from the defaults (6817/6818) and from concurrent runs of this test.
-port=$((20000 + ($$ % 5000) * 2))
-conf=$tmp/slurm.conf
-mkdir -p "$tmp/state" "$tmp/spool"
-cat >"$conf" <<EOF
-ClusterName=tctest
-SlurmctldHost=$host
-SlurmUser=root
-SlurmdUser=root
-AuthType=auth/munge
-AuthInfo=socket=$tmp/munge.socket
-StateSaveLocation=$tmp/state
-SlurmdSpoolDir=$tmp/spool
-SlurmctldPidFile=$tmp/slurmctld.pid
-SlurmdPidFile=$tmp/slurmd.pid
-SlurmctldLogFile=$tmp/slurmctld.log
-SlurmdLogFile=$tmp/slurmd.log
-ProctrackType=proctrack/pgid
-TaskPlugin=task/none
-JobAcctGatherType=jobacct_gather/none
-SchedulerType=sched/backfill
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-ReturnToService=2
-SlurmctldPort=$port
-SlurmdPort=$((port + 1))
-NodeName=$host CPUs=2 RealMemory=2000 State=UNKNOWN
-PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
-EOF
-export SLURM_CONF=$conf
-
-munged_pid=""
-cleanup() {
-    # Jobs first (their steps outlive slurmd), then the daemons by the pids we know, never by name.
-    scancel --quiet --user=root 2>/dev/null
-    for f in "$tmp/slurmd.pid" "$tmp/slurmctld.pid"; do
-        [[ -f $f ]] && kill "$(cat "$f")" 2>/dev/null
-    done
-    [[ -n $slurmd_pid ]] && kill "$slurmd_pid" 2>/dev/null
-    [[ -n $ctld_pid ]] && kill "$ctld_pid" 2>/dev/null
-    [[ -n $munged_pid ]] && kill "$munged_pid" 2>/dev/null
-    wait 2>/dev/null
-}
-slurmd_pid="" ctld_pid=""
-trap cleanup EXIT
-
-# Our own munged on a private socket (AuthInfo above): no /run/munge needed, and no clash with a
-# system munged or a concurrent run. --force: the packaged key's ownership is "insecure" in containers.
-munge_ok() { munge -S "$tmp/munge.socket" -n 2>/dev/null | unmunge -S "$tmp/munge.socket" >/dev/null 2>&1; }
-munged --force -F -S "$tmp/munge.socket" --pid-file="$tmp/munged.pid" --seed-file="$tmp/munged.seed" \
-    --log-file="$tmp/munged.log" >"$tmp/munged.out" 2>&1 &
-munged_pid=$!
-for _ in $(seq 100); do munge_ok && break; sleep 0.1; done
-munge_ok || skip "munged does not start here: $(cat "$tmp/munged.out" "$tmp/munged.log" 2>/dev/null | tail -n 5)"
-slurmctld -D -f "$conf" >"$tmp/slurmctld.out" 2>&1 &
-ctld_pid=$!
-slurmd -D -f "$conf" >"$tmp/slurmd.out" 2>&1 &
-slurmd_pid=$!
-ready=0
-for _ in $(seq 100); do
-    if sinfo -h -o %T 2>/dev/null | grep -qE '^idle'; then ready=1; break; fi
-    kill -0 $ctld_pid 2>/dev/null && kill -0 $slurmd_pid 2>/dev/null || break
-    sleep 0.2
-done
-[[ $ready -eq 1 ]] || skip "slurmctld/slurmd did not come up: $(tail -n 5 "$tmp"/slurmctld.log "$tmp"/slurmd.log 2>/dev/null)"
-echo "slurm up: $host ports $port/$((port + 1)), conf $conf"
+trap local_cluster_stop EXIT
+local_cluster_start "$tmp" || skip "$LOCAL_CLUSTER_ERROR"
+echo "slurm up: conf $SLURM_CONF"
 
 export TUBECAST=$tubecast
 slurm_dir=$src/scripts/slurm
@@ -106,14 +38,8 @@ cat >scene.json <<'EOF'
 }
 EOF
 
-# Waits until job $1 has left the queue (bounded).
 wait_job() {
-    local job=$1 limit=$2
-    for _ in $(seq $((limit * 5))); do
-        [[ -z $(squeue -h -j "$job" 2>/dev/null) ]] && return 0
-        sleep 0.2
-    done
-    fail "job $job still queued/running after ${limit} s: $(squeue -j "$job")"
+    local_cluster_wait_job "$1" "$2" || fail "job $1 still queued/running after $2 s: $(squeue -j "$1")"
 }
 
 # --- 1. the whole orbit in 4 array tasks ------------------------------------------------------
