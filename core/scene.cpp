@@ -381,6 +381,8 @@ void readSpheres(SpecReader r, SpheresSpec& s) {
     s.alphaA = r.getFloat("alpha_a", s.alphaA, 0.0f, 1.0f);
     s.chunks = r.getInt("chunks", s.chunks, 1, 1024);
     s.earlyZThreshold = r.getFloat("early_z_threshold", s.earlyZThreshold, 0.0f, 1.0f);
+    s.earlyZStats = r.getBool("early_z_stats", s.earlyZStats);
+    s.points = r.getEnum("primitive", "points", {"points", "quads"}) == "points";
     r.finish();
 }
 

@@ -176,6 +176,8 @@ struct SpheresSpec {
     float alphaA = 0.5f;             // Eq. 7: weight of the coloured ambient light L_A (with render.ao)
     int chunks = 20;                 // Sect. 5.2: early-z chunks of the sorted particles; 1 = off
     float earlyZThreshold = 0.99f;   // pixels with alpha above this are skipped by later chunks
+    bool earlyZStats = false;        // count the skipped fragments (an extra rasterization pass)
+    bool points = true;              // one point sprite per particle ("points"), else two triangles ("quads")
 };
 
 // render.vrc: voxel-based line ray casting (Kanzler, Rautenhaus & Westermann 2019; core/vrc_model.h,

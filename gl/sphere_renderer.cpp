@@ -23,6 +23,7 @@ constexpr GLuint kSphereIdBinding = 2;
 constexpr GLuint kSphereKeysBinding = 2;    // sort key pass only
 constexpr GLuint kSphereValuesBinding = 3;  // sort key pass only
 constexpr GLuint kSphereOrderBinding = 5;
+constexpr GLuint kSphereOversizedBinding = 7;  // POINTS programs of shaders/sphere_billboard.vert
 constexpr GLuint kSortGroupSize = 64;  // local_size_x of shaders/sphere_sort_keys.comp
 constexpr std::size_t kMaxGroups = 65535;
 
@@ -55,26 +56,23 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const
     r->m_aovs = scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId;
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
-    std::vector<std::string> defines;
     if (rs.ao.enabled) {
         r->m_ambient = std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao, rs.ao.cache != AoSpec::Cache::None));
-        defines.push_back("AMBIENT_OCCLUSION");
-        if (r->m_ambient->cached()) defines.push_back("AMBIENT_CACHE");
+        r->m_defines.push_back("AMBIENT_OCCLUSION");
+        if (r->m_ambient->cached()) r->m_defines.push_back("AMBIENT_CACHE");
     }
-    auto opaqueDefines = defines;
-    opaqueDefines.push_back("OPAQUE");
-    r->m_opaqueProgram = compileProgram(
-        {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, opaqueDefines);
+    if (rs.spheres.points) {
+        r->m_pointPrograms = r->compilePrograms(true);
+        GLfloat range[2] = {1.0f, 1.0f};
+        glGetFloatv(GL_POINT_SIZE_RANGE, range);
+        r->m_maxPointSize = range[1];
+        r->m_oversized = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+    } else {
+        r->m_quadPrograms = r->compilePrograms(false);
+    }
     if (!r->m_opaque) {
-        auto sorted = defines;
-        sorted.push_back("DRAW_ORDER");
-        if (rs.spheres.chunks > 1) sorted.push_back("EARLY_Z");
-        r->m_transparentProgram =
-            compileProgram({{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, sorted);
         r->m_earlyZProgram =
             compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "sphere_early_z.frag"}});
-        r->m_countProgram = compileProgram(
-            {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere_count.frag"}}, {"DRAW_ORDER"});
         r->m_sortKeyProgram = compileProgram({{GL_COMPUTE_SHADER, "sphere_sort_keys.comp"}});
         r->m_radixSort = RadixSort::create();
     }
@@ -83,6 +81,36 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const
     r->uploadBuffers(particles);
     r->resize(scene.image.width, scene.image.height);
     return r;
+}
+
+SphereRenderer::Programs SphereRenderer::compilePrograms(bool points) const {
+    Programs p;
+    p.points = points;
+    auto defines = m_defines;
+    if (points) defines.push_back("POINTS");
+    auto opaqueDefines = defines;
+    opaqueDefines.push_back("OPAQUE");
+    p.opaque = compileProgram({{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}},
+                              opaqueDefines);
+    if (!m_opaque) {
+        auto sorted = defines;
+        sorted.push_back("DRAW_ORDER");
+        if (m_spheres.chunks > 1) sorted.push_back("EARLY_Z");
+        p.transparent = compileProgram(
+            {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, sorted);
+        if (m_spheres.chunks > 1 && m_spheres.earlyZStats) {
+            std::vector<std::string> countDefines = {"DRAW_ORDER"};
+            if (points) countDefines.push_back("POINTS");
+            p.count = compileProgram({{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere_count.frag"}},
+                                     countDefines);
+        }
+    }
+    return p;
+}
+
+const SphereRenderer::Programs& SphereRenderer::quads() {
+    if (!m_quadPrograms.opaque) m_quadPrograms = compilePrograms(false);
+    return m_quadPrograms;
 }
 
 void SphereRenderer::uploadBuffers(const StyledParticles& particles) {
@@ -139,17 +167,25 @@ void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
                        densityNormalisation(m_spheres.density, m_spheres.innerRadius));
     glProgramUniform1f(p, uniformLocation(p, "uAlphaRv"), m_spheres.alphaRv);
     glProgramUniform1f(p, uniformLocation(p, "uAlphaA"), m_ambient ? m_spheres.alphaA : 0.0f);
+    glProgramUniform1f(p, uniformLocation(p, "uMaxPointSize"), m_maxPointSize);
     if (m_ambient) m_ambient->apply(p);
 }
 
-void SphereRenderer::drawRange(std::size_t first, std::size_t count) const {
+void SphereRenderer::drawRange(const Programs& programs, std::size_t first, std::size_t count) const {
     if (count == 0) return;
     glBindVertexArray(m_emptyVao.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereColorBinding, m_colors.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereIdBinding, m_ids.id());
     if (m_order) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOrderBinding, m_order.id());
-    glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+    if (programs.points) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOversizedBinding, m_oversized.id());
+        glEnable(GL_PROGRAM_POINT_SIZE);
+        glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
+        glDisable(GL_PROGRAM_POINT_SIZE);
+    } else {
+        glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+    }
 }
 
 void SphereRenderer::sort(const FrameSetup& setup, StageTimer& timer) {
@@ -178,7 +214,8 @@ void SphereRenderer::sort(const FrameSetup& setup, StageTimer& timer) {
     timer.end();
 }
 
-void SphereRenderer::renderOpaque(const FrameSetup& setup, Framebuffer& target, StageTimer& timer, const char* stage) {
+void SphereRenderer::renderOpaque(const FrameSetup& setup, const Programs& programs, Framebuffer& target,
+                                  StageTimer& timer, const std::string& stage) {
     timer.begin(stage);
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, setup.width, setup.height);
@@ -194,28 +231,28 @@ void SphereRenderer::renderOpaque(const FrameSetup& setup, Framebuffer& target, 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    const GLuint p = m_opaqueProgram.id();
+    const GLuint p = programs.opaque.id();
     setUniforms(p, setup);
     glUseProgram(p);
-    drawRange(0, m_count);
+    drawRange(programs, 0, m_count);
     glDisable(GL_DEPTH_TEST);
     timer.setItems(m_count);
     timer.end();
 }
 
-void SphereRenderer::renderTransparent(const FrameSetup& setup, StageTimer& timer) {
+void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& programs, StageTimer& timer,
+                                       const std::string& suffix) {
     const int chunks = int(std::min<std::size_t>(std::size_t(m_spheres.chunks), std::max<std::size_t>(m_count, 1)));
-    const GLuint p = m_transparentProgram.id();
+    const GLuint p = programs.transparent.id();
     setUniforms(p, setup);
-    setUniforms(m_countProgram.id(), setup);
     const GLuint mark = m_earlyZProgram.id();
     glProgramUniform1f(mark, uniformLocation(mark, "uThreshold"), m_spheres.earlyZThreshold);
 
-    m_lastSkipped = 0;
     std::uint64_t total = 0;
-    if (chunks > 1) {
+    if (programs.count) {
         // Every billboard fragment, for the skipped count: rasterization only, no colour, no depth.
-        timer.begin("count_fragments");
+        setUniforms(programs.count.id(), setup);
+        timer.begin("count_fragments" + suffix);
         // llvmpipe skips draws that write nothing (colour writes off) without counting their
         // samples: write, but blend with (ZERO, ONE) so the target does not change.
         glBindFramebuffer(GL_FRAMEBUFFER, m_blendTarget.id());
@@ -224,8 +261,8 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, StageTimer& time
         glEnable(GL_BLEND);
         glBlendFunc(GL_ZERO, GL_ONE);
         glBeginQuery(GL_SAMPLES_PASSED, m_samplesQuery.id());
-        glUseProgram(m_countProgram.id());
-        drawRange(0, m_count);
+        glUseProgram(programs.count.id());
+        drawRange(programs, 0, m_count);
         glEndQuery(GL_SAMPLES_PASSED);
         glDisable(GL_BLEND);
         GLuint64 n = 0;
@@ -235,7 +272,7 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, StageTimer& time
         timer.end();
     }
 
-    timer.begin("spheres");
+    timer.begin("spheres" + suffix);
     glBindFramebuffer(GL_FRAMEBUFFER, m_blendTarget.id());
     glViewport(0, 0, setup.width, setup.height);
     const float zero[4] = {0, 0, 0, 0};
@@ -258,7 +295,7 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, StageTimer& time
         glEnable(GL_BLEND);
         glUseProgram(p);
         glBeginQuery(GL_SAMPLES_PASSED, m_chunkQueries[std::size_t(c)].id());
-        drawRange(first, end - first);
+        drawRange(programs, first, end - first);
         glEndQuery(GL_SAMPLES_PASSED);
         if (c + 1 < chunks) {
             // Mark saturated pixels: the colour target is read as a texture while attached (not
@@ -286,11 +323,23 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, StageTimer& time
     glDepthMask(GL_TRUE);
     timer.setItems(m_count);
     timer.end();
-    if (chunks > 1) {
+    if (programs.count) {
         m_lastSkipped = total > m_lastShaded ? total - m_lastShaded : 0;
-        timer.begin("early_z");
+        timer.begin("early_z" + suffix);
         timer.setItems(m_lastSkipped);
         timer.end();
+    }
+}
+
+void SphereRenderer::drawFrame(const FrameSetup& setup, const Programs& programs, StageTimer& timer,
+                               const std::string& suffix) {
+    m_lastShaded = 0;
+    m_lastSkipped = 0;
+    if (m_opaque) {
+        renderOpaque(setup, programs, m_opaqueTarget, timer, "spheres" + suffix);
+    } else {
+        renderTransparent(setup, programs, timer, suffix);
+        if (m_aovs) renderOpaque(setup, programs, m_opaqueTarget, timer, "aovs" + suffix);
     }
 }
 
@@ -307,12 +356,29 @@ void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageTime
         timer.end();
         m_voxelsStale = false;
     }
-    if (m_opaque) {
-        renderOpaque(setup, m_opaqueTarget, timer, "spheres");
-    } else {
-        if (m_count > 0) sort(setup, timer);
-        renderTransparent(setup, timer);
-        if (m_aovs) renderOpaque(setup, m_opaqueTarget, timer, "aovs");
+    if (!m_opaque && m_count > 0) sort(setup, timer);
+    const bool points = bool(m_pointPrograms.opaque);
+    if (points) {
+        const GLuint zero = 0;
+        glClearNamedBufferData(m_oversized.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    drawFrame(setup, points ? m_pointPrograms : quads(), timer, "");
+    m_lastUsedQuads = !points;
+    if (points) {
+        // Waits for the draws (llvmpipe rasterizes the opaque pass here).
+        timer.begin("point_size_check");
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        GLuint oversized = 0;
+        glGetNamedBufferSubData(m_oversized.id(), 0, sizeof(GLuint), &oversized);
+        timer.setItems(oversized);
+        timer.end();
+        if (oversized > 0) {
+            // Some sphere covers more pixels than a point sprite can (close to the camera): the
+            // whole frame again with two triangles per particle, timed as stages "..._quads".
+            drawFrame(setup, quads(), timer, "_quads");
+            m_lastUsedQuads = true;
+        }
     }
 
     timer.begin("readback");
@@ -347,6 +413,8 @@ nlohmann::json SphereRenderer::describe() const {
                         {"transparency", m_opaque ? "opaque" : "object_order"},
                         {"particles", m_count},
                         {"billboards", "vertex shader, vertex pulling, perspective-correct sphere bounds"},
+                        {"primitive", m_pointPrograms.opaque ? "points (quads when a sphere exceeds the point size)" : "quads"},
+                        {"max_point_size", m_maxPointSize},
                         {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
     if (!m_opaque) {
         j["density"] = densityName(m_spheres.density);

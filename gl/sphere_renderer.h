@@ -7,6 +7,9 @@
 //     early-z approximation of Sect. 5.2: after each chunk a full-screen pass gives depth 0 to
 //     pixels whose alpha exceeds the threshold and later chunks skip them by early depth tests.
 //   opaque: the same billboards, first hit by depth test, Blinn-Phong.
+// Billboards are point sprites by default (render.spheres.primitive "points": one vertex per
+// particle); a frame in which some sphere needs a larger point than the implementation draws is
+// drawn again with two triangles per particle ("quads", which can also be chosen outright).
 // Per-particle data lives in SSBOs (centre+radius, colour, id); upload() replaces it for a new
 // data frame of a time series.
 #include <memory>
@@ -39,6 +42,8 @@ public:
     // the fragments that were shaded. For tests and timings.csv (stage "early_z" items).
     std::uint64_t lastSkippedFragments() const { return m_lastSkipped; }
     std::uint64_t lastShadedFragments() const { return m_lastShaded; }
+    // Whether the last frame was drawn with quads (chosen, or points fell back to them).
+    bool lastFrameUsedQuads() const { return m_lastUsedQuads; }
 
 private:
     SphereRenderer() = default;
@@ -46,9 +51,19 @@ private:
     void resize(int width, int height);
     void setUniforms(GLuint program, const FrameSetup& setup) const;
     void sort(const FrameSetup& setup, StageTimer& timer);
-    void drawRange(std::size_t first, std::size_t count) const;
-    void renderTransparent(const FrameSetup& setup, StageTimer& timer);
-    void renderOpaque(const FrameSetup& setup, Framebuffer& target, StageTimer& timer, const char* stage);
+    // The draw programs of one billboard primitive.
+    struct Programs {
+        bool points = false;
+        Program transparent, opaque, count;
+    };
+    Programs compilePrograms(bool points) const;
+    const Programs& quads();  // compiled on first use when points are the default
+    void drawRange(const Programs& programs, std::size_t first, std::size_t count) const;
+    void drawFrame(const FrameSetup& setup, const Programs& programs, StageTimer& timer, const std::string& suffix);
+    void renderTransparent(const FrameSetup& setup, const Programs& programs, StageTimer& timer,
+                           const std::string& suffix);
+    void renderOpaque(const FrameSetup& setup, const Programs& programs, Framebuffer& target, StageTimer& timer,
+                      const std::string& stage);
 
     bool m_opaque = false;
     bool m_aovs = false;  // depth/normal/id requested: an opaque pass supplies them in transparent mode
@@ -58,7 +73,12 @@ private:
     Bounds m_bounds;
     float m_maxRadius = 0;
     Buffer m_centerRadius, m_colors, m_ids, m_keys, m_order;
-    Program m_transparentProgram, m_opaqueProgram, m_earlyZProgram, m_countProgram, m_sortKeyProgram;
+    std::vector<std::string> m_defines;  // AO defines shared by the draw programs
+    Programs m_pointPrograms, m_quadPrograms;
+    Program m_earlyZProgram, m_sortKeyProgram;
+    Buffer m_oversized;  // points: spheres too large for a point sprite in the last draw
+    float m_maxPointSize = 1.0f;
+    bool m_lastUsedQuads = false;
     std::optional<RadixSort> m_radixSort;
     std::unique_ptr<SphereAmbient> m_ambient;
     VertexArray m_emptyVao;

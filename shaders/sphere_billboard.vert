@@ -1,6 +1,10 @@
 // Sphere glyphs (M6): vertex pulling, 6 vertices (two triangles) per particle on the rectangle that
 // contains the projected sphere exactly (perspective-correct tangent bounds, sphere_glyph.glsl),
-// padded by half a pixel. Depth is a constant 0.5 (NDC 0): the early-z chunks of Sect. 5.2 mark
+// padded by half a pixel. POINTS: one vertex per particle instead, a point sprite (square) around
+// the same rectangle, clamped to the target: a sixth of the vertex work, which on llvmpipe runs on
+// one thread and dominated the frame (docs/performance.md, M6). A sphere whose square exceeds the
+// implementation's largest point size is not drawn but counted in `oversized`; the renderer then
+// draws the frame again with quads. Depth is a constant 0.5 (NDC 0): the early-z chunks of Sect. 5.2 mark
 // finished pixels with depth 0 and let the depth test reject later particles before shading.
 #include "camera.glsl"
 #include "frame_uniforms.glsl"
@@ -11,12 +15,21 @@ layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; 
 layout(std430, binding = 5) readonly buffer DrawOrder { uint drawOrder[]; };
 #endif
 
+#ifdef POINTS
+layout(std430, binding = 7) buffer Oversized { uint oversized; };
+uniform float uMaxPointSize;
+#endif
+
 flat out uint vParticle;
 
 const int kCorner[6] = int[6](0, 1, 2, 2, 1, 3);
 
 void main() {
+#ifdef POINTS
+    uint slot = uint(gl_VertexID);
+#else
     uint slot = uint(gl_VertexID) / 6u;
+#endif
 #ifdef DRAW_ORDER
     uint p = drawOrder[slot];
 #else
@@ -32,6 +45,30 @@ void main() {
         return;
     }
     rect = clamp(rect, vec4(-1.0 - pad, -1.0 - pad), vec4(1.0 + pad, 1.0 + pad));
+#ifdef POINTS
+    // In the target's NDC, clamped to it (a tile sees part of the image): the centre stays inside
+    // the clip volume, so the point is never clipped away by its centre.
+    vec2 targetPad = 1.0 / uTargetSize;
+    vec2 a = targetNdc(rect.xy), b = targetNdc(rect.zw);
+    vec2 lo = min(a, b), hi = max(a, b);
+    if (any(lessThan(hi, vec2(-1.0) - targetPad)) || any(greaterThan(lo, vec2(1.0) + targetPad))) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // not in this target
+        return;
+    }
+    lo = clamp(lo, -1.0 - targetPad, 1.0 + targetPad);
+    hi = clamp(hi, -1.0 - targetPad, 1.0 + targetPad);
+    vec2 sizePixels = 0.5 * (hi - lo) * uTargetSize;
+    // + 1: the square covers every pixel centre of the rectangle whatever the rasterizer rounds.
+    float size = max(sizePixels.x, sizePixels.y) + 1.0;
+    if (size > uMaxPointSize) {
+        atomicAdd(oversized, 1u);
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
+    gl_PointSize = size;
+    gl_Position = vec4(0.5 * (lo + hi), 0.0, 1.0);
+#else
     int corner = kCorner[gl_VertexID % 6];
     gl_Position = vec4(targetNdc(vec2((corner & 1) == 0 ? rect.x : rect.z, (corner & 2) == 0 ? rect.y : rect.w)), 0.0, 1.0);
+#endif
 }

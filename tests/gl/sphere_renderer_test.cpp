@@ -1,7 +1,9 @@
 // Sphere glyphs (gl/sphere_renderer.h, Staib, Grottel & Gumhold 2015) against ground truth: the
 // CPU reference compositor (core/particle_reference.h) on disjoint spheres whose radii vary 10x
 // (so a sort by centre distance instead of power distance shows), the analytic opacity profile
-// of one sphere, and the early-z chunks against the unchunked image within the threshold bound.
+// of one sphere, and the early-z chunks against the unchunked image within the threshold bound;
+// point-sprite billboards against quads (identical images, and the fallback to quads for spheres
+// larger than the largest point).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -246,6 +248,7 @@ TEST_F(SphereRendererTest, early_z_chunks_stay_within_threshold_and_skip_fragmen
     const float threshold = 0.9f;
     scene.render.spheres.chunks = 20;
     scene.render.spheres.earlyZThreshold = threshold;
+    scene.render.spheres.earlyZStats = true;
     FrameImages b = renderGpu(scene, p, cam, w, h, &chunked);
     // A skipped fragment lands behind accumulated alpha > threshold: everything behind adds at
     // most (1 - alpha) <= 1 - threshold to any channel (premultiplied, colours clamped to [0, 1]).
@@ -260,6 +263,47 @@ TEST_F(SphereRendererTest, early_z_chunks_stay_within_threshold_and_skip_fragmen
     std::printf("[ info ] early-z: %llu fragments skipped, %llu shaded, max diff %.3g\n",
                 (unsigned long long)chunked->lastSkippedFragments(), (unsigned long long)chunked->lastShadedFragments(),
                 worst);
+}
+
+TEST_F(SphereRendererTest, point_sprites_draw_the_same_images_as_quads_and_fall_back_for_huge_spheres) {
+    const StyledParticles p = disjointSpheres(5, 60);
+    Camera cam;
+    cam.eye = {0.3f, -0.6f, 3.4f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.fovYDeg = 50.0f;
+    const int w = 120, h = 90;
+    for (Transparency t : {Transparency::Opaque, Transparency::ObjectOrder}) {
+        Scene scene = sphereScene(t, SphereDensity::L2, 4);
+        scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = true;
+        std::unique_ptr<gl::SphereRenderer> points, quads;
+        scene.render.spheres.points = true;
+        FrameImages a = renderGpu(scene, p, cam, w, h, &points);
+        scene.render.spheres.points = false;
+        FrameImages b = renderGpu(scene, p, cam, w, h, &quads);
+        EXPECT_FALSE(points->lastFrameUsedQuads());
+        EXPECT_TRUE(quads->lastFrameUsedQuads());
+        // Same fragments (each pixel centre of the bounds rectangle), same shader: bit-identical.
+        EXPECT_EQ(a.rgba, b.rgba);
+        EXPECT_EQ(a.depth, b.depth);
+        EXPECT_EQ(a.id, b.id);
+        int covered = 0;
+        for (std::size_t i = 0; i < a.pixelCount(); ++i) covered += a.rgba[4 * i + 3] > 0.0f;
+        EXPECT_GT(covered, w * h / 10);
+    }
+    // The eye close to a sphere: it covers more than the largest point sprite (llvmpipe: 255 px)
+    // on a 256 px image, so the frame is drawn again with quads and equals the quads image.
+    Camera near = cam;
+    near.eye = glm::vec3(p.centerRadius[0]) + glm::vec3(0.0f, 0.0f, 1.3f * p.centerRadius[0].w);
+    near.target = glm::vec3(p.centerRadius[0]);
+    Scene scene = sphereScene(Transparency::ObjectOrder, SphereDensity::Constant, 4);
+    std::unique_ptr<gl::SphereRenderer> points, quads;
+    scene.render.spheres.points = true;
+    FrameImages a = renderGpu(scene, p, near, 256, 256, &points);
+    scene.render.spheres.points = false;
+    FrameImages b = renderGpu(scene, p, near, 256, 256, &quads);
+    EXPECT_TRUE(points->lastFrameUsedQuads());
+    EXPECT_EQ(a.rgba, b.rgba);
+    EXPECT_GT(a.rgba[4 * std::size_t(128 * 256 + 128) + 3], 0.0f);  // the near sphere is there
 }
 
 }  // namespace

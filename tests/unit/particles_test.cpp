@@ -240,6 +240,11 @@ TEST(SceneSpheres, keys_are_validated) {
     EXPECT_EQ(s.render.spheres.density, SphereDensity::HollowL2);
     EXPECT_FLOAT_EQ(s.render.spheres.innerRadius, 0.6f);
     EXPECT_EQ(s.render.spheres.chunks, 4);
+    EXPECT_TRUE(s.render.spheres.points);  // the default billboard
+    EXPECT_FALSE(s.render.spheres.earlyZStats);
+    Scene q = parseScene(doc, "s.json", {"render.spheres.primitive=\"quads\"", "render.spheres.early_z_stats=true"});
+    EXPECT_FALSE(q.render.spheres.points);
+    EXPECT_TRUE(q.render.spheres.earlyZStats);
     auto fails = [&](const std::string& set, const std::string& text) {
         try {
             parseScene(doc, "s.json", {set});
@@ -250,6 +255,7 @@ TEST(SceneSpheres, keys_are_validated) {
     };
     fails("render.spheres.inner_radius=1.5", "render.spheres.inner_radius");
     fails("render.spheres.density=\"l3\"", "render.spheres.density");
+    fails("render.spheres.primitive=\"triangles\"", "render.spheres.primitive");
     fails("render.transparency=kbuffer", "technique \"spheres\" takes");
     fails("dataset.lines=5", "dataset.lines");
 }
