@@ -15,7 +15,7 @@ namespace {
 
 constexpr GLuint kVolumeUnit = 9;      // texture unit of uSphereVolume (8 is the line density volume's)
 constexpr GLuint kAccumulatorBinding = 4;
-constexpr GLuint kCacheBinding = 6;       // AmbientCube in shaders/sphere_ambient.glsl
+constexpr GLuint kCacheBinding = 6;       // AmbientCube in shaders/sphere_billboard.vert
 constexpr GLuint kGroup = 64;          // local_size_x of the voxelize and resolve shaders
 constexpr std::size_t kMaxGroups = 65535;
 constexpr glm::ivec3 kMipGroup(8, 8, 1);  // shaders/density_mip.comp

@@ -16,9 +16,6 @@
 layout(early_fragment_tests) in;
 #endif
 
-layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
-layout(std430, binding = 1) readonly buffer Colors { vec4 colors[]; };
-layout(std430, binding = 2) readonly buffer Ids { uint ids[]; };
 
 uniform vec3 uLightDir;
 uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
@@ -29,7 +26,14 @@ uniform float uAlphaRv;
 uniform float uAlphaA;
 uniform float uFarDepth;
 
-flat in uint vParticle;
+// The particle (shaders/sphere_billboard.vert).
+flat in vec4 vCenterRadius;
+flat in vec4 vColor;
+flat in uint vId;
+#ifdef AMBIENT_CACHE
+flat in uvec3 vAmbientPositive;
+flat in uvec3 vAmbientNegative;
+#endif
 
 layout(location = 0) out vec4 outColor;
 #ifdef OPAQUE
@@ -39,16 +43,16 @@ layout(location = 2) out uint outId;
 
 void main() {
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
-    vec4 cr = centerRadius[vParticle];
+    vec4 cr = vCenterRadius;
     SphereInterval s = intersectSphere(ray.origin, ray.dir, cr.xyz, cr.w);
     if (!s.hit) discard;
-    vec4 base = colors[vParticle];
+    vec4 base = vColor;
     vec3 p = ray.origin + s.tNear * ray.dir;
     vec3 n = (p - cr.xyz) / cr.w;
     float ao = 1.0;
     vec3 ambientLight = vec3(0.0);
 #if defined(AMBIENT_CACHE)
-    sphereAmbientCached(vParticle, n, ao, ambientLight);
+    sphereAmbientCached(vAmbientPositive, vAmbientNegative, n, ao, ambientLight);
 #elif defined(AMBIENT_OCCLUSION)
     sphereAmbient(p, n, ao, ambientLight);
 #endif
@@ -58,7 +62,7 @@ void main() {
     vec3 e = sphereEmission(base.rgb, n, ray.dir, uLightDir, uLightTerms, 1.0, uAlphaA, ao, ambientLight);
     outColor = vec4(e, 1.0);
     outNormalDepth = vec4(n, depth);
-    outId = ids[vParticle];
+    outId = vId;
 #else
     float alpha = sphereOpacity(base.a, unitOpticalDepth(uDensityModel, uInnerRatio, s, cr.w), uNormalisation);
     if (alpha <= 0.0) discard;

@@ -75,16 +75,15 @@ void sphereAmbient(vec3 p, vec3 n, out float ao, out vec3 ambientLight) {
 }
 
 #ifdef AMBIENT_CACHE
-layout(std430, binding = 6) readonly buffer AmbientCube { uint ambientCube[]; };  // sphere_ambient_cache.comp
-
-// The cached ambient cube of sphere `sphere` at unit normal n: faces weighted by n^2 (the
-// weights sum to 1), so an axis-aligned normal gets exactly the traced value.
-void sphereAmbientCached(uint sphere, vec3 n, out float ao, out vec3 ambientLight) {
+// The cached ambient cube of one sphere (sphere_ambient_cache.comp; binding 6, six packed unorm
+// RGBA8 per sphere: +x, -x, +y, -y, +z, -z), passed from the vertex shader as flat varyings:
+// `positive` = faces +x, +y, +z, `negative` = -x, -y, -z. Faces weighted by n^2 (the weights sum
+// to 1), so an axis-aligned normal gets exactly the traced value.
+void sphereAmbientCached(uvec3 positive, uvec3 negative, vec3 n, out float ao, out vec3 ambientLight) {
     vec3 w = n * n;
-    uvec3 face = uvec3(n.x < 0.0 ? 1u : 0u, n.y < 0.0 ? 3u : 2u, n.z < 0.0 ? 5u : 4u);
-    vec4 v = w.x * unpackUnorm4x8(ambientCube[6u * sphere + face.x]) +
-             w.y * unpackUnorm4x8(ambientCube[6u * sphere + face.y]) +
-             w.z * unpackUnorm4x8(ambientCube[6u * sphere + face.z]);
+    vec4 v = w.x * unpackUnorm4x8(n.x < 0.0 ? negative.x : positive.x) +
+             w.y * unpackUnorm4x8(n.y < 0.0 ? negative.y : positive.y) +
+             w.z * unpackUnorm4x8(n.z < 0.0 ? negative.z : positive.z);
     ao = v.a;
     ambientLight = v.rgb;
 }

@@ -11,6 +11,11 @@
 #include "sphere_glyph.glsl"
 
 layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
+layout(std430, binding = 1) readonly buffer Colors { vec4 colors[]; };
+layout(std430, binding = 2) readonly buffer Ids { uint ids[]; };
+#ifdef AMBIENT_CACHE
+layout(std430, binding = 6) readonly buffer AmbientCube { uint ambientCube[]; };  // sphere_ambient_cache.comp
+#endif
 #ifdef DRAW_ORDER
 layout(std430, binding = 5) readonly buffer DrawOrder { uint drawOrder[]; };
 #endif
@@ -20,7 +25,15 @@ layout(std430, binding = 7) buffer Oversized { uint oversized; };
 uniform float uMaxPointSize;
 #endif
 
-flat out uint vParticle;
+// What the fragment shader needs of the particle, as flat varyings: on llvmpipe a fragment
+// shader's SSBO read is a per-lane scalar loop, a flat varying a broadcast from triangle setup.
+flat out vec4 vCenterRadius;
+flat out vec4 vColor;
+flat out uint vId;
+#ifdef AMBIENT_CACHE
+flat out uvec3 vAmbientPositive;  // faces +x, +y, +z of the sphere's ambient cube
+flat out uvec3 vAmbientNegative;  // faces -x, -y, -z
+#endif
 
 const int kCorner[6] = int[6](0, 1, 2, 2, 1, 3);
 
@@ -35,8 +48,14 @@ void main() {
 #else
     uint p = slot;
 #endif
-    vParticle = p;
     vec4 cr = centerRadius[p];
+    vCenterRadius = cr;
+    vColor = colors[p];
+    vId = ids[p];
+#ifdef AMBIENT_CACHE
+    vAmbientPositive = uvec3(ambientCube[6u * p], ambientCube[6u * p + 2u], ambientCube[6u * p + 4u]);
+    vAmbientNegative = uvec3(ambientCube[6u * p + 1u], ambientCube[6u * p + 3u], ambientCube[6u * p + 5u]);
+#endif
     vec4 rect;
     vec2 pad = 1.0 / uViewport;  // half a pixel in NDC
     if (!projectedSphereBounds(uEye, uForward, uRight, uUp, uOrthographic, uTanHalfFov, uOrthoHalfHeight,
