@@ -155,15 +155,6 @@ OutputCheck checkFrameOutput(const std::string& path, const std::string& hash) {
     return {OutputState::Complete, ""};
 }
 
-std::string hostName() {
-    std::array<char, 256> buf{};
-    if (gethostname(buf.data(), buf.size() - 1) != 0 || buf[0] == '\0') return "localhost";
-    std::string host(buf.data());
-    for (char& c : host)
-        if (c == '/') c = '_';
-    return host;
-}
-
 // --- placeholders ---------------------------------------------------------------------------
 
 nlohmann::json toJson(const PlaceholderInfo& info) {

@@ -60,9 +60,6 @@ struct OutputCheck {
 // absent; else Complete.
 OutputCheck checkFrameOutput(const std::string& path, const std::string& hash);
 
-// Host name (path separators replaced), as in temp file names.
-std::string hostName();
-
 // --- placeholders ---------------------------------------------------------------------------
 
 // What a placeholder file records (JSON): who claimed the frame and when it last proved alive.

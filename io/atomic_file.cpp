@@ -14,8 +14,6 @@ namespace fs = std::filesystem;
 
 namespace tc {
 
-namespace {
-
 std::string hostName() {
     std::array<char, 256> buf{};
     if (gethostname(buf.data(), buf.size() - 1) != 0 || buf[0] == '\0') return "localhost";
@@ -25,8 +23,6 @@ std::string hostName() {
         if (c == '/') c = '_';
     return host;
 }
-
-}  // namespace
 
 AtomicFile::AtomicFile(std::string finalPath) : m_finalPath(std::move(finalPath)) {
     fs::path path(m_finalPath);

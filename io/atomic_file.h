@@ -5,6 +5,10 @@
 
 namespace tc {
 
+// This machine's host name with any '/' replaced by '_' (usable in file names), "localhost" if
+// it has none. Temp files, placeholders and run.json carry it.
+std::string hostName();
+
 // Owns a temporary file next to `finalPath`: `.<name>.tmp-<host>-<pid><ext>`, e.g.
 // `out/.frame.0001.png.tmp-node7-4242.png`. The temp keeps the final extension at the end so
 // writers that pick a format from the file name (OpenImageIO, VTK) pick the right one; host and

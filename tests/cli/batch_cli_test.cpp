@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/batch.h"
+#include "io/atomic_file.h"
 #include "cli_fixture.h"
 #include "io/image_io.h"
 
@@ -166,12 +167,12 @@ TEST_F(Batch, PlaceholdersSkipFramesHeldByLiveProcessesAndTakeOverStaleOnes) {
     using tc::cli::PlaceholderInfo;
     // Frame 1 is held by this (live) test process; frame 2 by one that died.
     writeText(out(".f.0001.placeholder"),
-              tc::cli::toJson(PlaceholderInfo{tc::cli::hostName(), long(getpid()), "77_1", tc::cli::unixNow()}).dump());
+              tc::cli::toJson(PlaceholderInfo{tc::hostName(), long(getpid()), "77_1", tc::cli::unixNow()}).dump());
     writeText(out(".f.0002.placeholder"),
-              tc::cli::toJson(PlaceholderInfo{tc::cli::hostName(), 999999999L, "77_2", tc::cli::unixNow()}).dump());
+              tc::cli::toJson(PlaceholderInfo{tc::hostName(), 999999999L, "77_2", tc::cli::unixNow()}).dump());
     RunResult r = run("render scene.json --placeholders --set 'output.formats=[\"png\"]'");
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.err.find("frame 1 skipped: being rendered by " + tc::cli::hostName()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("frame 1 skipped: being rendered by " + tc::hostName()), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("(job 77_1)"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out("f.0001.png")));
     for (const char* f : {"f.0000.png", "f.0002.png", "f.0003.png"}) EXPECT_TRUE(fs::exists(out(f))) << f;

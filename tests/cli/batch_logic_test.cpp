@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/batch.h"
+#include "io/atomic_file.h"
 #include "cli_fixture.h"
 #include "core/error.h"
 
@@ -145,19 +146,19 @@ TEST_F(BatchPlaceholderFiles, ClaimIsExclusiveAndStaleOnesAreTakenOver) {
         Placeholders mine(600.0, "42_0");
         EXPECT_EQ(mine.claim(path), std::nullopt);
         PlaceholderInfo info = placeholderFromJson(tc::test::readText(path), path);
-        EXPECT_EQ(info.host, hostName());
+        EXPECT_EQ(info.host, tc::hostName());
         EXPECT_EQ(info.pid, long(getpid()));
         EXPECT_EQ(info.jobId, "42_0");
         // A second claimant (same host, this live process) is refused and told who holds it.
         Placeholders other(600.0, "");
         std::optional<std::string> holder = other.claim(path);
         ASSERT_TRUE(holder.has_value());
-        EXPECT_NE(holder->find(hostName() + ":" + std::to_string(getpid())), std::string::npos) << *holder;
+        EXPECT_NE(holder->find(tc::hostName() + ":" + std::to_string(getpid())), std::string::npos) << *holder;
         mine.release();
         EXPECT_FALSE(fs::exists(path));
     }
     // Left behind by a process that died on this host: stale, taken over.
-    tc::test::writeText(path, toJson(PlaceholderInfo{hostName(), deadPid(), "", unixNow()}).dump());
+    tc::test::writeText(path, toJson(PlaceholderInfo{tc::hostName(), deadPid(), "", unixNow()}).dump());
     {
         Placeholders p(600.0, "");
         EXPECT_EQ(p.claim(path), std::nullopt);
