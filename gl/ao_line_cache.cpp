@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -15,17 +16,23 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
                                const std::function<void(GLuint)>& setAoUniforms) {
     TC_CHECK(spacing > 0.0f);
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();  // process CPU time, llvmpipe's threads included
     AoLineCache cache;
     cache.m_spacing = spacing;
     const std::size_t segments = lines.segmentCount();
+    // Layout of shaders/ao_line_cache.glsl: a segment joined to the previous one (it starts at
+    // that one's end vertex) shares its first sample with that one's last, flagged by kJoinedBit.
     std::vector<std::uint32_t> offsets(segments + 1);
     std::size_t total = 0;
     for (std::size_t s = 0; s < segments; ++s) {
-        offsets[s] = std::uint32_t(total);
+        const bool joined = s > 0 && lines.segmentVertices[2 * s] == lines.segmentVertices[2 * s - 1];
+        if (joined) --total;
+        offsets[s] = std::uint32_t(total) | (joined ? kJoinedBit : 0u);
         const glm::vec3 a(lines.positionRadius[lines.segmentVertices[2 * s]]);
         const glm::vec3 b(lines.positionRadius[lines.segmentVertices[2 * s + 1]]);
         const float steps = std::ceil(glm::length(b - a) / spacing);
         total += std::size_t(std::clamp(steps + 1.0f, 2.0f, float(kMaxSamplesPerSegment)));
+        TC_CHECK(total < kJoinedBit);  // sample indices below the flag bit
     }
     offsets[segments] = std::uint32_t(total);
     TC_CHECK(total * (kAzimuths / 4) < (std::size_t(1) << 31));  // uint word indices in the shaders
@@ -36,7 +43,7 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
     // AO_LINE_CACHE too: the shader library's include-once expansion ignores #ifdef, so the
     // conditional include of ao_line_cache.glsl in ambient_occlusion.glsl must be the live one.
     const Program program = compileProgram({{GL_COMPUTE_SHADER, "ao_line_cache_build.comp"}},
-                                           {"AMBIENT_OCCLUSION", "AO_LINE_CACHE", define()});
+                                           {"AMBIENT_OCCLUSION", "AO_LINES", "AO_LINE_CACHE", define()});
     const GLuint p = program.id();
     setAoUniforms(p);
     geometry.bind();
@@ -54,6 +61,7 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glFinish();
     cache.m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    cache.m_buildCpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
     return cache;
 }
 
@@ -67,7 +75,8 @@ nlohmann::json AoLineCache::describe() const {
             {"samples", m_sampleCount},
             {"sample_spacing_world", m_spacing},
             {"cache_mb", double(m_sampleCount * kAzimuths) / (1024.0 * 1024.0)},
-            {"build_ms", m_buildMs}};
+            {"build_ms", m_buildMs},
+            {"build_cpu_ms", m_buildCpuMs}};
 }
 
 }  // namespace tc::gl
