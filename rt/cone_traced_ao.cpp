@@ -65,12 +65,6 @@ glm::vec3 texelWidth(const DensityPyramid& v, int level) {
 constexpr float kConeOwnMargin = 1.001f;
 constexpr float kConeOwnSlack = 1e-3f;
 
-float coneLineInBox(glm::vec3 o, glm::vec3 invU, glm::vec3 lo, glm::vec3 hi) {
-    const glm::vec3 a = (lo - o) * invU, b = (hi - o) * invU;
-    const glm::vec3 nearT = glm::min(a, b), farT = glm::max(a, b);
-    return std::max(std::min({farT.x, farT.y, farT.z}) - std::max({nearT.x, nearT.y, nearT.z}), 0.0f);
-}
-
 float coneLevelDensityExcluding(const DensityPyramid& v, glm::vec3 pv, int level, glm::vec3 o, glm::vec3 invU,
                                 float ownDensity) {
     const glm::ivec3 n = v.levelSize(level);
@@ -80,16 +74,26 @@ float coneLevelDensityExcluding(const DensityPyramid& v, glm::vec3 pv, int level
     const glm::vec3 f = c - base;
     const glm::ivec3 i0(base);
     const float perLength = ownDensity / (w.x * w.y * w.z);
+    const glm::vec3 lo0 = base * w - kConeOwnSlack, hi0 = lo0 + w + 2.0f * kConeOwnSlack;
+    const glm::vec3 a0 = (lo0 - o) * invU, b0 = (hi0 - o) * invU, a1 = (lo0 + w - o) * invU,
+                    b1 = (hi0 + w - o) * invU;
+    const glm::vec3 near0 = glm::min(a0, b0), far0 = glm::max(a0, b0), near1 = glm::min(a1, b1),
+                    far1 = glm::max(a1, b1);
     float sum = 0.0f;
     for (int k = 0; k < 8; ++k) {
         const glm::ivec3 d(k & 1, (k >> 1) & 1, k >> 2);
         const glm::ivec3 i = i0 + d;
         if (glm::any(glm::lessThan(i, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(i, n))) continue;
         const glm::vec3 w3 = glm::mix(1.0f - f, f, glm::vec3(d));
-        const glm::vec3 lo = glm::vec3(i) * w - kConeOwnSlack;
+        glm::vec3 tNear, tFar;
+        for (int a = 0; a < 3; ++a) {
+            tNear[a] = d[a] ? near1[a] : near0[a];
+            tFar[a] = d[a] ? far1[a] : far0[a];
+        }
+        const float len =
+            std::max(std::min({tFar.x, tFar.y, tFar.z}) - std::max({tNear.x, tNear.y, tNear.z}), 0.0f);
         const float texel = v.texel(level, i.x, i.y, i.z);
-        sum += w3.x * w3.y * w3.z *
-               std::max(texel - perLength * coneLineInBox(o, invU, lo, lo + w + 2.0f * kConeOwnSlack), 0.0f);
+        sum += w3.x * w3.y * w3.z * std::max(texel - perLength * len, 0.0f);
     }
     return sum;
 }

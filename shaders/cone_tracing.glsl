@@ -112,18 +112,11 @@ vec3 coneTexelWidth(int level)
     return vec3(uDensitySize) / vec3(max(uDensitySize >> level, ivec3(1)));
 }
 
-// Length of the line o + s u (|u| = 1, invU = 1 / u with zeros replaced by huge values) inside the
-// box [lo, hi] (slab test).
-float coneLineInBox(vec3 o, vec3 invU, vec3 lo, vec3 hi)
-{
-    vec3 a = (lo - o) * invU, b = (hi - o) * invU;
-    vec3 tNear = min(a, b), tFar = max(a, b);
-    return max(min(min(tFar.x, tFar.y), tFar.z) - max(max(tNear.x, tNear.y), tNear.z), 0.0);
-}
-
 // One level's trilinear read at pv (level-0 voxel coordinates) with the zero border of the
-// texture, each texel less the own line's deposit in it (clamped at 0). o, invU: the own line in
-// voxel coordinates; ownDensity: its deposit per voxel of length (already with the margin).
+// texture, each texel less the own line's deposit in it (clamped at 0): the length of the line
+// o + s u inside the texel's box (slab test; invU = 1 / u with zeros replaced by huge values, |u|
+// = 1) times ownDensity (per voxel of length, with the margin) / texel volume. The block's lower
+// and upper slab along each axis are clipped once and combined per texel.
 float coneLevelDensityExcluding(vec3 pv, int level, vec3 o, vec3 invU, float ownDensity)
 {
     ivec3 n = max(uDensitySize >> level, ivec3(1));
@@ -133,16 +126,20 @@ float coneLevelDensityExcluding(vec3 pv, int level, vec3 o, vec3 invU, float own
     vec3 f = c - base;
     ivec3 i0 = ivec3(base);
     float perLength = ownDensity / (w.x * w.y * w.z);
+    vec3 lo0 = base * w - kConeOwnSlack, hi0 = lo0 + w + 2.0 * kConeOwnSlack;
+    vec3 a0 = (lo0 - o) * invU, b0 = (hi0 - o) * invU, a1 = (lo0 + w - o) * invU, b1 = (hi0 + w - o) * invU;
+    vec3 near0 = min(a0, b0), far0 = max(a0, b0), near1 = min(a1, b1), far1 = max(a1, b1);
     float sum = 0.0;
     for (int k = 0; k < 8; ++k) {
         ivec3 d = ivec3(k & 1, (k >> 1) & 1, k >> 2);
         ivec3 i = i0 + d;
         if (any(lessThan(i, ivec3(0))) || any(greaterThanEqual(i, n))) continue;
+        bvec3 upper = bvec3(d);
         vec3 w3 = mix(1.0 - f, f, vec3(d));
-        vec3 lo = vec3(i) * w - kConeOwnSlack;
+        vec3 tNear = mix(near0, near1, upper), tFar = mix(far0, far1, upper);
+        float len = max(min(min(tFar.x, tFar.y), tFar.z) - max(max(tNear.x, tNear.y), tNear.z), 0.0);
         float texel = texelFetch(uDensity, i, level).r;
-        float own = perLength * coneLineInBox(o, invU, lo, lo + w + 2.0 * kConeOwnSlack);
-        sum += w3.x * w3.y * w3.z * max(texel - own, 0.0);
+        sum += w3.x * w3.y * w3.z * max(texel - perLength * len, 0.0);
     }
     return sum;
 }
