@@ -23,14 +23,15 @@ void main()
     aoCacheSegmentAxis(a.xyz, b.xyz, a.xyz, axis, unused);
     uint first, count;
     bool joined;
-    aoCacheSamples(segment, first, count, joined);
+    float origin;
+    aoCacheSamples(segment, first, count, joined, origin);
     for (uint j = joined ? 1u : 0u; j < count; ++j) {  // a joined first sample is the previous one's
         float s = float(j) / float(count - 1u);
         vec4 c = mix(a, b, s);
         uint words[kAoCacheWords];
         for (uint w = 0u; w < kAoCacheWords; ++w) words[w] = 0u;
         for (int k = 0; k < kAoCacheAzimuths; ++k) {
-            vec3 n = aoCacheNormal(axis, k);
+            vec3 n = aoCacheNormal(axis, origin, k);
             float ao = exactLineAmbientOcclusion(segment, c.xyz + c.w * n, n);
             words[k >> 2] |= uint(round(clamp(ao, 0.0, 1.0) * 255.0)) << (8u * uint(k & 3));
         }
