@@ -41,11 +41,11 @@ void AmbientOcclusion::apply(GLuint p) const {
 
 void AmbientOcclusion::buildLineCache(const LineGeometry& geometry, const StyledLines& lines) {
     if (m_spec.cache != AoSpec::Cache::Precomputed) return;
-    // One sample per kAoCacheSpacingVoxels of segment length, at least the two ends. The finest
-    // read of the tracer is one voxel, but along a tube AO changes slowly (neighbours are mostly
-    // parallel); on the 1M-segment tornado (segments ~1-2 voxels) 1 voxel gave 3.0 M samples,
-    // 2 voxels 2.x M, and the test scenes' agreement with the exact tracer did not change
-    // measurably (tests/gl/ambient_occlusion_test.cpp).
+    // One sample per kAoCacheSpacingVoxels of segment length, at least the two ends (shared at
+    // polyline joints). The finest read of the tracer is one voxel, but along a tube AO changes
+    // slowly (neighbours are mostly parallel); on the 1M-segment tornado (segments ~1-2 voxels)
+    // 1 voxel gave 3.0 M samples, 2 voxels with shared joints 1.0 M, and the test scenes'
+    // agreement with the exact tracer did not change measurably (tests/gl/ambient_occlusion_test.cpp).
     constexpr float kAoCacheSpacingVoxels = 2.0f;
     m_lineCache = AoLineCache::build(geometry, lines, kAoCacheSpacingVoxels * m_volume.voxelSize(),
                                      [this](GLuint p) { apply(p); });
