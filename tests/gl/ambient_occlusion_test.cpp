@@ -421,8 +421,8 @@ Camera obliqueView(glm::vec3 target, float distance) {
 // Measured (llvmpipe of Debian 12, 8 azimuths, 1 sample per 2 voxels of segment length, shared
 // at joints), with the exact tracer's own-tube exclusion (smooth in the normal):
 //   bundle: per pixel |diff| mean 0.082, max 0.635; per polyline |mean diff| mean 0.076, max 0.140
-//   tangle: per pixel |diff| mean 0.046, max 0.536; per polyline |mean diff| mean 0.020, max 0.145
-//   k-buffer tangle: composited colour |diff| mean 0.0083.
+//   tangle: per pixel |diff| mean 0.045, max 0.485; per polyline |mean diff| mean 0.020, max 0.141
+//   k-buffer tangle: composited colour |diff| mean 0.0084.
 // (With the former level-switching exclusion the exact AO jumped with the normal, 0.334 / 0.666 /
 // 0.002 at 28 / 51 / 62 degrees on one tube, and the means were 0.118 / 0.127 / 0.0234.) What is
 // left is the cache's interpolation: 8 azimuths 45 degrees apart against AO that falls from 1 to
