@@ -22,7 +22,7 @@ public:
     static AmbientOcclusion create(const AoSpec& spec, const StyledLines& lines);
 
     // Binds the volume and sets the cone tracing uniforms of `program` (uAoCones, uAoAperture,
-    // uAoDistance, uAoStrength, uAoStartOffset, uConeOwnArea and the density uniforms).
+    // uAoDistance, uAoStrength, uAoStartOffset and the density uniforms).
     // With the line cache built, also binds it (gl/ao_line_cache.h).
     void apply(GLuint program) const;
     // The rasterized line renderers: builds the per-segment AO cache when spec.cache asks for it
@@ -37,7 +37,6 @@ private:
     DensityVolume m_volume;
     float m_distance = 0;     // world units
     float m_startOffset = 0;  // world units: one voxel (see create)
-    float m_ownArea = 0;      // pi maxRadius^2 / voxelSize^2 (uConeOwnArea)
     double m_voxelizeMs = 0, m_uploadMs = 0;
     std::size_t m_clampedSegments = 0;
     std::optional<AoLineCache> m_lineCache;

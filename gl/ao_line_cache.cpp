@@ -2,41 +2,75 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "core/error.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
+namespace {
+
+// coneTangentFrame of shaders/cone_tracing.glsl (Duff et al. 2017).
+void tangentFrame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
+    const float a = -1.0f / (s + n.z);
+    const float c = n.x * n.y * a;
+    t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+    b = glm::vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+}  // namespace
 
 AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& lines, float spacing,
                                const std::function<void(GLuint)>& setAoUniforms) {
     TC_CHECK(spacing > 0.0f);
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();  // process CPU time, llvmpipe's threads included
     AoLineCache cache;
     cache.m_spacing = spacing;
     const std::size_t segments = lines.segmentCount();
-    std::vector<std::uint32_t> offsets(segments + 1);
+    // Layout of shaders/ao_line_cache.glsl, two words per segment: the first sample's index, with
+    // kJoinedBit when the segment starts at the previous one's end vertex (it shares its first
+    // sample with that one's last), and the azimuth origin (float bits): the angle from the
+    // segment's coneTangentFrame tangent to the tangent parallel-transported along the polyline
+    // (rotation-minimising), so azimuth k means the same side of the tube on both sides of a
+    // joint and the shared sample needs no second frame in the lookup.
+    std::vector<std::uint32_t> words(2 * (segments + 1), 0u);
     std::size_t total = 0;
+    glm::vec3 transported(0.0f);
     for (std::size_t s = 0; s < segments; ++s) {
-        offsets[s] = std::uint32_t(total);
+        const bool joined = s > 0 && lines.segmentVertices[2 * s] == lines.segmentVertices[2 * s - 1];
+        if (joined) --total;
+        words[2 * s] = std::uint32_t(total) | (joined ? kJoinedBit : 0u);
         const glm::vec3 a(lines.positionRadius[lines.segmentVertices[2 * s]]);
         const glm::vec3 b(lines.positionRadius[lines.segmentVertices[2 * s + 1]]);
-        const float steps = std::ceil(glm::length(b - a) / spacing);
+        const float length = glm::length(b - a);
+        const glm::vec3 axis = length > 0.0f ? (b - a) / length : glm::vec3(0.0f, 0.0f, 1.0f);
+        glm::vec3 t, bt;
+        tangentFrame(axis, t, bt);
+        const glm::vec3 across = transported - glm::dot(transported, axis) * axis;
+        const float acrossLength = glm::length(across);
+        transported = joined && acrossLength > 1e-3f ? across / acrossLength : t;
+        const float origin = std::atan2(glm::dot(transported, bt), glm::dot(transported, t));
+        std::memcpy(&words[2 * s + 1], &origin, sizeof(float));
+        const float steps = std::ceil(length / spacing);
         total += std::size_t(std::clamp(steps + 1.0f, 2.0f, float(kMaxSamplesPerSegment)));
+        TC_CHECK(total < kJoinedBit);  // sample indices below the flag bit
     }
-    offsets[segments] = std::uint32_t(total);
+    words[2 * segments] = std::uint32_t(total);
     TC_CHECK(total * (kAzimuths / 4) < (std::size_t(1) << 31));  // uint word indices in the shaders
     cache.m_sampleCount = total;
-    cache.m_offsets = makeBuffer(offsets.size() * sizeof(std::uint32_t), offsets.data());
+    cache.m_offsets = makeBuffer(words.size() * sizeof(std::uint32_t), words.data());
     cache.m_samples = makeBuffer(std::size_t(kAzimuths / 4) * total * sizeof(std::uint32_t));
 
     // AO_LINE_CACHE too: the shader library's include-once expansion ignores #ifdef, so the
     // conditional include of ao_line_cache.glsl in ambient_occlusion.glsl must be the live one.
     const Program program = compileProgram({{GL_COMPUTE_SHADER, "ao_line_cache_build.comp"}},
-                                           {"AMBIENT_OCCLUSION", "AO_LINE_CACHE", define()});
+                                           {"AMBIENT_OCCLUSION", "AO_LINES", "AO_LINE_CACHE", define()});
     const GLuint p = program.id();
     setAoUniforms(p);
     geometry.bind();
@@ -54,6 +88,7 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glFinish();
     cache.m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    cache.m_buildCpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
     return cache;
 }
 
@@ -67,7 +102,8 @@ nlohmann::json AoLineCache::describe() const {
             {"samples", m_sampleCount},
             {"sample_spacing_world", m_spacing},
             {"cache_mb", double(m_sampleCount * kAzimuths) / (1024.0 * 1024.0)},
-            {"build_ms", m_buildMs}};
+            {"build_ms", m_buildMs},
+            {"build_cpu_ms", m_buildCpuMs}};
 }
 
 }  // namespace tc::gl

@@ -3,9 +3,11 @@
 // depend on the view, so instead of tracing cones for every shaded fragment (per pixel in the
 // opaque deferred pass, per fragment before k-buffer insertion, which on llvmpipe tripled the
 // k-buffer frame) the exact cone traced AO is evaluated once per dataset at samples along every
-// segment, for 8 normals around its axis, and shaders/ao_line_cache.glsl interpolates it per
-// fragment (position along the segment, azimuth of the normal). Layout and lookup: that file.
+// segment (shared at the joints of a polyline), for 8 normals around its axis, and
+// shaders/ao_line_cache.glsl interpolates it per fragment (position along the segment, azimuth of
+// the normal). Layout and lookup: that file.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -29,6 +31,9 @@ public:
     // most kMaxSamplesPerSegment. Needs a current context; `setAoUniforms` binds the density
     // volume and sets the cone tracing uniforms of the build program (AmbientOcclusion::apply).
     static constexpr int kMaxSamplesPerSegment = 64;
+    // Offsets word flag: the segment starts at the previous segment's end and shares its sample
+    // there (AO_CACHE_JOINED_BIT in shaders/ao_line_cache.glsl).
+    static constexpr std::uint32_t kJoinedBit = 0x80000000u;
     static AoLineCache build(const LineGeometry& geometry, const StyledLines& lines, float spacing,
                              const std::function<void(GLuint)>& setAoUniforms);
 
@@ -40,7 +45,7 @@ private:
     Buffer m_samples, m_offsets;
     std::size_t m_sampleCount = 0;
     float m_spacing = 0;
-    double m_buildMs = 0;
+    double m_buildMs = 0, m_buildCpuMs = 0;  // wall, process CPU (all threads)
 };
 
 }  // namespace tc::gl

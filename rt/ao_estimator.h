@@ -18,8 +18,9 @@ class AoEstimator {
 public:
     virtual ~AoEstimator() = default;
     // 1 = unoccluded, 0 = fully occluded, at world point p with unit normal n facing the viewer.
-    // `pixel` seeds per-pixel sampling (deterministic: same pixel, same result). Thread-safe.
-    virtual float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const = 0;
+    // `pixel` seeds per-pixel sampling (deterministic: same pixel, same result); `segment` is the
+    // shaded segment (cone tracing excludes its own tube). Thread-safe.
+    virtual float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel, std::uint32_t segment) const = 0;
     virtual nlohmann::json describe() const = 0;
 };
 

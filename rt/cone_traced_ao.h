@@ -31,10 +31,11 @@ public:
     float textureLod(const glm::vec3& uvw, float lod) const;
     // One level, trilinear between texel centres, 0 outside (the border colour).
     float sampleLevel(const glm::vec3& uvw, int level) const;
+    // Texel (x, y, z) of `level`, 0 outside the level (the border colour).
+    float texel(int level, int x, int y, int z) const;
     std::size_t bytes() const;
 
 private:
-    float fetch(int level, int x, int y, int z) const;
     std::vector<std::vector<float>> m_levels;
     std::vector<glm::ivec3> m_sizes;
     glm::vec3 m_origin{0.0f};
@@ -48,19 +49,33 @@ struct ConeTracingParams {
     float maxDistance = 0.0f;  // world units
     float strength = 1.0f;
     float startOffset = 0.0f;  // world units
-    float ownArea = 0.0f;      // uConeOwnArea: pi maxRadius^2 / voxelSize^2
 };
 
-// coneTracedOcclusion of shaders/cone_tracing.glsl: AO factor (1 = unoccluded) at `position`.
+// ConeOwnTube of shaders/cone_tracing.glsl: the shaded tube, excluded from the density reads.
+struct ConeOwnTube {
+    glm::vec3 origin{0.0f};                // a point on the axis, world
+    glm::vec3 dir{0.0f, 0.0f, 1.0f};       // unit axis
+    float density = 0.0f;                  // deposit per voxel of axis length; 0: none
+};
+// coneOwnTube of shaders/cone_tracing.glsl: the rounded cone a -> b (xyz, radius w).
+ConeOwnTube coneOwnTube(const glm::vec4& a, const glm::vec4& b, float alphaA, float alphaB, float voxelSize);
+
+// traceOcclusionCone of shaders/cone_tracing.glsl: occlusion in [0, 1] of one cone.
+float traceOcclusionCone(const DensityPyramid& volume, const ConeTracingParams& params, glm::vec3 apex,
+                         glm::vec3 dir, float tanHalfAperture, const ConeOwnTube& own = {});
+
+// coneTracedTubeOcclusion of shaders/cone_tracing.glsl: AO factor (1 = unoccluded) at `position`
+// on the surface of `own` (default: no own tube, coneTracedOcclusion).
 float coneTracedOcclusion(const DensityPyramid& volume, const ConeTracingParams& params, glm::vec3 position,
-                          glm::vec3 normal);
+                          glm::vec3 normal, const ConeOwnTube& own = {});
 
 class ConeTracedAo final : public AoEstimator {
 public:
     // Voxelizes `lines` at spec.resolution and builds the pyramid (once per dataset), with the
-    // parameters gl::AmbientOcclusion::create derives from `spec`.
+    // parameters gl::AmbientOcclusion::create derives from `spec`. `lines` must outlive it
+    // (visibility excludes the shaded segment's own tube).
     ConeTracedAo(const AoSpec& spec, const StyledLines& lines);
-    float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const override;
+    float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel, std::uint32_t segment) const override;
     nlohmann::json describe() const override;
 
     const DensityPyramid& volume() const { return m_volume; }
@@ -68,6 +83,7 @@ public:
 
 private:
     ConeTracingParams m_params;
+    const StyledLines* m_lines = nullptr;
     double m_buildMs = 0;  // before m_volume: set while m_volume is built
     DensityPyramid m_volume;
 };

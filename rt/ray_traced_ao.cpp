@@ -32,7 +32,7 @@ RayTracedAo::RayTracedAo(const AoSpec& spec, const StyledLines& lines, const Emb
     m_offset = 1e-3f * std::max(lines.maxRadius, 1e-12f);
 }
 
-float RayTracedAo::visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const {
+float RayTracedAo::visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel, std::uint32_t) const {
     glm::vec3 t, b;
     {
         // Duff et al. 2017 tangent frame (as the cone tracer).

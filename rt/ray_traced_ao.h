@@ -15,7 +15,7 @@ namespace tc::rt {
 class RayTracedAo final : public AoEstimator {
 public:
     RayTracedAo(const AoSpec& spec, const StyledLines& lines, const EmbreeLines& embree);
-    float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const override;
+    float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel, std::uint32_t segment) const override;
     nlohmann::json describe() const override;
 
 private:

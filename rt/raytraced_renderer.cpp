@@ -148,7 +148,7 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const 
     if (m_ao) {
         // As shaders/deferred_shading.frag: AO scales the albedo, at the normal facing the viewer.
         const glm::vec3 facing = glm::dot(bestN, c.ray.dir) <= 0.0f ? bestN : -bestN;
-        c.ao = m_ao->visibility(p, facing, c.pixel);
+        c.ao = m_ao->visibility(p, facing, c.pixel, bestSeg);
         base *= c.ao;
     }
     const glm::vec3 rgb = shadeBlinnPhong(base, bestN, c.ray.dir, c.lightDir, m_lighting);
@@ -207,7 +207,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
             if (m_ao) {
                 // As shaders/transparent_fragment.glsl: per fragment, before shading.
                 const glm::vec3 facing = glm::dot(nrm, c.ray.dir) <= 0.0f ? nrm : -nrm;
-                base = glm::vec4(glm::vec3(base) * m_ao->visibility(p, facing, c.pixel), base.w);
+                base = glm::vec4(glm::vec3(base) * m_ao->visibility(p, facing, c.pixel, h.prim), base.w);
             }
             // Clamped like every transparent path (the GL k-buffer stores RGBA8).
             const glm::vec3 rgb =

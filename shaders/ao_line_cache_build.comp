@@ -1,7 +1,7 @@
 // Builds the cached line AO of shaders/ao_line_cache.glsl (layout there): one invocation per
 // segment evaluates the exact cone traced AO (shaders/ambient_occlusion.glsl, compiled with
-// AMBIENT_OCCLUSION and AO_LINE_CACHE) at each of its samples and cached azimuths. gl::AoLineCache::build
-// dispatches it in chunks of segments.
+// AMBIENT_OCCLUSION, AO_LINES and AO_LINE_CACHE) at each of its samples and cached azimuths.
+// gl::AoLineCache::build dispatches it in chunks of segments.
 #include "ambient_occlusion.glsl"
 #include "ao_line_cache.glsl"
 
@@ -21,16 +21,18 @@ void main()
     vec3 axis;
     float unused;
     aoCacheSegmentAxis(a.xyz, b.xyz, a.xyz, axis, unused);
-    uint first = aoCacheOffset[segment];
-    uint count = aoCacheOffset[segment + 1u] - first;
-    for (uint j = 0u; j < count; ++j) {
+    uint first, count;
+    bool joined;
+    float origin;
+    aoCacheSamples(segment, first, count, joined, origin);
+    for (uint j = joined ? 1u : 0u; j < count; ++j) {  // a joined first sample is the previous one's
         float s = float(j) / float(count - 1u);
         vec4 c = mix(a, b, s);
         uint words[kAoCacheWords];
         for (uint w = 0u; w < kAoCacheWords; ++w) words[w] = 0u;
         for (int k = 0; k < kAoCacheAzimuths; ++k) {
-            vec3 n = aoCacheNormal(axis, k);
-            float ao = ambientOcclusion(c.xyz + c.w * n, n);
+            vec3 n = aoCacheNormal(axis, origin, k);
+            float ao = exactLineAmbientOcclusion(segment, c.xyz + c.w * n, n);
             words[k >> 2] |= uint(round(clamp(ao, 0.0, 1.0) * 255.0)) << (8u * uint(k & 3));
         }
         for (uint w = 0u; w < kAoCacheWords; ++w) aoCacheOut[kAoCacheWords * (first + j) + w] = words[w];

@@ -18,29 +18,28 @@
 // occ > 0.99.
 //
 // Self-occlusion. A tube deposits its whole cross-section into the voxels holding its axis
-// (core/voxel_density.h), and a quadrilinear read at level log2(d) reaches about 1.5..3 d around
-// the sample (box-filtered texels of width 2^level, trilinear between their centres), further
-// than the sample is from the tube's own axis at every step of a 50-degree cone: an isolated tube
-// of radius 1 / 2 voxels read AO 0.82 / 0.70 with a start offset of radius + 2 voxels (grid 64,
-// tests/gl/ambient_occlusion_test.cpp), and since the leaked density ~ pi r^2 / d^2 over a
-// step d adds up like a geometric series from the first step, a start offset large enough to
-// hide it (16+ voxels) also hides the near field that makes bundles dark. So where the read's
-// footprint may reach behind the tangent plane at the apex (coneHemisphereLod: the shaded
-// rounded cone is convex, so it and every texel holding its axis lie behind that plane), the
-// step's density is the larger of two estimates that both exclude the shaded tube:
-//   front = the read at the coarsest level whose footprint stays in front of the plane (0 if even
-//           level 0's does not, within ~1.5..2.6 voxels of it): exact exclusion, but a finer,
-//           alignment-dependent footprint that can miss laterally what the cone covers (a single
-//           cone running parallel to a wall 4 voxels away read no occlusion with front alone);
-//   own   = the read at the cone's level minus an upper bound of one straight tube of radius
-//           maxRadius in it (coneOwnDensityBound, uConeOwnArea): keeps the cone's footprint.
-// An isolated tube reads exactly 1 (own <= 0, front = 0). Density behind the plane is outside the
-// hemisphere anyway. Polyline bends: the neighbouring segment on the inner side is real
-// occlusion and stays. With uConeOwnArea = 0 the step reads max(natural, front) = natural
-// except where the finer read is denser.
+// (core/voxel_density.h), and a quadrilinear read at level log2(d) reaches 1.5 texels (up to
+// 1.5 * 2^ceil(lod) * sqrt(3) voxels) around the sample: at 50 degrees every step of a cone
+// reads the shaded tube's own deposit (about pi r^2 / d^2 per step d, a geometric series
+// dominated by the first steps), so an isolated tube would darken itself. No start offset fixes
+// that without hiding the near field that makes bundles dark, and excluding texels by level
+// (the reach of a level against the tangent plane, the former approach) switched levels with the
+// normal and made AO jump with it (0.33 / 0.67 / 0.00 at 28 / 51 / 62 degrees on one tube).
+// So the tracer takes the shaded tube (ConeOwnTube: its axis as an infinite line and an upper
+// bound on its deposit per voxel of axis length, pi r^2 alpha / voxelSize^2) and, at the steps
+// whose 2x2x2 texel blocks can reach that line, filters by hand: each texel loses the deposit the
+// line leaves in it (deposit x length of the line inside the texel's box / texel volume, exact
+// for the voxelizer's per-voxel pieces and for mip levels that halve evenly), clamped at 0, with
+// the weights of GL_LINEAR_MIPMAP_LINEAR. Every term is continuous in the sample position, so AO
+// is a continuous function of the normal, and an isolated straight tube reads exactly 1. Other
+// tubes in the same texels keep their density. The infinite line also removes the polyline's
+// straight continuation; a bend's neighbouring segment stays (on the inner side it is real
+// occlusion). Without an own tube (spheres' test volumes, hand-made grids) the read is plain.
 //
 // Cone sets, around the normal n, deterministic (no per-pixel rotation, so no noise and
-// bit-identical frames); directions use the tangent frame of Duff et al. 2017 built from n:
+// bit-identical frames); azimuth 0 is the shaded tube's axis projected onto the tangent plane
+// (continuous as the normal turns around the tube; within ~15 degrees of the axis, at the poles
+// of end caps, and without an own tube: the tangent frame of Duff et al. 2017 built from n):
 //   cones = 1     one cone along n;
 //   cones = 2..5  a ring of `cones` cones at 45 degrees from n (the median polar angle of a
 //                 cosine-weighted hemisphere: sin^2 = 1/2), evenly spaced in azimuth;
@@ -54,13 +53,39 @@ uniform vec3 uDensityOrigin;
 uniform float uDensityVoxelSize;  // level 0, world units
 uniform ivec3 uDensitySize;       // level 0, voxels
 uniform int uDensityLevels;
-// Cross-section of the thickest tube, pi maxRadius^2 / voxelSize^2: the density one tube deposits
-// per voxel of axis length. Set by gl::AmbientOcclusion; 0 (unset) on hand-made volumes, where no
-// tube is shaded and only the hemisphere-capped read below applies.
-uniform float uConeOwnArea;
 
 const float kConeOcclusionCutoff = 0.99;
 const int kConeMaxSteps = 128;  // a 10-degree cone over 1024 voxels takes ~40 steps
+// Relative margin on the own tube's deposit: the mip sums and the fixed-point deposits round in
+// the last bits, and a residual of 1e-7 of a tube's density would keep an isolated tube from
+// reading exactly 1.
+const float kConeOwnMargin = 1.001;
+// Texel boxes are grown by this many level-0 voxels when the own line is clipped to them: an axis
+// on a voxel face (a common case: grids centred on the data) goes to one side in the voxelizer's
+// double precision and may land on the other in float here; the grown boxes remove it from both.
+const float kConeOwnSlack = 1e-3;
+
+// The shaded tube (see "Self-occlusion"): a point on its axis and the unit axis direction, world
+// space, and its deposit per voxel of axis length, pi r^2 alpha / voxelSize^2 (an upper bound
+// over the segment). density 0: nothing is excluded.
+struct ConeOwnTube {
+    vec3 origin;
+    vec3 dir;
+    float density;
+};
+
+ConeOwnTube coneNoOwnTube() { return ConeOwnTube(vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0); }
+
+// The own tube of a rounded cone from a to b (xyz world, w radius) with opacities alphaA, alphaB:
+// its deposit per voxel of axis length is pi r(s)^2 alpha(s) / voxelSize^2 (core/voxel_density.h),
+// bounded by the larger radius and opacity.
+ConeOwnTube coneOwnTube(vec4 a, vec4 b, float alphaA, float alphaB) {
+    vec3 d = b.xyz - a.xyz;
+    float len2 = dot(d, d);
+    float r = max(a.w, b.w) / uDensityVoxelSize;
+    return ConeOwnTube(a.xyz, len2 > 0.0 ? d * inversesqrt(len2) : vec3(0.0, 0.0, 1.0),
+                       len2 > 0.0 ? 3.14159265 * r * r * clamp(max(alphaA, alphaB), 0.0, 1.0) : 0.0);
+}
 
 // Branchless orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis,
 // Revisited"): continuous except across n.z = 0's sign switch, no division by zero.
@@ -80,67 +105,80 @@ float coneDensity(vec3 p, float lod)
     return textureLod(uDensity, uvw, lod).r;
 }
 
-// How far behind a sample a quadrilinear read of mip level `level` can reach, measured along a
-// unit normal n (nAbs = |n| componentwise), in level-0 voxels. The read at q takes the level's
-// texels whose centres are within one texel width w_i of q on every axis i, and a texel holding a
-// point a has its centre within w_i / 2 of a; so it never reads a texel holding a point a with
-// |q_i - a_i| >= 1.5 w_i on some axis, and every point at least 1.5 * sum_i |n_i| w_i behind q
-// (dot(q - a, n)) is such a point. w_i = size_i / levelSize_i is 2^level voxels for even sizes
-// and up to twice that where the level has one texel along i.
-float coneFootprintReach(vec3 nAbs, int level)
+// Texel width of mip level `level` per axis, in level-0 voxels (size / levelSize: texel i of a
+// level covers [i w, (i + 1) w) of level 0 with the area-weighted taps of density_mip.comp).
+vec3 coneTexelWidth(int level)
 {
-    vec3 size = vec3(uDensitySize);
-    vec3 width = size / vec3(max(uDensitySize >> level, ivec3(1)));  // texel width, level-0 voxels
-    return 1.5 * dot(nAbs, width);
+    return vec3(uDensitySize) / vec3(max(uDensitySize >> level, ivec3(1)));
 }
 
-// The coarsest mip level <= ceilLevel whose reach (coneFootprintReach) at a sample `height` world
-// units in front of the tangent plane does not get behind the plane; -1 if even level 0's does.
-int coneHemisphereLod(vec3 nAbs, float height, int ceilLevel)
+// One level's trilinear read at pv (level-0 voxel coordinates) with the zero border of the
+// texture, each texel less the own line's deposit in it (clamped at 0): the length of the line
+// o + s u inside the texel's box (slab test; invU = 1 / u with zeros replaced by huge values, |u|
+// = 1) times ownDensity (per voxel of length, with the margin) / texel volume. The block's lower
+// and upper slab along each axis are clipped once and combined per texel.
+float coneLevelDensityExcluding(vec3 pv, int level, vec3 o, vec3 invU, float ownDensity)
 {
-    float h = height / uDensityVoxelSize;
-    int level = ceilLevel;
-    while (level >= 0 && coneFootprintReach(nAbs, level) > h)
-        --level;
-    return level;
+    ivec3 n = max(uDensitySize >> level, ivec3(1));
+    vec3 w = vec3(uDensitySize) / vec3(n);
+    vec3 c = pv / w - 0.5;
+    vec3 base = floor(c);
+    vec3 f = c - base;
+    ivec3 i0 = ivec3(base);
+    float perLength = ownDensity / (w.x * w.y * w.z);
+    vec3 lo0 = base * w - kConeOwnSlack, hi0 = lo0 + w + 2.0 * kConeOwnSlack;
+    vec3 a0 = (lo0 - o) * invU, b0 = (hi0 - o) * invU, a1 = (lo0 + w - o) * invU, b1 = (hi0 + w - o) * invU;
+    vec3 near0 = min(a0, b0), far0 = max(a0, b0), near1 = min(a1, b1), far1 = max(a1, b1);
+    float sum = 0.0;
+    for (int k = 0; k < 8; ++k) {
+        ivec3 d = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+        ivec3 i = i0 + d;
+        if (any(lessThan(i, ivec3(0))) || any(greaterThanEqual(i, n))) continue;
+        bvec3 upper = bvec3(d);
+        vec3 w3 = mix(1.0 - f, f, vec3(d));
+        vec3 tNear = mix(near0, near1, upper), tFar = mix(far0, far1, upper);
+        float len = max(min(min(tFar.x, tFar.y), tFar.z) - max(max(tNear.x, tNear.y), tNear.z), 0.0);
+        float texel = texelFetch(uDensity, i, level).r;
+        sum += w3.x * w3.y * w3.z * max(texel - perLength * len, 0.0);
+    }
+    return sum;
 }
 
-// Upper bound on what one straight tube of cross-section uConeOwnArea adds to a quadrilinear read
-// at `lod`: a texel of widths w holds at most its diagonal |w| of axis, i.e. a mean of
-// area * |w| / (w_x w_y w_z); interpolation weights sum to 1 and the finer level's bound is the
-// larger.
-float coneOwnDensityBound(float lod)
+// Density read at world position p and mip level lod (the cone's diameter), without the own
+// tube's deposit where the read can reach it.
+float coneDensityExcluding(vec3 p, float lod, ConeOwnTube own)
 {
-    int level = int(floor(lod));
-    vec3 width = vec3(uDensitySize) / vec3(max(uDensitySize >> level, ivec3(1)));
-    return uConeOwnArea * length(width) / (width.x * width.y * width.z);
+    if (own.density <= 0.0) return coneDensity(p, lod);
+    int l0 = int(floor(lod));
+    int l1 = min(l0 + 1, max(uDensityLevels - 1, 0));
+    float frac = lod - float(l0);
+    int reachLevel = frac > 0.0 ? l1 : l0;
+    // A 2x2x2 block of level l spans at most 1.5 texels from p on every axis: a line farther than
+    // the half-diagonal of that box leaves nothing in it, and the plain read is the same filter.
+    vec3 pv = (p - uDensityOrigin) / uDensityVoxelSize;
+    vec3 o = (own.origin - uDensityOrigin) / uDensityVoxelSize;
+    vec3 rel = pv - o;
+    float dist = length(rel - dot(rel, own.dir) * own.dir);
+    if (dist > 1.5 * length(coneTexelWidth(reachLevel))) return coneDensity(p, lod);
+    vec3 invU = 1.0 / mix(own.dir, vec3(1e-20), lessThan(abs(own.dir), vec3(1e-20)));
+    float ownDensity = own.density * kConeOwnMargin;
+    float rho = coneLevelDensityExcluding(pv, l0, o, invU, ownDensity);
+    if (frac > 0.0 && l1 != l0) rho = mix(rho, coneLevelDensityExcluding(pv, l1, o, invU, ownDensity), frac);
+    return rho;
 }
 
-// Occlusion in [0, 1] of one cone with apex `apex`, unit axis `dir`, on the side of the tangent
-// plane with unit normal `normal`.
-float traceOcclusionCone(vec3 apex, vec3 dir, vec3 normal, float tanHalfAperture, float maxDistance,
-                         float strength, float startOffset)
+// Occlusion in [0, 1] of one cone with apex `apex` and unit axis `dir`, excluding `own`.
+float traceOcclusionCone(vec3 apex, vec3 dir, float tanHalfAperture, float maxDistance, float strength,
+                         float startOffset, ConeOwnTube own)
 {
     float maxLod = float(max(uDensityLevels - 1, 0));
-    vec3 nAbs = abs(normal);
-    float cosPolar = dot(dir, normal);
     float occlusion = 0.0;
     float t = startOffset;
     for (int i = 0; i < kConeMaxSteps && t < maxDistance && occlusion <= kConeOcclusionCutoff; ++i) {
         float diameter = max(2.0 * t * tanHalfAperture, uDensityVoxelSize);
         float stepLength = min(diameter, maxDistance - t);
         float lod = clamp(log2(diameter / uDensityVoxelSize), 0.0, maxLod);
-        float tSample = t + 0.5 * stepLength;
-        vec3 p = apex + tSample * dir;
-        float rho = coneDensity(p, lod);
-        int hemisphereLod = coneHemisphereLod(nAbs, tSample * cosPolar, int(ceil(lod)));
-        if (float(hemisphereLod) < lod) {
-            // The read may include the shaded tube: keep what is certainly someone else's.
-            float own = max(rho - coneOwnDensityBound(lod), 0.0);
-            float front = hemisphereLod >= 0 ? coneDensity(p, float(hemisphereLod)) : 0.0;
-            rho = max(own, front);
-        }
-        rho = clamp(rho, 0.0, 1.0);
+        float rho = clamp(coneDensityExcluding(apex + (t + 0.5 * stepLength) * dir, lod, own), 0.0, 1.0);
         // Eq. (1) as exp2(e * log2(1 - rho)); the floor keeps log2 finite at rho = 1
         // (2^-100 per voxel is full occlusion) and strength = 0 at exactly no occlusion.
         float transmittance =
@@ -151,17 +189,23 @@ float traceOcclusionCone(vec3 apex, vec3 dir, vec3 normal, float tanHalfAperture
     return occlusion;
 }
 
-// Ambient occlusion factor at `position` with unit-or-not `normal`: 1 = unoccluded, 0 = fully
-// occluded. `apertureRad` is each cone's full apex angle; `maxDistance` and `startOffset` are in
-// world units along the cone axis. cones <= 0 returns 1.
-float coneTracedOcclusion(vec3 position, vec3 normal, int cones, float apertureRad,
-                          float maxDistance, float strength, float startOffset)
+// Ambient occlusion factor at `position` on the surface of tube `own` with unit-or-not `normal`:
+// 1 = unoccluded, 0 = fully occluded. `apertureRad` is each cone's full apex angle; `maxDistance`
+// and `startOffset` are in world units along the cone axis. cones <= 0 returns 1.
+float coneTracedTubeOcclusion(vec3 position, vec3 normal, ConeOwnTube own, int cones, float apertureRad,
+                              float maxDistance, float strength, float startOffset)
 {
     if (cones <= 0)
         return 1.0;
     vec3 n = normalize(normal);
     vec3 tangent, bitangent;
-    coneTangentFrame(n, tangent, bitangent);
+    vec3 along = own.dir - dot(own.dir, n) * n;
+    if (own.density > 0.0 && dot(along, along) > 0.0625) {  // the axis >= ~15 degrees off n
+        tangent = normalize(along);
+        bitangent = cross(n, tangent);
+    } else {
+        coneTangentFrame(n, tangent, bitangent);
+    }
     float tanHalfAperture = tan(0.5 * apertureRad);
 
     bool central = cones == 1 || cones >= 6;
@@ -171,16 +215,23 @@ float coneTracedOcclusion(vec3 position, vec3 normal, int cones, float apertureR
 
     float visible = 0.0, weightSum = 0.0;
     if (central) {
-        visible += 1.0 - traceOcclusionCone(position, n, n, tanHalfAperture, maxDistance, strength,
-                                            startOffset);
+        visible += 1.0 - traceOcclusionCone(position, n, tanHalfAperture, maxDistance, strength, startOffset, own);
         weightSum += 1.0;
     }
     for (int i = 0; i < ringCones; ++i) {
         float phi = 6.28318530718 * float(i) / float(ringCones);
         vec3 dir = ringCos * n + ringSin * (cos(phi) * tangent + sin(phi) * bitangent);
-        visible += ringCos * (1.0 - traceOcclusionCone(position, dir, n, tanHalfAperture,
-                                                       maxDistance, strength, startOffset));
+        visible += ringCos * (1.0 - traceOcclusionCone(position, dir, tanHalfAperture, maxDistance, strength,
+                                                       startOffset, own));
         weightSum += ringCos;
     }
     return visible / weightSum;
+}
+
+// coneTracedTubeOcclusion without a shaded tube to exclude.
+float coneTracedOcclusion(vec3 position, vec3 normal, int cones, float apertureRad, float maxDistance,
+                          float strength, float startOffset)
+{
+    return coneTracedTubeOcclusion(position, normal, coneNoOwnTube(), cones, apertureRad, maxDistance, strength,
+                                   startOffset);
 }

@@ -1,5 +1,5 @@
 // Test harness for shaders/cone_tracing.glsl (tests/gl/density_volume_test.cpp): evaluates
-// coneTracedOcclusion at each query point into an SSBO.
+// coneTracedTubeOcclusion at each query point into an SSBO (own tube density 0: coneTracedOcclusion).
 layout(local_size_x = 64) in;
 
 #include "cone_tracing.glsl"
@@ -7,6 +7,8 @@ layout(local_size_x = 64) in;
 struct ConeQuery {
     vec4 position;  // xyz world position, w unused
     vec4 normal;    // xyz normal (normalised by coneTracedOcclusion), w unused
+    vec4 ownOrigin; // ConeOwnTube: xyz origin, w density (0: none)
+    vec4 ownDir;    // xyz unit axis, w unused
 };
 
 layout(std430, binding = 0) readonly buffer Queries
@@ -31,6 +33,8 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= uCount)
         return;
-    ao[i] = coneTracedOcclusion(queries[i].position.xyz, queries[i].normal.xyz, uCones, uAperture,
-                                uMaxDistance, uStrength, uStartOffset);
+    ConeQuery q = queries[i];
+    ConeOwnTube own = ConeOwnTube(q.ownOrigin.xyz, q.ownDir.xyz, q.ownOrigin.w);
+    ao[i] = coneTracedTubeOcclusion(q.position.xyz, q.normal.xyz, own, uCones, uAperture, uMaxDistance, uStrength,
+                                    uStartOffset);
 }

@@ -182,14 +182,19 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
     }
 }
 
-vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, out float ao) {
+// cone: the hit piece (its own tube is excluded from the AO and shadow cones).
+vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, RoundedCone cone, out float ao) {
     vec3 pos = ray.origin + t * ray.dir;
     vec3 facing = dot(n, ray.dir) <= 0.0 ? n : -n;
-    ao = ambientOcclusion(pos, facing);
+    ConeOwnTube own = coneOwnTube(vec4(cone.x0, cone.r0), vec4(cone.x1, cone.r1), base.a, base.a);
+    ao = 1.0;
+#ifdef AMBIENT_OCCLUSION
+    ao = tubeAmbientOcclusion(pos, facing, own);
+#endif
     float visibility = 1.0;
 #ifdef SOFT_SHADOWS
-    visibility = 1.0 - traceOcclusionCone(pos, uLightDir, facing, uShadowTanHalfAperture, uShadowDistance,
-                                          uShadowStrength, uShadowStartOffset);
+    visibility = 1.0 - traceOcclusionCone(pos, uLightDir, uShadowTanHalfAperture, uShadowDistance, uShadowStrength,
+                                          uShadowStartOffset, own);
 #endif
     return shadeBlinnPhong(base.rgb * ao, n, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y * visibility,
                            uLightTerms.z * visibility, uLightTerms.w);
@@ -255,7 +260,7 @@ void main() {
 #endif
                     VrcPiece p = vrcPiece(hitPiece[i], hitVoxel[i]);
                     float ao;
-                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], p.color, ao);
+                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], p.color, p.cone, ao);
                     if (firstLine == kNoLine) {
                         firstDepth = viewDepth(ray, hitT[i]);
                         firstNormal = hitNormal[i];
