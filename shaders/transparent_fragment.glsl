@@ -25,6 +25,10 @@ struct LineFragment {
 };
 
 bool lineFragment(out LineFragment f) {
+#ifdef CULLING
+    // Depth slices: this pixel is already (nearly) opaque; skip the ray casting and shading.
+    if (cullFragment(ivec2(gl_FragCoord.xy), 0.0)) return false;
+#endif
     // The segment's cone, cap planes (uCapClipping) and colours: segment_varyings.glsl.
     vec4 a = vConeA, b = vConeB;
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
@@ -36,14 +40,6 @@ bool lineFragment(out LineFragment f) {
     if (!segmentFragment(ray, cone, plane0, plane1, clip0, clip1, t, n)) return false;
     f.depth = viewDepth(ray, t);
     if (!(f.depth > 0.0)) return false;
-#ifdef CULLING
-    // Depth slices: this pixel is already (nearly) opaque; the fragment is dropped before shading
-    // and insertion. Tested after the ray casting, not before: on llvmpipe a masked-off lane still
-    // runs the ray casting (every `if` runs for all lanes), so testing first saved no arithmetic
-    // but cost a per-lane pyramid load on every billboard lane, ~3x the lanes that hit the tube
-    // (docs/performance.md, M4). Which fragments are dropped does not change.
-    if (cullFragment(ivec2(gl_FragCoord.xy), 0.0)) return false;
-#endif
     vec3 p = ray.origin + t * ray.dir;
     vec3 axis = b.xyz - a.xyz;
     float len2 = dot(axis, axis);
