@@ -9,10 +9,12 @@
 // case reads the header, the nearest and the last entry and writes the key and the header; a
 // fragment that lands inside the list shifts the entries behind it one slot, in a loop (on
 // llvmpipe a loop stops when no lane needs another iteration, while both sides of an `if` always
-// run masked). An unsorted list needs all k loads per fragment to find the nearest entry; every
-// SSBO access is a per-lane scalar loop on llvmpipe, and those loads were ~40 % of the fragment
-// work (docs/performance.md, M2). The evictions, hence the image, are the same for any list
-// layout: the nearer of the fragment and the nearest entry leaves.
+// run masked). An unsorted list needs all k loads per fragment to find the nearest entry (every
+// SSBO access is a per-lane scalar loop on llvmpipe); measured on llvmpipe, this insertion costs
+// about the same as that unrolled scan, but the header lets kbuffer_resolve.frag read only the
+// filled slots, which made the resolve 4-7x cheaper (docs/performance.md, M2, session 4). The
+// evictions, hence the image, are the same for any list layout: the nearer of the fragment and
+// the nearest entry leaves.
 //
 // The read-modify-write of the list must not race between fragments of one pixel:
 // - USE_INTERLOCK: ARB/NV_fragment_shader_interlock orders the critical section;
