@@ -184,7 +184,7 @@ std::size_t perPixelBufferBytes(const Scene& scene, bool particles, std::string*
         return 16 + (aovs ? gbuffer : 0) + pyramid;
     case Transparency::KBuffer:
         say("kbuffer with k=" + std::to_string(r.kbufferK));
-        return 16 + 8 * std::size_t(r.kbufferK) + (aovs ? gbuffer : 0) + pyramid;
+        return 16 + 8 * std::size_t(r.kbufferK) + 4 + (aovs ? gbuffer : 0) + pyramid;  // + ring header
     case Transparency::DepthPeeling:
         say("depth_peeling");
         return 16 + 16 + (aovs ? gbuffer : 0);

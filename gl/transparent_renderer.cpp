@@ -14,6 +14,7 @@ namespace tc::gl {
 namespace {
 
 constexpr GLuint kKBufferBinding = 7;
+constexpr GLuint kKBufferHeaderBinding = 17;  // shaders/kbuffer_common.glsl
 constexpr GLuint kPreviousLayerBinding = 8;
 constexpr GLuint kCurrentLayerBinding = 9;
 constexpr GLuint kCandidatesBinding = 10;
@@ -125,7 +126,7 @@ void TransparentRenderer::resize(int width, int height) {
     if (width == m_width && height == m_height) return;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     std::size_t bytes = pixels * 16;  // the float colour target
-    if (m_mode == Transparency::KBuffer) bytes += pixels * std::size_t(m_k) * 8;
+    if (m_mode == Transparency::KBuffer) bytes += pixels * (std::size_t(m_k) * 8 + 4);  // entries, ring header
     if (m_mode == Transparency::DepthPeeling) bytes += pixels * 16;
     if (bytes > m_memoryBudgetBytes)
         throw InputError("render.memory_budget_mb: " + mode(m_mode) + " at " + std::to_string(width) + "x" +
@@ -139,6 +140,9 @@ void TransparentRenderer::resize(int width, int height) {
     if (m_mode == Transparency::KBuffer) {
         m_kbuffer = makeBuffer(pixels * std::size_t(m_k) * 8);
         clearBuffer64(m_kbuffer, ~std::uint64_t(0));  // the resolve pass leaves it empty again
+        m_kbufferHeaders = makeBuffer(pixels * 4);
+        const GLuint zero = 0;  // head 0, count 0; the resolve pass resets it too
+        glClearNamedBufferData(m_kbufferHeaders.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     }
     if (m_mode == Transparency::DepthPeeling)
         for (auto& b : m_peelKeys) b = makeBuffer(pixels * 8);
@@ -228,6 +232,7 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageTimer& tim
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferHeaderBinding, m_kbufferHeaders.id());
     drawSorted(p, setup);
     timer.setItems(m_geometry.segmentCount());
     timer.end();
@@ -239,6 +244,7 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageTimer& tim
     glProgramUniform1ui(r, uniformLocation(r, "uImageWidth"), GLuint(setup.width));
     glUseProgram(r);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferHeaderBinding, m_kbufferHeaders.id());
     glBindVertexArray(m_emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

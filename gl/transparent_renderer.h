@@ -58,7 +58,7 @@ private:
     int m_width = 0, m_height = 0;
     Texture m_color;
     Framebuffer m_framebuffer;
-    Buffer m_kbuffer, m_peelKeys[2], m_candidates;
+    Buffer m_kbuffer, m_kbufferHeaders, m_peelKeys[2], m_candidates;
     int m_lastPeelLayers = 0;
 };
 

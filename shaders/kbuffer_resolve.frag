@@ -1,30 +1,26 @@
-// k-buffer resolve: sorts each pixel's remaining entries (kbuffer_insert.frag keeps them
-// unsorted), blends them front to back and composites the result under what the insertion pass
-// already blended (they all lie behind it), then empties the list for the next frame.
+// k-buffer resolve: blends each pixel's remaining entries front to back (kbuffer_insert.frag keeps
+// them as a ring sorted from slot `head`) and composites the result under what the insertion pass
+// already blended (they all lie behind it), then empties the list and its header for the next
+// frame. Only the `count` filled slots are read and reset: the others hold kEmpty already, and the
+// loop stops when no lane of a block has entries left (most pixels of a frame have none).
 #extension GL_ARB_gpu_shader_int64 : require
 #include "kbuffer_common.glsl"
 
 layout(location = 0) out vec4 outColor;
 
 void main() {
-    uint base = kbufferBase(ivec2(gl_FragCoord.xy));
-    uint64_t e[KBUFFER_K];
-    for (int i = 0; i < KBUFFER_K; ++i) {
-        e[i] = kbuffer[base + uint(i)];
-        kbuffer[base + uint(i)] = kEmpty;
-    }
-    // Insertion sort by compare-exchange (constant indices once unrolled); kEmpty sorts last.
-    for (int i = 1; i < KBUFFER_K; ++i)
-        for (int j = i; j > 0; --j) {
-            uint64_t lo = min(e[j - 1], e[j]), hi = max(e[j - 1], e[j]);
-            e[j - 1] = lo;
-            e[j] = hi;
-        }
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    uint base = kbufferBase(pixel);
+    uint header = kbufferHeader[kbufferPixel(pixel)];
+    uint head = header & 0xFFu, count = header >> 8;
     vec4 sum = vec4(0.0);
-    for (int i = 0; i < KBUFFER_K; ++i) {
-        if (e[i] == kEmpty) break;
-        vec4 c = unpackColor(e[i]);
+    for (uint i = 0u; i < count; ++i) {
+        uint slot = head + i;
+        slot = slot >= uint(KBUFFER_K) ? slot - uint(KBUFFER_K) : slot;
+        vec4 c = unpackColor(kbuffer[base + slot]);
+        kbuffer[base + slot] = kEmpty;
         sum += (1.0 - sum.a) * vec4(c.rgb * c.a, c.a);
     }
+    if (count > 0u) kbufferHeader[kbufferPixel(pixel)] = 0u;
     outColor = sum;
 }

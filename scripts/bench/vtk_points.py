@@ -39,6 +39,9 @@ def main():
     ap.add_argument("--glyph", action="store_true", help="vtkGlyph3DMapper with sphere sources")
     ap.add_argument("--resolution", type=int, default=12, help="sphere source theta/phi resolution (--glyph)")
     ap.add_argument("--png")
+    ap.add_argument("--max-peels", type=int, default=None,
+                    help="vtkRenderer::SetMaximumNumberOfPeels; default: no limit (see vtk_bench_common.py;"
+                         " 0 = VTK's zero peels + unsorted alpha blending)")
     args = ap.parse_args()
 
     reader = vtk.vtkXMLPolyDataReader()
@@ -72,7 +75,7 @@ def main():
     actor.GetProperty().SetColor(0.85, 0.55, 0.25)
     actor.GetProperty().SetOpacity(args.opacity)
 
-    render_timed(actor, args.run_json, args.opacity < 1.0, args.frames, args.png)
+    render_timed(actor, args.run_json, args.opacity < 1.0, args.frames, args.png, args.max_peels)
 
 if __name__ == "__main__":
     main()

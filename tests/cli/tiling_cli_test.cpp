@@ -34,7 +34,7 @@ protected:
 
 TEST_F(TilingCli, KbufferOverTheBudgetIsTiledAndEqualsTheUntiledFrame) {
     writeScene();
-    // 150 x 110 x (16 + 8 x 8 + 36 + 2) B = 1.86 MiB > 1 MB: tiled, not refused.
+    // 150 x 110 x (16 + 8 x 8 + 4 + 36 + 2) B = 1.93 MiB > 1 MB: tiled, not refused.
     RunResult tiled = run("render scene.json --set render.memory_budget_mb=1 -o tiled");
     ASSERT_EQ(tiled.code, 0) << tiled.err;
     EXPECT_NE(tiled.err.find("tile(s) (2x1, for render.memory_budget_mb)"), std::string::npos) << tiled.err;

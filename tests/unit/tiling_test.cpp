@@ -161,11 +161,11 @@ TEST(Tiling, per_pixel_bytes_follow_the_renderers_allocations) {
     s.render.transparency = Transparency::KBuffer;
     s.render.kbufferK = 8;
     std::string what;
-    EXPECT_EQ(perPixelBufferBytes(s, false, &what), 16u + 64u + 36u);  // colour, entries, AOV G-buffer
+    EXPECT_EQ(perPixelBufferBytes(s, false, &what), 16u + 64u + 4u + 36u);  // colour, entries, header, AOV G-buffer
     EXPECT_EQ(what, "kbuffer with k=8");
     s.output.aovDepth = s.output.aovNormal = s.output.aovId = false;
     s.render.culling.enabled = true;
-    EXPECT_EQ(perPixelBufferBytes(s, false), 16u + 64u + 2u);
+    EXPECT_EQ(perPixelBufferBytes(s, false), 16u + 64u + 4u + 2u);
     s.render.transparency = Transparency::Opaque;
     EXPECT_EQ(perPixelBufferBytes(s, false), 36u + 20u + 2u);
     s.render.technique = RenderTechnique::Raytraced;
