@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -66,6 +67,7 @@ struct RenderOptions {
     double placeholderTimeout = 600.0;
     std::string logFormat = "human";
     bool dryRun = false;
+    bool serialWrites = false;
 };
 
 struct FramePlan {
@@ -381,6 +383,56 @@ void runRender(const RenderOptions& o) {
     progress.event({{"event", "start"}, {"frames", todo.size()}, {"skipped_complete", skipped}, {"host", hostName()},
                     {"pid", long(getpid())}, {"shard", shard ? o.shard : ""}});
     std::vector<int> rendered, failed, heldElsewhere;
+    // Writing a frame (compositing over the background, sRGB / zlib / EXR encoding, temp file +
+    // rename) runs on a second thread while the next frame renders, so its mostly serial work
+    // fills the cores the renderer leaves idle (docs/performance.md, M10). At most one write is in
+    // flight, into the other of two reused FrameImages; frames are reported (timings.csv, progress,
+    // failures) in order, as their writes finish. Not with --placeholders (one claim at a time),
+    // image tiles (the memory budget was planned for one full-size frame) or --serial-writes.
+    const bool overlapWrites = !o.serialWrites && !placeholders && todo.size() > 1 && tilePlan.tiles.size() <= 1;
+    struct WriteDone {
+        double ms;
+        std::chrono::steady_clock::time_point end;
+    };
+    struct PendingFrame {
+        int frame = 0;
+        std::size_t outputs = 0;
+        std::vector<TimingRow> rows;
+        std::chrono::steady_clock::time_point start;
+        std::future<WriteDone> write;
+    };
+    FrameImages buffers[2];  // reused across frames: no page faults or fresh zeroing per frame
+    int nextBuffer = 0;
+    std::optional<PendingFrame> pending;  // after `buffers`: its destructor waits for the write
+    auto lastDone = std::chrono::steady_clock::now();
+    // Reports a frame whose write finished (or failed): rows "write", "frame" (its latency: render
+    // start to outputs complete) and "frame_interval" (outputs complete since the previous frame's:
+    // the throughput, which overlapping writes improve while "frame" may grow).
+    auto finish = [&](PendingFrame& f) {
+        try {
+            const WriteDone w = f.write.get();
+            const double frameMs = std::chrono::duration<double, std::milli>(w.end - f.start).count();
+            const double intervalMs = std::chrono::duration<double, std::milli>(w.end - lastDone).count();
+            lastDone = w.end;
+            f.rows.push_back({f.frame, "write", -1.0, w.ms, f.outputs});
+            f.rows.push_back({f.frame, "frame", -1.0, frameMs, styled.segmentCount()});
+            f.rows.push_back({f.frame, "frame_interval", -1.0, intervalMs, styled.segmentCount()});
+            if (csv) csv->write(f.rows);
+            rendered.push_back(f.frame);
+            progress.frameDone(f.frame, frameMs / 1000.0);
+        } catch (const std::exception& e) {
+            if (!o.keepGoing) throw;
+            failed.push_back(f.frame);
+            double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - f.start).count();
+            progress.frameFailed(f.frame, seconds, e.what());
+        }
+    };
+    auto finishPending = [&] {
+        if (!pending) return;
+        PendingFrame f = std::move(*pending);
+        pending.reset();
+        finish(f);
+    };
     for (const FramePlan& plan : todo) {
         if (placeholders) {
             if (auto holder = placeholders->claim(placeholderPath(frameBase(plan.frame)))) {
@@ -400,7 +452,8 @@ void runRender(const RenderOptions& o) {
             gl::FrameSetup setup{plan.frame, cameraAtFrame(scene.animation, base, plan.frame), scene.image.width,
                                  scene.image.height};
             gl::StageTimer timer;
-            FrameImages images;
+            FrameImages& images = buffers[nextBuffer];
+            if (overlapWrites) nextBuffer ^= 1;
             if (particles) particles->beforeFrame(plan.frame, timer);
             technique->render(setup, images, timer);
             const double renderSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStart).count();
@@ -419,37 +472,55 @@ void runRender(const RenderOptions& o) {
                          << std::flush;
             }
 
-            auto writeStart = std::chrono::steady_clock::now();
-            compositeUnder(images, scene.image.background);
             // Per-frame EXR header: the OpenEXR standard camera attributes and the render time.
+            ExrOptions frameExr = exr;
             const glm::mat4 view = setup.camera.worldToCamera();
             const float far = glm::distance(setup.camera.eye, styled.bounds.center()) + styled.bounds.radius();
-            exr.matrices["worldToCamera"] = matrixValues(view);
-            exr.matrices["worldToNDC"] =
+            frameExr.matrices["worldToCamera"] = matrixValues(view);
+            frameExr.matrices["worldToNDC"] =
                 matrixValues(projectionMatrix(setup.camera, aspect, std::max(1e-4f * far, 1e-7f), far) * view);
-            exr.floats["tubecast:renderSeconds"] = float(renderSeconds);
-            for (const auto& path : plan.paths) {
-                if (path.ends_with(".png")) writePng(images, path, pngText);
-                else writeExr(images, path, exr);
+            frameExr.floats["tubecast:renderSeconds"] = float(renderSeconds);
+            auto write = [&images, &pngText, paths = plan.paths, frameExr = std::move(frameExr),
+                          background = scene.image.background] {
+                auto writeStart = std::chrono::steady_clock::now();
+                compositeUnder(images, background);
+                for (const auto& path : paths) {
+                    if (path.ends_with(".png")) writePng(images, path, pngText);
+                    else writeExr(images, path, frameExr);
+                }
+                auto end = std::chrono::steady_clock::now();
+                return WriteDone{std::chrono::duration<double, std::milli>(end - writeStart).count(), end};
+            };
+            finishPending();  // the previous frame, so frames are reported in order
+            PendingFrame f{plan.frame, plan.paths.size(), std::move(rows), frameStart, {}};
+            if (overlapWrites) {
+                f.write = std::async(std::launch::async, std::move(write));
+                pending = std::move(f);
+            } else {
+                std::promise<WriteDone> done;
+                try {
+                    done.set_value(write());
+                } catch (...) {
+                    done.set_exception(std::current_exception());
+                }
+                f.write = done.get_future();
+                finish(f);
             }
-            double writeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - writeStart).count();
-
-            rows.push_back({plan.frame, "write", -1.0, writeMs, plan.paths.size()});
-            double frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count();
-            rows.push_back({plan.frame, "frame", -1.0, frameMs, styled.segmentCount()});
-            if (csv) csv->write(rows);
-            rendered.push_back(plan.frame);
-            progress.frameDone(plan.frame, frameMs / 1000.0);
         } catch (const std::exception& e) {
             // --keep-going: report the frame, write the others, exit 5 at the end. Without it the
-            // first failure ends the run with its own exit code.
-            if (!o.keepGoing) throw;
+            // first failure ends the run with its own exit code (after the write in flight, whose
+            // own failure would be reported first).
+            if (!o.keepGoing) {
+                finishPending();
+                throw;
+            }
             failed.push_back(plan.frame);
             double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStart).count();
             progress.frameFailed(plan.frame, seconds, e.what());
         }
         if (placeholders) placeholders->release();
     }
+    finishPending();
     run["frames_rendered"] = rendered;
     run["frames_failed"] = failed;
     run["frames_held_elsewhere"] = heldElsewhere;
@@ -491,6 +562,8 @@ void addRenderCommand(CLI::App& app) {
         ->check(CLI::IsMember({"human", "json"}));
     cmd->add_flag("--dry-run", o->dryRun, "Print the frames that would be rendered (as a --frames list) and exit");
     cmd->add_flag("--overwrite", o->overwrite, "Replace existing outputs");
+    cmd->add_flag("--serial-writes", o->serialWrites,
+                  "Write each frame before rendering the next (default: the write overlaps the next frame's render)");
     cmd->add_flag("--gl-debug", o->glDebug, "KHR_debug messages to stderr");
     cmd->add_option("--shader-dir", o->shaderDir, "Read shaders from this directory first (for shader development)");
     cmd->add_flag("-v,--verbose", o->verbose, "Log backend selection and shader sources on errors");

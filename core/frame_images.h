@@ -27,6 +27,19 @@ struct FrameImages {
         id.assign(n, kBackgroundId);
         ao.clear();
     }
+    // Sizes the buffers for w x h without clearing them (ao emptied): for producers that write
+    // every pixel of every buffer. A FrameImages reused across frames then keeps its pages: no
+    // page faults and no 72 MB fill per 1920x1080 frame (docs/performance.md, M10).
+    void resize(int w, int h) {
+        width = w;
+        height = h;
+        std::size_t n = std::size_t(w) * std::size_t(h);
+        rgba.resize(4 * n);
+        depth.resize(n);
+        normal.resize(3 * n);
+        id.resize(n);
+        ao.clear();
+    }
     std::size_t pixelCount() const { return std::size_t(width) * std::size_t(height); }
 };
 

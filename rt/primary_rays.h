@@ -26,6 +26,7 @@ constexpr int kTile = 8;
 enum class Traversal {
     Single,   // rtcIntersect1 per pixel
     Packet8,  // rtcIntersect8 per 8-pixel tile row, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+    Packet16, // rtcIntersect16 per two tile rows (8x2 pixels), RTC_INTERSECT_CONTEXT_FLAG_COHERENT
     Stream,   // rtcIntersect1M over the tile's 64 rays, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
 };
 const char* traversalName(Traversal t);

@@ -18,6 +18,8 @@
 namespace tc::rt {
 namespace {
 
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
 // The context filter of transparent particle rays: a sphere counts once, at its entry. Embree
 // reports both the entry (front-facing) and the exit of a sphere; the exit counts only when the
 // ray starts inside the sphere, and then sorts at 0 (core/sphere_glyph.h clamps tNear to 0).
@@ -73,12 +75,10 @@ std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scen
         throw InputError(where + ": render.transparency: not available for particles with render.technique \"raytraced\" "
                                  "(use \"opaque\" or \"object_order\")");
     }
-    if (rs.ao.enabled)
-        throw InputError(where + ": render.ao.enabled: particles with render.technique \"raytraced\" have no ambient "
-                                 "occlusion yet (use render.technique \"spheres\")");
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
+    if (rs.ao.enabled) r->m_aoSpec = rs.ao;
     r->m_bvh = std::make_unique<Bvh>();
     r->m_bvh->device = rtcNewDevice(nullptr);
     if (!r->m_bvh->device) throw Error(ExitCode::Internal, "Embree: rtcNewDevice failed (unsupported CPU?)");
@@ -87,6 +87,7 @@ std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scen
 }
 
 void RaytracedParticles::upload(const StyledParticles& particles) {
+    m_ambient.reset();  // refers to the particles and the scene replaced here
     m_particles = particles;
     auto t0 = std::chrono::steady_clock::now();
     if (m_bvh->scene) rtcReleaseScene(m_bvh->scene);
@@ -105,12 +106,16 @@ void RaytracedParticles::upload(const StyledParticles& particles) {
     rtcCommitScene(m_bvh->scene);
     throwOnError(m_bvh->device, "building the particle BVH");
     m_bvh->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    // Per data frame, as the GL sphere renderer re-voxelizes (after the BVH: ray_traced uses it).
+    if (m_aoSpec)
+        m_ambient = std::make_unique<ParticleAmbient>(*m_aoSpec, m_spheres, !m_transparent, m_particles, m_bvh->scene);
 }
 
 void RaytracedParticles::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
                                 const ImageWindow& window) const {
     sink.begin("raytrace");
-    out.allocate(width, height);
+    out.resize(width, height);  // every pixel is written below (background: allocate's clear values)
+    if (m_ambient && !m_transparent) out.ao.resize(out.pixelCount());
     const glm::vec3 forward = camera.forward();
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
     const bool ortho = camera.projection == Projection::Orthographic;
@@ -123,6 +128,12 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
     auto entryNormal = [&](const Ray& ray, std::uint32_t i, float tNear) {
         const glm::vec4& cr = S.centerRadius[i];
         return (ray.origin + tNear * ray.dir - glm::vec3(cr)) / cr.w;
+    };
+
+    // A_O and L_A at the entry point (shaders/sphere.frag): none without render.ao.
+    auto ambientAt = [&](std::uint32_t i, const Ray& ray, float tNear, const glm::vec3& n, std::size_t pixel) {
+        if (!m_ambient) return AmbientTerms{};
+        return m_ambient->at(i, ray.origin + tNear * ray.dir, n, std::uint32_t(pixel));
     };
 
     forEachTile(camera, window, width, height, [&](const Tile& tile) {
@@ -138,18 +149,25 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
             const Ray& ray = tile.rays[k];
             const std::size_t pixel = std::size_t(tile.py(k)) * std::size_t(width) + std::size_t(tile.px(k));
             const float depthScale = ortho ? 1.0f : glm::dot(ray.dir, forward);
+            storePixel(out, pixel, glm::vec4(0.0f), kInf, glm::vec3(0.0f), kBackgroundId);
             if (!m_transparent) {
-                if (!firstHits[k].hit) continue;
-                const std::uint32_t i = firstHits[k].prim;
-                const glm::vec4& cr = S.centerRadius[i];
-                const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
-                // Grazing: Embree hit what the exact test calls a miss; keep Embree's distance.
-                const float tNear = s.hit ? s.tNear : firstHits[k].t;
-                const glm::vec3 n = entryNormal(ray, i, tNear);
-                const glm::vec3 e = sphereEmission(glm::vec3(S.color[i]), n, ray.dir, lightDir, m_lighting, 1.0f, 0.0f,
-                                                   1.0f, glm::vec3(0.0f));
-                storePixel(out, pixel, glm::vec4(e, 1.0f), tNear * depthScale, n, S.id[i]);
-                ++hits;
+                float ao = 1.0f;
+                if (firstHits[k].hit) {
+                    const std::uint32_t i = firstHits[k].prim;
+                    const glm::vec4& cr = S.centerRadius[i];
+                    const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
+                    // Grazing: Embree hit what the exact test calls a miss; keep Embree's distance.
+                    const float tNear = s.hit ? s.tNear : firstHits[k].t;
+                    const glm::vec3 n = entryNormal(ray, i, tNear);
+                    const AmbientTerms amb = ambientAt(i, ray, tNear, n, pixel);
+                    ao = amb.ao;
+                    // As shaders/sphere.frag (OPAQUE): alpha_A only with AO.
+                    const glm::vec3 e = sphereEmission(glm::vec3(S.color[i]), n, ray.dir, lightDir, m_lighting, 1.0f,
+                                                       m_ambient ? m_spheres.alphaA : 0.0f, amb.ao, amb.light);
+                    storePixel(out, pixel, glm::vec4(e, 1.0f), tNear * depthScale, n, S.id[i]);
+                    ++hits;
+                }
+                if (!out.ao.empty()) out.ao[pixel] = ao;
                 continue;
             }
             glm::vec4 acc(0.0f);
@@ -171,8 +189,9 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                     const float alpha = sphereOpacity(
                         col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
                     const glm::vec3 nrm = entryNormal(ray, i, s.tNear);
+                    const AmbientTerms amb = ambientAt(i, ray, s.tNear, nrm, pixel);
                     const glm::vec3 e = sphereEmission(glm::vec3(col), nrm, ray.dir, lightDir, m_lighting,
-                                                       m_spheres.alphaRv, m_spheres.alphaA, 1.0f, glm::vec3(0.0f));
+                                                       m_spheres.alphaRv, m_spheres.alphaA, amb.ao, amb.light);
                     if (first) {
                         first = false;
                         out.depth[pixel] = s.tNear * depthScale;
@@ -208,7 +227,8 @@ nlohmann::json RaytracedParticles::describe() const {
                         {"traversal", traversalName(m_traversal)},
                         {"threads", tbb::this_task_arena::max_concurrency()},
                         {"particles", m_particles.size()},
-                        {"bvh_build_ms", m_bvh->buildMs}};
+                        {"bvh_build_ms", m_bvh->buildMs},
+                        {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
     if (m_transparent) {
         j["alpha_cutoff"] = m_alphaCutoff;
         j["density"] = int(m_spheres.density);

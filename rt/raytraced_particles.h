@@ -12,10 +12,12 @@
 //   for spheres that do not intersect each other), stopping once the accumulated alpha reaches
 //   render.raytraced.alpha_cutoff (1 = exact). Hits are gathered by the context filter of
 //   rt/hit_collector.h: only entries count (a sphere's exit hit only when the eye is inside it).
-// No ambient occlusion yet (render.ao.enabled is an InputError): the GL sphere renderer's cone
-// traced A_O / L_A (gl/sphere_ambient.h) has no CPU twin.
+// With render.ao: A_O and coloured ambient light L_A at every shaded entry point, weighted as in
+// shaders/sphere.frag (rt/particle_ambient.h: "cone_traced" = the GL spheres' volume and cones on
+// the CPU, "ray_traced" = hemisphere rays against the same BVH); the ao AOV for opaque spheres.
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -23,6 +25,7 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
+#include "rt/particle_ambient.h"
 #include "rt/primary_rays.h"
 #include "rt/stage_sink.h"
 
@@ -30,12 +33,12 @@ namespace tc::rt {
 
 class RaytracedParticles {
 public:
-    // Builds the BVH of `particles` (a copy is kept). Throws InputError for transparency modes
-    // or AO settings the ray tracer does not implement for particles.
+    // Builds the BVH of `particles` (a copy is kept), and with render.ao the ambient data. Throws
+    // InputError for transparency modes the ray tracer does not implement for particles.
     static std::unique_ptr<RaytracedParticles> create(const Scene& scene, const StyledParticles& particles);
     ~RaytracedParticles();
 
-    // Replaces the particles (a new data frame of a time series): rebuilds the BVH.
+    // Replaces the particles (a new data frame of a time series): rebuilds the BVH and AO data.
     void upload(const StyledParticles& particles);
 
     // Renders one frame into `out` as core/particle_reference.h defines it (rgba linear
@@ -58,7 +61,9 @@ private:
     bool m_transparent = true;
     float m_alphaCutoff = 0.99f;
     std::unique_ptr<Bvh> m_bvh;
-    Traversal m_traversal = Traversal::Packet8;
+    std::optional<AoSpec> m_aoSpec;              // render.ao when enabled
+    std::unique_ptr<ParticleAmbient> m_ambient;  // after m_bvh: refers to its scene
+    Traversal m_traversal = Traversal::Packet16;
     mutable std::uint64_t m_lastHits = 0;
 };
 

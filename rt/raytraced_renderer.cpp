@@ -63,6 +63,8 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     // Opaque images are the union of the rounded cones either way; joined tubes have fewer surfaces.
+    // (Opaque without neighbour flags, each segment a closed rounded cone, traced no faster: same
+    // CPU time within noise on the 1M tornado, docs/performance.md M10 session 4.)
     r->m_joinNeighbours = r->m_transparent ? rs.capClipping : true;
     r->m_jointEpsilon = 1e-3f * std::max(lines.maxRadius, 1e-12f);
     r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);
@@ -73,8 +75,10 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
 void RaytracedRenderer::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
                                const ImageWindow& window) const {
     sink.begin("raytrace");
-    out.allocate(width, height);
-    if (m_ao && !m_transparent) out.ao.assign(out.pixelCount(), 1.0f);
+    // Every pixel is written below (background ones with the clear values of
+    // FrameImages::allocate), so a target reused across frames is not cleared first.
+    out.resize(width, height);
+    if (m_ao && !m_transparent) out.ao.resize(out.pixelCount());
     const glm::vec3 forward = camera.forward();
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
     const bool ortho = camera.projection == Projection::Orthographic;
@@ -92,7 +96,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
             c.lightDir = lightDir;
             if (m_transparent) shadeTransparent(c);
             else if (firstHits[k].hit) shadeOpaque(c, firstHits[k]);
-            else continue;  // background: out.allocate's clear values
+            // else background: PixelContext's defaults are FrameImages::allocate's clear values
             hits += c.hits;
             storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
             if (!out.ao.empty()) out.ao[c.pixel] = c.ao;
@@ -116,21 +120,44 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const 
     float best = kInf;
     std::uint32_t bestSeg = hitSeg;
     glm::vec3 bestN(0.0f);
-    const std::uint32_t first = hitSeg > 0 ? hitSeg - 1 : 0;
-    const std::uint32_t last = std::uint32_t(std::min<std::size_t>(hitSeg + 1, segments - 1));
-    for (std::uint32_t s = first; s <= last; ++s) {
+    // The CPU reference's rule on one segment: nearest wins, equal t to the lower segment.
+    auto consider = [&](std::uint32_t s) {
         const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
-        if (s != hitSeg && L.polylineId[v0] != L.polylineId[L.segmentVertices[2 * hitSeg]]) continue;
         const glm::vec4& a = L.positionRadius[v0];
         const glm::vec4& b = L.positionRadius[v1];
         ConeInterval iv = intersectRoundedCone(c.ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
-        if (!iv.hit) continue;
+        if (!iv.hit) return;
         float t;
         glm::vec3 n;
         if (iv.tIn > 0.0f) t = iv.tIn, n = iv.nIn;
         else if (iv.tOut > 0.0f) t = iv.tOut, n = iv.nOut;
-        else continue;
-        if (t < best) best = t, bestSeg = s, bestN = n;
+        else return;
+        if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;
+    };
+    consider(hitSeg);
+    const std::uint32_t polyline = L.polylineId[L.segmentVertices[2 * hitSeg]];
+    for (std::uint32_t s : {hitSeg - 1, hitSeg + 1}) {  // hitSeg - 1 wraps past `segments` at 0
+        if (s >= segments) continue;
+        const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
+        if (L.polylineId[v0] != polyline) continue;
+        if (best != kInf) {
+            // Skip a neighbour the ray cannot reach before `best`: its rounded cone lies in the
+            // sphere around its midpoint of radius half its length + its larger radius, which the
+            // ray enters at tEnter <= any t of the cone. The margin covers the rounding of this
+            // bound, so a skipped neighbour could neither win nor tie: images stay identical.
+            const glm::vec4& a = L.positionRadius[v0];
+            const glm::vec4& b = L.positionRadius[v1];
+            const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b)) - c.ray.origin;
+            const float R = 0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + std::max(a.w, b.w);
+            const float along = glm::dot(m, c.ray.dir);
+            const float miss2 = glm::dot(m, m) - along * along;
+            const float slack = 1e-4f * (std::abs(along) + R + best);
+            const float R2 = (R + slack) * (R + slack);
+            if (miss2 > R2) continue;
+            const float tEnter = along - std::sqrt(R2 - miss2);
+            if (tEnter > best + slack) continue;
+        }
+        consider(s);
     }
     if (best == kInf) {
         // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.

@@ -80,7 +80,7 @@ private:
     float m_jointEpsilon = 0;  // world units: hits of adjacent segments this close count once
     std::unique_ptr<EmbreeLines> m_embree;
     std::unique_ptr<AoEstimator> m_ao;
-    Traversal m_traversal = Traversal::Packet8;
+    Traversal m_traversal = Traversal::Packet16;
     mutable std::uint64_t m_lastHits = 0;
 };
 

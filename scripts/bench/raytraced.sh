@@ -11,7 +11,8 @@
 #             process (RAYTRACED_BENCH, default build/tests/bench/tubecast_raytraced_bench)
 #   bvh       the build series
 #   compare   the rasterized path (opaque, k-buffer k=8) and VTK's tubes on the same view
-#   particles 2M droplets at 1024x768, ray traced opaque and transparent (AO off: not available)
+#   particles 2M droplets at 1024x768, ray traced opaque and transparent without AO, then
+#             transparent with AO (cone_traced with the per-sphere cache, as configs/droplets.json)
 # The machine may be shared: the load average is printed before each part; quote it with numbers.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -28,7 +29,7 @@ trap 'rm -rf "$out"' EXIT
 if has stages; then
   echo "## stages of one opaque frame, tornado_1m 1920x1080 (load average: $(cut -d' ' -f1-3 /proc/loadavg))"
   "${RAYTRACED_BENCH:-build/tests/bench/tubecast_raytraced_bench}" configs/tornado_1m.json --frames "$frames" \
-    --modes single,packet8,stream --png-levels 6,1 --png-dir "$out"
+    --modes single,packet8,packet16,stream --png-levels 6,1 --png-dir "$out"
   echo "(load average after: $(cut -d' ' -f1-3 /proc/loadavg))"
 fi
 
@@ -85,6 +86,9 @@ if has particles; then
   scripts/bench/frame_times.sh configs/droplets.json "$frames" "${psets[@]}" --set render.transparency=opaque
   echo "### transparent, alpha_cutoff 0.99 (load average: $(cut -d' ' -f1-3 /proc/loadavg))"
   scripts/bench/frame_times.sh configs/droplets.json "$frames" "${psets[@]}"
+  echo "### transparent with AO, alpha_cutoff 0.99 (load average: $(cut -d' ' -f1-3 /proc/loadavg))"
+  scripts/bench/frame_times.sh configs/droplets.json "$frames" --set render.technique=raytraced \
+    --set dataset.particles=2000000
 fi
 
 has bvh || exit 0

@@ -2,7 +2,7 @@
 // measured back to back on the same BVH (the machine is shared; ratios are what survive load):
 //   raytrace per traversal mode (rtcIntersect1 / rtcIntersect8 / rtcIntersect1M), then the output
 //   path of the frame loop: compositeUnder and writePng at the given zlib levels.
-//   tubecast_raytraced_bench SCENE [--frames N] [--set key=value ...] [--modes single,packet8,stream]
+//   tubecast_raytraced_bench SCENE [--frames N] [--set key=value ...] [--modes single,packet8,packet16,stream]
 //                            [--png-levels 6,1] [--png-dir DIR]
 // Prints per-variant medians over the frames (wall ms) and the PNG sizes.
 #include <algorithm>
@@ -58,7 +58,7 @@ std::vector<std::string> split(const std::string& s) {
 int main(int argc, char** argv) {
     using namespace tc;
     if (argc < 2) {
-        std::cerr << "usage: tubecast_raytraced_bench SCENE [--frames N] [--set k=v ...] [--modes single,packet8,stream]"
+        std::cerr << "usage: tubecast_raytraced_bench SCENE [--frames N] [--set k=v ...] [--modes single,packet8,packet16,stream]"
                      " [--png-levels 6,1] [--png-dir DIR]\n";
         return 2;
     }
@@ -98,6 +98,7 @@ int main(int argc, char** argv) {
     const std::map<std::string, rt::Traversal> byName{
         {"single", rt::Traversal::Single},
         {"packet8", rt::Traversal::Packet8},
+        {"packet16", rt::Traversal::Packet16},
         {"stream", rt::Traversal::Stream}};
     std::map<std::string, std::vector<double>> ms, cpu;
     std::map<std::string, std::uintmax_t> bytes;

@@ -204,12 +204,9 @@ TEST(RaytracedParticles, images_are_identical_with_one_and_two_threads_and_every
     }
 }
 
-TEST(RaytracedParticles, rejects_ambient_occlusion_and_opacity_optimization) {
+TEST(RaytracedParticles, rejects_opacity_optimization) {
     StyledParticles p = randomSpheres(8u, 3, 0.5f, 0.5f);
     Scene scene = particleScene(Transparency::ObjectOrder, SphereDensity::Constant);
-    scene.render.ao.enabled = true;
-    EXPECT_THROW(rt::RaytracedParticles::create(scene, p), InputError);
-    scene.render.ao.enabled = false;
     scene.render.transparency = Transparency::OpacityOptimization;
     EXPECT_THROW(rt::RaytracedParticles::create(scene, p), InputError);
 }

@@ -266,7 +266,8 @@ TEST(Raytraced, opaque_images_are_identical_with_single_rays_packets_and_streams
         Camera cam = cameraAt({0.5f, 0.6f, 3.0f}, projection);
         auto r = rt::RaytracedRenderer::create(scene, lines);
         std::vector<FrameImages> images;
-        for (rt::Traversal t : {rt::Traversal::Single, rt::Traversal::Packet8, rt::Traversal::Stream}) {
+        for (rt::Traversal t :
+             {rt::Traversal::Single, rt::Traversal::Packet8, rt::Traversal::Packet16, rt::Traversal::Stream}) {
             r->setTraversal(t);
             FrameImages img;
             rt::CpuStageTimer timer;
@@ -276,12 +277,34 @@ TEST(Raytraced, opaque_images_are_identical_with_single_rays_packets_and_streams
         int covered = 0;
         for (std::uint32_t id : images[0].id) covered += id != kBackgroundId;
         EXPECT_GT(covered, w * h / 10);
-        for (int k = 1; k < 3; ++k) {
+        for (int k = 1; k < 4; ++k) {
             EXPECT_EQ(images[k].rgba, images[0].rgba) << k;
             EXPECT_EQ(images[k].depth, images[0].depth) << k;
             EXPECT_EQ(images[k].normal, images[0].normal) << k;
             EXPECT_EQ(images[k].id, images[0].id) << k;
         }
+    }
+}
+
+TEST(Raytraced, a_target_reused_across_frames_gets_the_same_image_as_a_fresh_one) {
+    // The renderer does not clear its target (FrameImages::resize): every pixel must be written,
+    // background ones included, or the previous frame would show through.
+    StyledLines lines = makeLines(randomPolylines(6u, 10, false, 1.0f, 1.0f));
+    for (Transparency t : {Transparency::Opaque, Transparency::DepthPeeling}) {
+        Scene scene = sceneFor(t, true);
+        scene.render.ao.enabled = t == Transparency::Opaque;
+        scene.render.ao.resolution = 32;
+        auto r = rt::RaytracedRenderer::create(scene, lines);
+        rt::CpuStageTimer timer;
+        FrameImages reused, fresh;
+        r->render(cameraAt({0.2f, 0.1f, 1.5f}), 40, 32, reused, timer);  // close: most pixels covered
+        r->render(cameraAt({0.5f, 0.6f, 6.0f}), 40, 32, reused, timer);  // far: mostly background
+        r->render(cameraAt({0.5f, 0.6f, 6.0f}), 40, 32, fresh, timer);
+        EXPECT_EQ(reused.rgba, fresh.rgba);
+        EXPECT_EQ(reused.depth, fresh.depth);
+        EXPECT_EQ(reused.normal, fresh.normal);
+        EXPECT_EQ(reused.id, fresh.id);
+        EXPECT_EQ(reused.ao, fresh.ao);
     }
 }
 

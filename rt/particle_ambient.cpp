@@ -1,0 +1,402 @@
+#include "rt/particle_ambient.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/constants.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/camera.h"
+#include "core/sphere_glyph.h"
+
+namespace tc::rt {
+namespace {
+
+constexpr int kMaxTaps = 4;
+
+// axisTaps of shaders/density_mip.comp (see rt/cone_traced_ao.cpp): coarse texel i of nc covers
+// fine texels [i nf / nc, (i + 1) nf / nc) with exact integer overlaps.
+struct Taps {
+    int first = 0, count = 0;
+    float weights[kMaxTaps] = {0, 0, 0, 0};
+};
+Taps axisTaps(int i, int nf, int nc) {
+    Taps taps;
+    const int lo = i * nf, hi = lo + nf;
+    taps.first = lo / nc;
+    const int last = (hi + nc - 1) / nc;
+    taps.count = std::min(last - taps.first, kMaxTaps);
+    for (int k = 0; k < kMaxTaps; ++k) {
+        const int j = taps.first + k;
+        const int overlap = std::min(hi, (j + 1) * nc) - std::max(lo, j * nc);
+        taps.weights[k] = k < taps.count ? float(overlap) / float(nf) : 0.0f;
+    }
+    return taps;
+}
+
+// gl::DensityVolume::fullLevels.
+int fullLevels(const glm::ivec3& size) {
+    int longest = std::max({size.x, size.y, size.z});
+    int levels = 1;
+    while (longest >>= 1) ++levels;
+    return levels;
+}
+
+// Duff et al. 2017 (coneTangentFrame of shaders/cone_tracing.glsl).
+void tangentFrame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
+    const float a = -1.0f / (s + n.z);
+    const float c = n.x * n.y * a;
+    t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+    b = glm::vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+// GLSL packUnorm4x8 / unpackUnorm4x8 (other names: glm has its own, found by ADL).
+std::uint32_t packUnorm8x4(const glm::vec4& v) {
+    std::uint32_t r = 0;
+    for (int c = 0; c < 4; ++c)
+        r |= std::uint32_t(std::lround(std::clamp(v[c], 0.0f, 1.0f) * 255.0f)) << (8 * c);
+    return r;
+}
+glm::vec4 unpackUnorm8x4(std::uint32_t v) {
+    return glm::vec4(float(v & 0xFFu), float((v >> 8) & 0xFFu), float((v >> 16) & 0xFFu), float(v >> 24)) / 255.0f;
+}
+
+// PCG hash (Jarzynski & Olano 2020), as rt/ray_traced_ao.cpp.
+std::uint32_t pcgHash(std::uint32_t v) {
+    std::uint32_t state = v * 747796405u + 2891336453u;
+    std::uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+float unitFloat(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
+
+const glm::vec3 kFaceNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+}  // namespace
+
+// --- SphereVolume ------------------------------------------------------------------------------
+
+SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles) {
+    // The grid of gl::SphereAmbient::voxelize: spec.resolution cubic voxels along the longest axis
+    // of the spheres' bounds, from bounds.lo.
+    const Bounds& bounds = particles.bounds;
+    const glm::vec3 extent = bounds.empty() ? glm::vec3(1.0f) : glm::max(bounds.extent(), glm::vec3(1e-6f));
+    const float longest = std::max({extent.x, extent.y, extent.z});
+    const float voxel = longest / float(spec.resolution);
+    const glm::ivec3 size =
+        glm::clamp(glm::ivec3(glm::ceil(extent / voxel)), glm::ivec3(1), glm::ivec3(spec.resolution));
+    m_origin = bounds.empty() ? glm::vec3(0.0f) : bounds.lo;
+    m_voxelSize = voxel;
+    const std::size_t voxels = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+
+    // shaders/sphere_voxelize.comp: integer coverage sums with atomic adds (associative, so the
+    // grid does not depend on the thread count or schedule).
+    std::vector<std::uint32_t> acc(4 * voxels, 0u);
+    const glm::vec3 origin = m_origin;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, particles.size(), 1024), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const glm::vec4 cr = particles.centerRadius[i];
+            const glm::vec4 color = glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f));
+            const std::uint32_t opacity = std::uint32_t(std::round(color.w * 255.0f));
+            if (opacity == 0u) continue;
+            const glm::uvec3 rgb(glm::round(glm::vec3(color) * 255.0f));
+            const glm::vec3 c = (glm::vec3(cr) - origin) / voxel;
+            const float r = cr.w / voxel;
+            const float r2 = r * r;
+            const glm::ivec3 lo = glm::max(glm::ivec3(glm::floor(c - r)), glm::ivec3(0));
+            const glm::ivec3 hi = glm::min(glm::ivec3(glm::floor(c + r)), size - 1);
+            for (int z = lo.z; z <= hi.z; ++z)
+                for (int y = lo.y; y <= hi.y; ++y)
+                    for (int x = lo.x; x <= hi.x; ++x) {
+                        const glm::vec3 vlo{float(x), float(y), float(z)};
+                        const glm::vec3 vhi = vlo + 1.0f;
+                        const glm::vec3 nearest = glm::clamp(c, vlo, vhi) - c;
+                        if (glm::dot(nearest, nearest) >= r2) continue;
+                        const glm::vec3 farthest = glm::max(glm::abs(vlo - c), glm::abs(vhi - c));
+                        std::uint32_t n = 27u;
+                        if (glm::dot(farthest, farthest) > r2) {
+                            n = 0u;
+                            for (int k = 0; k < 27; ++k) {
+                                const glm::vec3 s =
+                                    vlo + (glm::vec3(float(k % 3), float((k / 3) % 3), float(k / 9)) + 0.5f) / 3.0f - c;
+                                n += glm::dot(s, s) < r2 ? 1u : 0u;
+                            }
+                            if (n == 0u) continue;
+                        }
+                        const std::size_t v =
+                            4 * (std::size_t(x) + std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z)));
+                        const std::uint32_t w = n * opacity;
+                        std::atomic_ref<std::uint32_t>(acc[v + 0]).fetch_add(w * rgb.x, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint32_t>(acc[v + 1]).fetch_add(w * rgb.y, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint32_t>(acc[v + 2]).fetch_add(w * rgb.z, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint32_t>(acc[v + 3]).fetch_add(w, std::memory_order_relaxed);
+                    }
+        }
+    });
+    // shaders/sphere_volume_resolve.comp.
+    std::vector<glm::vec4> level0(voxels);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels, 4096), [&](const auto& range) {
+        for (std::size_t v = range.begin(); v != range.end(); ++v)
+            level0[v] = glm::vec4(float(acc[4 * v]) / (27.0f * 255.0f * 255.0f),
+                                  float(acc[4 * v + 1]) / (27.0f * 255.0f * 255.0f),
+                                  float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
+    });
+    acc = {};
+    m_sizes.push_back(size);
+    m_levels.push_back(std::move(level0));
+
+    // shaders/density_mip.comp with MIP_RGBA (same taps and summation order).
+    const int levels = fullLevels(size);
+    for (int l = 0; l + 1 < levels; ++l) {
+        const glm::ivec3 nf = m_sizes.back();
+        const glm::ivec3 nc = glm::max(glm::ivec3(1), nf / 2);
+        std::vector<glm::vec4> coarse(std::size_t(nc.x) * nc.y * nc.z);
+        const std::vector<glm::vec4>& fine = m_levels.back();
+        tbb::parallel_for(tbb::blocked_range<int>(0, nc.z), [&](const tbb::blocked_range<int>& zs) {
+            for (int z = zs.begin(); z != zs.end(); ++z)
+                for (int y = 0; y < nc.y; ++y)
+                    for (int x = 0; x < nc.x; ++x) {
+                        const Taps tx = axisTaps(x, nf.x, nc.x), ty = axisTaps(y, nf.y, nc.y),
+                                   tz = axisTaps(z, nf.z, nc.z);
+                        glm::vec4 sum(0.0f);
+                        for (int k = 0; k < tz.count; ++k) {
+                            glm::vec4 plane(0.0f);
+                            for (int j = 0; j < ty.count; ++j) {
+                                glm::vec4 row(0.0f);
+                                for (int i = 0; i < tx.count; ++i)
+                                    row += tx.weights[i] *
+                                           fine[(std::size_t(tz.first + k) * nf.y + std::size_t(ty.first + j)) * nf.x +
+                                                std::size_t(tx.first + i)];
+                                plane += ty.weights[j] * row;
+                            }
+                            sum += tz.weights[k] * plane;
+                        }
+                        coarse[(std::size_t(z) * nc.y + std::size_t(y)) * nc.x + std::size_t(x)] = sum;
+                    }
+        });
+        m_sizes.push_back(nc);
+        m_levels.push_back(std::move(coarse));
+    }
+}
+
+glm::vec4 SphereVolume::fetch(int level, int x, int y, int z) const {
+    const glm::ivec3 s = m_sizes[std::size_t(level)];
+    if (x < 0 || y < 0 || z < 0 || x >= s.x || y >= s.y || z >= s.z) return glm::vec4(0.0f);
+    return m_levels[std::size_t(level)][(std::size_t(z) * s.y + std::size_t(y)) * s.x + std::size_t(x)];
+}
+
+glm::vec4 SphereVolume::sampleLevel(const glm::vec3& uvw, int level) const {
+    const glm::vec3 c = uvw * glm::vec3(m_sizes[std::size_t(level)]) - 0.5f;
+    const glm::vec3 base = glm::floor(c);
+    const glm::vec3 f = c - base;
+    const glm::ivec3 i0(base);
+    glm::vec4 result(0.0f);
+    for (int corner = 0; corner < 8; ++corner) {
+        const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+        const float w = (dx ? f.x : 1.0f - f.x) * (dy ? f.y : 1.0f - f.y) * (dz ? f.z : 1.0f - f.z);
+        if (w != 0.0f) result += w * fetch(level, i0.x + dx, i0.y + dy, i0.z + dz);
+    }
+    return result;
+}
+
+glm::vec4 SphereVolume::textureLod(const glm::vec3& uvw, float lod) const {
+    if (!(lod > 0.0f)) return sampleLevel(uvw, 0);  // magnification: GL_LINEAR on the base level
+    lod = std::min(lod, float(levels() - 1));
+    const int l0 = int(std::floor(lod));
+    const int l1 = std::min(l0 + 1, levels() - 1);
+    const float f = lod - float(l0);
+    const glm::vec4 a = sampleLevel(uvw, l0);
+    return f > 0.0f && l1 != l0 ? a + f * (sampleLevel(uvw, l1) - a) : a;
+}
+
+std::size_t SphereVolume::bytes() const {
+    std::size_t b = 0;
+    for (const auto& l : m_levels) b += l.size() * sizeof(glm::vec4);
+    return b;
+}
+
+// --- ParticleAmbient ---------------------------------------------------------------------------
+
+ParticleAmbient::ParticleAmbient(const AoSpec& spec, const SpheresSpec& spheres, bool opaque,
+                                 const StyledParticles& particles, RTCScene scene)
+    : m_spec(spec), m_spheres(spheres), m_opaque(opaque), m_particles(particles), m_scene(scene) {
+    auto t0 = std::chrono::steady_clock::now();
+    const Bounds& b = particles.bounds;
+    const glm::vec3 extent = b.empty() ? glm::vec3(1.0f) : glm::max(b.extent(), glm::vec3(1e-6f));
+    m_distance = spec.distance * glm::length(extent);  // as gl::SphereAmbient
+    if (spec.method == AoSpec::Method::ConeTraced) {
+        m_volume = std::make_unique<SphereVolume>(spec, particles);
+        // gl::SphereAmbient::apply: the shaded sphere deposited itself around the point.
+        m_startOffset = 1.5f * m_volume->voxelSize();
+        if (spec.cache == AoSpec::Cache::Precomputed) {
+            const std::size_t n = particles.size();
+            m_cube.reset(new std::atomic<std::uint32_t>[6 * n]);
+            m_cubeReady.reset(new std::atomic<std::uint8_t>[n]);
+            for (std::size_t i = 0; i < n; ++i) m_cubeReady[i].store(0, std::memory_order_relaxed);
+        }
+    }
+    m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+ParticleAmbient::~ParticleAmbient() = default;
+
+AmbientTerms ParticleAmbient::at(std::uint32_t sphere, const glm::vec3& p, const glm::vec3& n,
+                                 std::uint32_t pixel) const {
+    if (m_spec.method == AoSpec::Method::RayTraced) return rayTraced(p, n, pixel);
+    if (m_cube) return cached(sphere, n);
+    return coneTraced(p, n);
+}
+
+AmbientTerms ParticleAmbient::coneTraced(const glm::vec3& p, const glm::vec3& n) const {
+    const SphereVolume& v = *m_volume;
+    const float vs = v.voxelSize();
+    const float maxLod = float(std::max(v.levels() - 1, 0));
+    const glm::vec3 scale = 1.0f / (vs * glm::vec3(v.size()));
+    const float tanHalf = std::tan(0.5f * glm::radians(m_spec.apertureDeg));
+    // traceSphereCone of shaders/sphere_ambient.glsl.
+    auto trace = [&](const glm::vec3& dir, float& occlusion, glm::vec3& light) {
+        occlusion = 0.0f;
+        light = glm::vec3(0.0f);
+        float t = m_startOffset;
+        for (int i = 0; i < 128 && t < m_distance && occlusion <= 0.99f; ++i) {
+            const float diameter = std::max(2.0f * t * tanHalf, vs);
+            const float stepLength = std::min(diameter, m_distance - t);
+            const float lod = glm::clamp(std::log2(diameter / vs), 0.0f, maxLod);
+            const glm::vec4 s = v.textureLod((p + (t + 0.5f * stepLength) * dir - v.origin()) * scale, lod);
+            const float a = glm::clamp(s.w, 0.0f, 1.0f);
+            const float alpha =
+                1.0f - std::exp2(m_spec.strength * stepLength / vs * std::log2(std::max(1.0f - a, 1e-30f)));
+            const glm::vec3 color = s.w > 1e-6f ? glm::clamp(glm::vec3(s) / s.w, 0.0f, 1.0f) : glm::vec3(0.0f);
+            light += (1.0f - occlusion) * alpha * color;
+            occlusion += (1.0f - occlusion) * alpha;
+            t += stepLength;
+        }
+    };
+    // sphereAmbient.
+    glm::vec3 tangent, bitangent;
+    tangentFrame(n, tangent, bitangent);
+    const int cones = m_spec.cones;
+    const bool central = cones == 1 || cones >= 6;
+    const int ringCones = central ? cones - 1 : cones;
+    const float ringPolar = cones >= 6 ? glm::radians(60.0f) : glm::radians(45.0f);
+    const float ringCos = std::cos(ringPolar), ringSin = std::sin(ringPolar);
+    float visible = 0.0f, weightSum = 0.0f;
+    AmbientTerms r;
+    float occ;
+    glm::vec3 light;
+    if (central) {
+        trace(n, occ, light);
+        visible += 1.0f - occ;
+        r.light += light;
+        weightSum += 1.0f;
+    }
+    for (int i = 0; i < ringCones; ++i) {
+        const float phi = 6.28318530718f * float(i) / float(ringCones);
+        const glm::vec3 dir = ringCos * n + ringSin * (std::cos(phi) * tangent + std::sin(phi) * bitangent);
+        trace(dir, occ, light);
+        visible += ringCos * (1.0f - occ);
+        r.light += ringCos * light;
+        weightSum += ringCos;
+    }
+    if (weightSum > 0.0f) {
+        r.ao = visible / weightSum;
+        r.light /= weightSum;
+    }
+    return r;
+}
+
+AmbientTerms ParticleAmbient::cached(std::uint32_t sphere, const glm::vec3& n) const {
+    std::atomic<std::uint32_t>* cube = &m_cube[6 * std::size_t(sphere)];
+    if (m_cubeReady[sphere].load(std::memory_order_acquire) == 0) {
+        // shaders/sphere_ambient_cache.comp for this sphere's six faces.
+        const glm::vec4 cr = m_particles.centerRadius[sphere];
+        for (int f = 0; f < 6; ++f) {
+            const AmbientTerms t = coneTraced(glm::vec3(cr) + cr.w * kFaceNormals[f], kFaceNormals[f]);
+            cube[f].store(packUnorm8x4(glm::vec4(t.light, t.ao)), std::memory_order_relaxed);
+        }
+        m_cubeReady[sphere].store(1, std::memory_order_release);
+    }
+    // sphereAmbientCached of shaders/sphere_ambient.glsl.
+    const glm::vec3 w = n * n;
+    const int fx = n.x < 0.0f ? 1 : 0, fy = n.y < 0.0f ? 3 : 2, fz = n.z < 0.0f ? 5 : 4;
+    const glm::vec4 v = w.x * unpackUnorm8x4(cube[fx].load(std::memory_order_relaxed)) +
+                        w.y * unpackUnorm8x4(cube[fy].load(std::memory_order_relaxed)) +
+                        w.z * unpackUnorm8x4(cube[fz].load(std::memory_order_relaxed));
+    return {v.w, glm::vec3(v)};
+}
+
+AmbientTerms ParticleAmbient::rayTraced(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const {
+    glm::vec3 t, b;
+    tangentFrame(n, t, b);
+    // Off the surface by a small fraction of the radius (as rt/ray_traced_ao.cpp).
+    const glm::vec3 origin = p + (1e-3f * std::max(m_particles.maxRadius, 1e-12f) + 1e-6f * glm::length(p)) * n;
+    const float P = densityNormalisation(m_spheres.density, m_spheres.innerRadius);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const int m = std::max(1, int(std::lround(std::sqrt(double(m_spec.samples)))));
+    float blocked = 0.0f;
+    glm::vec3 light(0.0f);
+    std::uint32_t seed = pcgHash(pixel);
+    for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i) {
+            seed = pcgHash(seed);
+            const float u1 = (float(i) + unitFloat(seed)) / float(m);
+            seed = pcgHash(seed);
+            const float u2 = (float(j) + unitFloat(seed)) / float(m);
+            const float r = std::sqrt(u1), phi = glm::two_pi<float>() * u2;
+            const glm::vec3 dir = glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b +
+                                                 std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
+            RTCRayHit rh;
+            rh.ray.org_x = origin.x, rh.ray.org_y = origin.y, rh.ray.org_z = origin.z;
+            rh.ray.dir_x = dir.x, rh.ray.dir_y = dir.y, rh.ray.dir_z = dir.z;
+            rh.ray.tnear = 0.0f;
+            rh.ray.tfar = m_distance;
+            rh.ray.time = 0.0f;
+            rh.ray.mask = 0xFFFFFFFFu;
+            rh.ray.id = 0;
+            rh.ray.flags = 0;
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(m_scene, &context, &rh);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+            const std::uint32_t s = rh.hit.primID;
+            const glm::vec4 cr = m_particles.centerRadius[s];
+            const glm::vec4 col = m_particles.color[s];
+            float a = col.w;
+            if (!m_opaque) {
+                const SphereInterval iv = intersectSphere(Ray{origin, dir}, glm::vec3(cr), cr.w);
+                a = iv.hit ? sphereOpacity(col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, iv, cr.w), P)
+                           : 0.0f;
+            }
+            blocked += a;
+            light += a * glm::clamp(glm::vec3(col), 0.0f, 1.0f);
+        }
+    const float inv = 1.0f / float(m * m);
+    return {std::pow(std::max(1.0f - blocked * inv, 0.0f), m_spec.strength), light * inv};
+}
+
+nlohmann::json ParticleAmbient::describe() const {
+    if (m_spec.method == AoSpec::Method::RayTraced)
+        return {{"method", "ray traced hemisphere (Embree spheres), A_O and L_A"},
+                {"samples", int(std::pow(std::max(1L, std::lround(std::sqrt(double(m_spec.samples)))), 2))},
+                {"distance_world", m_distance},
+                {"strength", m_spec.strength}};
+    const glm::ivec3 s = m_volume->size();
+    return {{"method", "voxel cone tracing of a CPU sphere voxelization (RGBA: coverage x opacity, colour)"},
+            {"size", {s.x, s.y, s.z}},
+            {"voxel_size", m_volume->voxelSize()},
+            {"levels", m_volume->levels()},
+            {"cones", m_spec.cones},
+            {"aperture_deg", m_spec.apertureDeg},
+            {"distance_world", m_distance},
+            {"strength", m_spec.strength},
+            {"cache", m_cube ? "ambient cube per sphere, filled when a ray first hits the sphere" : "none"},
+            {"voxelize_and_mips_ms", m_buildMs},
+            {"volume_mb", double(m_volume->bytes()) / (1024.0 * 1024.0)}};
+}
+
+}  // namespace tc::rt
