@@ -392,7 +392,10 @@ void readVrc(SpecReader r, VrcSpec& v) {
     v.neighbors = r.getEnum("neighbors", "off", {"off", "on"}) == "on";
     v.opacityThreshold = r.getFloat("opacity_threshold", v.opacityThreshold, 0.01f, 1.0f);
     v.shadows = r.getBool("shadows", v.shadows);
+    v.shadowMode = r.getEnum("shadow_mode", "soft", {"soft", "hard"}) == "hard" ? VrcSpec::ShadowMode::Hard
+                                                                                : VrcSpec::ShadowMode::Soft;
     v.shadowApertureDeg = r.getFloat("shadow_aperture_deg", v.shadowApertureDeg, 1.0f, 90.0f);
+    v.shadowLevel = r.getInt("shadow_level", v.shadowLevel, 0, 10);
     r.finish();
 }
 

@@ -188,8 +188,12 @@ struct VrcSpec {
     int quantization = 32;           // bins per voxel face edge; 0 = exact float end points
     bool neighbors = false;          // also test the 26 neighbouring voxels' pieces
     float opacityThreshold = 0.99f;  // early ray termination
-    bool shadows = false;            // soft shadows: a cone toward the light through the density
-    float shadowApertureDeg = 10;    // full apex angle of the shadow cone
+    bool shadows = false;            // shadows toward the light (shadowMode)
+    // soft: a cone toward the light through the density; hard: a ray against the representative
+    // lines of LoD level shadowLevel (core/vrc_representative.h).
+    enum class ShadowMode { Soft, Hard } shadowMode = ShadowMode::Soft;
+    float shadowApertureDeg = 10;    // full apex angle of the soft shadow cone
+    int shadowLevel = 1;             // hard: LoD level of the representative lines (voxels of 2^level)
 };
 
 struct RenderSpec {

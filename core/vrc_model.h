@@ -27,6 +27,21 @@
 // pieces are contiguous, in voxel index order; within a voxel, pieces are in polyline order and
 // along each polyline (the order is canonical, so any two builds of the same lines agree).
 //
+// Copies (VrcBuildOptions::dilate, what the renderer uses unless render.vrc.neighbors is on). A
+// tube of radius r sticks out of the voxel holding its axis by up to r, and a ray tests only the
+// pieces of the voxel it is in, so without help tubes are cut at voxel faces. dilateVrcModel puts
+// a copy of each piece into every face/edge/corner neighbour its tube can reach: the voxel box
+// grown by the piece's larger radius meets the piece's axis segment (a slab test; conservative,
+// it over-includes only near the box's edges and corners). Near a joint with the next piece of
+// the polyline (within one radius along the axis of a face end) the two tubes coincide (exactly
+// for collinear pieces, up to the outer wedge at a bend), so only one of them is copied there:
+// the axis is tested without its last radius before a face end b, and against the voxel across
+// the face of a (the previous piece's home) also without its first radius. A copy keeps the home voxel's end codes
+// and says where home is: 2 bits per axis (-1, 0, +1 as two's complement) in the top kOffsetBits
+// of the polyline id field (quantized) or in info.z (exact). Tubes wider than a voxel are still
+// cut one voxel out (as render.vrc.neighbors). Per voxel the pieces (home and copies) are in
+// (home piece index, offset) order.
+//
 // LoD (Eq. 1 of the paper). Per voxel density = sum over the polyline parts inside it of
 // length_i x opacity_i, in voxel lengths (the true polyline length, not the chord, with the
 // opacity averaged along the part). Levels above average 2x2x2 blocks; odd sizes are padded with
@@ -52,10 +67,21 @@ inline constexpr std::uint32_t kBinMask = (1u << kBinBits) - 1u;
 inline constexpr int kInteriorLattice = 16;
 // Largest quantization: q^2 bins must fit in kBinBits (90^2 = 8100 < 8192).
 inline constexpr int kMaxQuantization = 90;
+// A copy's home voxel offset (see Copies above): 2 bits per axis above kLineBits of polyline id.
+inline constexpr int kLineBits = 26;
+inline constexpr std::uint32_t kLineMask = (1u << kLineBits) - 1u;
+// Offset bits of `home - storage` (components in -1..1), shifted to bit 0.
+inline std::uint32_t encodeHomeOffset(glm::ivec3 d) {
+    return std::uint32_t(d.x & 3) | (std::uint32_t(d.y & 3) << 2) | (std::uint32_t(d.z & 3) << 4);
+}
+inline glm::ivec3 decodeHomeOffset(std::uint32_t bits) {
+    auto axis = [](std::uint32_t b) { return b == 3u ? -1 : int(b); };
+    return {axis(bits & 3u), axis((bits >> 2) & 3u), axis((bits >> 4) & 3u)};
+}
 
 // 16 bytes per piece:
 //   ends:   end A code in bits 0..15, end B code in bits 16..31 (face << 13 | bin);
-//   line:   polyline id;
+//   line:   polyline id in bits 0..25, home voxel offset of a copy in bits 26..31 (see Copies);
 //   color:  linear RGBA at the piece's middle, 8 bits per channel (packUnorm4x8 rounding);
 //   radius: radius at end A and B as unorm16 fractions of VrcModel::maxRadius (bits 0..15, 16..31).
 struct VrcCompactPiece {
@@ -72,7 +98,8 @@ struct VrcExactPiece {
     glm::vec4 a;       // xyz world position, w radius
     glm::vec4 b;
     glm::vec4 color;   // linear RGBA at the piece's middle, straight alpha
-    glm::uvec4 info;   // x polyline id, y end flags (bit 0: a is a vertex end, bit 1: b), zw 0
+    glm::uvec4 info;   // x polyline id, y end flags (bit 0: a is a vertex end, bit 1: b), z home offset bits
+                       // of a copy (encodeHomeOffset; 0 = the piece's own voxel), w 0
 };
 static_assert(sizeof(VrcExactPiece) == 64);
 
@@ -90,6 +117,7 @@ struct VrcPiece {
     glm::vec4 color;
     std::uint32_t line;
     bool vertexA, vertexB;  // the end is a polyline end vertex (keeps its spherical cap)
+    bool copy = false;      // a copy of a piece whose axis lies in a neighbouring voxel (dilateVrcModel)
 };
 
 struct VrcDensityLevel {
@@ -110,6 +138,7 @@ struct VrcModel {
     std::vector<std::uint32_t> pieceVoxel;  // voxel index of each piece (for tests and LoD)
     std::vector<VrcDensityLevel> lod;       // Eq. 1 pyramid, lod[0] at the grid's resolution
     std::size_t clampedVertices = 0;        // vertices outside the grid (moved onto it)
+    std::size_t copies = 0;                 // pieces that are copies (dilateVrcModel), included in pieceCount
 
     std::size_t voxelCount() const {
         return std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
@@ -135,6 +164,7 @@ struct VrcBuildOptions {
     int resolution = 128;    // voxels along the longest axis (>= 2), as makeDensityGrid
     int quantization = 32;   // 0 (exact) or 1..kMaxQuantization
     bool lod = true;         // build the Eq. 1 density pyramid
+    bool dilate = false;     // copies into the neighbours a tube reaches (dilateVrcModel)
 };
 
 // Builds the model. The grid is makeDensityGrid(lines.bounds, resolution)'s (cubic voxels, aspect
@@ -144,6 +174,14 @@ struct VrcBuildOptions {
 // exceed 2^31 pieces. Polylines are the vertex ranges from a FirstOfPolyline to a LastOfPolyline
 // vertex (StyledLines keeps them contiguous).
 VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options);
+
+// Adds the copies (see Copies above) to a model without copies (the LoD pyramid is kept: it
+// counts every piece once). Deterministic (tbb, order fixed by a sort on unique keys). Throws
+// tc::InputError if a polyline id does not fit kLineBits or the model would exceed 2^31 pieces.
+void dilateVrcModel(VrcModel& model);
+
+// Recomputes the headers and neighbourhood bits from pieceVoxel (sorted by voxel).
+void buildVrcHeaders(VrcModel& model);
 
 // The model's grid and settings without any voxel content (sizes from makeDensityGrid): the
 // common start of the CPU build above and the GPU build (gl/vrc_renderer.h).

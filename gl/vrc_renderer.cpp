@@ -9,6 +9,7 @@
 #include "core/shading.h"
 #include "gl/gpu_timer.h"
 #include "core/voxel_density.h"
+#include "core/vrc_representative.h"
 #include "gl/line_geometry.h"
 #include "gl/radix_sort.h"
 #include "gl/shader_library.h"
@@ -20,6 +21,9 @@ namespace {
 
 constexpr GLuint kHeaderBinding = 0;
 constexpr GLuint kPieceBinding = 1;
+constexpr GLuint kShadowLineBinding = 2;
+constexpr GLuint kBrickBinding = 3;
+constexpr int kBrick = 4;  // kBrick of shaders/vrc_raycast.comp
 constexpr int kGroupSize = 8;  // local_size of shaders/vrc_raycast.comp
 
 void dispatch1D(GLuint program, std::size_t count) {
@@ -144,6 +148,9 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
         model.exact.resize(total);
         glGetNamedBufferSubData(pieces.id(), 0, GLsizeiptr(std::size_t(total) * pieceBytes), model.exact.data());
     }
+    // The copies are added on the CPU (the same function as the CPU build): a per-piece mask and a
+    // sort, cheap next to the walk.
+    if (options.dilate) dilateVrcModel(model);
     return model;
 }
 
@@ -154,11 +161,27 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     // The ray caster shades with the M3 density volume (see the header); the Eq. 1 pyramid is
     // only built where it is asked for (tests, benchmarks).
     options.lod = false;
+    // Without neighbour tests at render time, every piece is copied into the neighbours its tube
+    // reaches at build time (core/vrc_model.h, Copies): the image of the neighbour tests with far
+    // fewer pieces tested per voxel (docs/performance.md, M8).
+    options.dilate = !scene.render.vrc.neighbors;
     const auto t0 = std::chrono::steady_clock::now();
-    const VrcModel model = buildVrcModel(lines, options);
+    VrcModel model = buildVrcModel(lines, options);
+    Scene used = scene;
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    const bool tooLarge = options.dilate && GLint64(model.pieceCount() * model.bytesPerPiece()) > maxBlock;
+    if (tooLarge) {
+        // The copies do not fit one shader storage block (128 MiB on llvmpipe): neighbour tests at
+        // render time instead, the same image from the model without copies.
+        options.dilate = false;
+        model = buildVrcModel(lines, options);
+        used.render.vrc.neighbors = true;
+    }
     const auto t1 = std::chrono::steady_clock::now();
-    std::unique_ptr<VrcRenderer> r = create(scene, lines, model);
+    std::unique_ptr<VrcRenderer> r = create(used, lines, model);
     r->m_buildMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    r->m_copiesDidNotFit = tooLarge;
     return r;
 }
 
@@ -173,6 +196,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     r->m_maxRadius = model.maxRadius;
     r->m_quantization = model.quantization;
     r->m_pieces = model.pieceCount();
+    r->m_copies = model.copies;
     r->m_bytesPerPiece = model.bytesPerPiece();
     r->m_modelBytes = model.bytes();
     r->m_lodBytes = model.lodBytes();
@@ -191,6 +215,23 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     } else {
         r->m_header = makeBuffer(model.voxels.size() * sizeof(VrcVoxel), model.voxels.data());
     }
+    {
+        // Brick occupancy for empty space skipping (shaders/vrc_raycast.comp, BRICK_SKIP): a brick
+        // of kBrick^3 voxels is empty when none of its voxels can hold a tube's surface: no pieces
+        // (with copies, those are all the tubes reaching in), or with neighbour tests none in the
+        // 3x3x3 block (the neighbourhood bit).
+        const glm::ivec3 bricks = (r->m_size + kBrick - 1) / kBrick;
+        std::vector<std::uint32_t> occupied(std::size_t(bricks.x) * bricks.y * bricks.z, 0u);
+        const std::uint32_t mask = r->m_spec.neighbors ? kNeighbourhoodBit : kCountMask;
+        for (std::size_t i = 0; i < model.voxels.size(); ++i) {
+            if (!(model.voxels[i].count & mask)) continue;
+            const glm::ivec3 b = model.coords(i) / kBrick;
+            occupied[(std::size_t(b.z) * bricks.y + b.y) * bricks.x + b.x] = 1u;
+        }
+        if (model.voxels.empty()) occupied.assign(1, 0u);
+        r->m_brickGridSize = bricks;
+        r->m_bricks = makeBuffer(occupied.size() * sizeof(std::uint32_t), occupied.data());
+    }
     if (model.quantization > 0)
         r->m_pieceBuffer = makeBuffer(model.compact.size() * sizeof(VrcCompactPiece), model.compact.data());
     else
@@ -199,15 +240,40 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     r->m_uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     std::vector<std::string> defines;
-    if (model.quantization > 0) defines.push_back("QUANTIZED");
+    if (model.quantization > 0) {
+        defines.push_back("QUANTIZED");
+        defines.push_back("VRC_Q " + std::to_string(model.quantization));
+    }
     if (r->m_transparent) defines.push_back("TRANSPARENT");
+    defines.push_back("BRICK_SKIP");
     if (r->m_spec.neighbors) defines.push_back("NEIGHBORS");
     const AoSpec& ao = scene.render.ao;
     r->m_aoEnabled = ao.enabled;
-    if ((ao.enabled || r->m_spec.shadows) && !lines.positionRadius.empty()) {
+    const bool softShadows = r->m_spec.shadows && r->m_spec.shadowMode == VrcSpec::ShadowMode::Soft;
+    const bool hardShadows = r->m_spec.shadows && r->m_spec.shadowMode == VrcSpec::ShadowMode::Hard;
+    if (hardShadows && !model.voxels.empty()) {
+        // Representative lines of the chosen level (core/vrc_representative.h), two vec4 per
+        // voxel: a.xyz + radius, b.xyz + weight (0 = no line).
+        const auto t = std::chrono::steady_clock::now();
+        const std::vector<VrcRepresentativeLevel> levels = buildRepresentativeLines(model, r->m_spec.shadowLevel);
+        const VrcRepresentativeLevel& level = levels.back();
+        std::vector<glm::vec4> packed(2 * level.lines.size());
+        for (std::size_t i = 0; i < level.lines.size(); ++i) {
+            const VrcRepresentativeLine& l = level.lines[i];
+            packed[2 * i] = glm::vec4(l.a, l.radius);
+            packed[2 * i + 1] = glm::vec4(l.b, l.weight);
+        }
+        r->m_shadowLines = makeBuffer(packed.size() * sizeof(glm::vec4), packed.data());
+        r->m_shadowGridSize = level.size;
+        r->m_shadowVoxelSize = level.voxelSize;
+        r->m_shadowLevel = level.level;
+        r->m_representativeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+        defines.push_back("HARD_SHADOWS");
+    }
+    if ((ao.enabled || softShadows) && !lines.positionRadius.empty()) {
         r->m_ao = AmbientOcclusion::create(ao, lines);
         if (ao.enabled) defines.push_back("AMBIENT_OCCLUSION");
-        if (r->m_spec.shadows) {
+        if (softShadows) {
             defines.push_back("SOFT_SHADOWS");
             const glm::vec3 extent = lines.bounds.extent();
             // The cone reaches as far as the AO cones (render.ao.distance of the diagonal) and
@@ -243,7 +309,6 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& 
     glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
     glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
     glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
-    glProgramUniform1i(p, uniformLocation(p, "uQuantization"), m_quantization);
     glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), m_maxRadius);
     glProgramUniform1f(p, uniformLocation(p, "uOpacityThreshold"), m_spec.opacityThreshold);
     const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
@@ -258,7 +323,15 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& 
         glProgramUniform1f(p, uniformLocation(p, "uShadowStrength"), 1.0f);
         glProgramUniform1f(p, uniformLocation(p, "uShadowStartOffset"), m_shadowStartOffset);
     }
+    if (m_shadowLines.id() != 0) {
+        glProgramUniform3i(p, uniformLocation(p, "uShadowGridSize"), m_shadowGridSize.x, m_shadowGridSize.y,
+                           m_shadowGridSize.z);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowVoxelSize"), m_shadowVoxelSize);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kShadowLineBinding, m_shadowLines.id());
+    }
+    glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y, m_brickGridSize.z);
     glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBrickBinding, m_bricks.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeaderBinding, m_header.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPieceBinding, m_pieceBuffer.id());
     glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -305,13 +378,19 @@ nlohmann::json VrcRenderer::describe() const {
             {"neighbors", m_spec.neighbors},
             {"opacity_threshold", m_spec.opacityThreshold},
             {"pieces", m_pieces},
+            {"copies", m_copies},
+            {"copies_did_not_fit", m_copiesDidNotFit},
             {"segments", m_segments},
             {"bytes_per_piece", m_bytesPerPiece},
             {"model_mb", double(m_modelBytes) / mb},
             {"raw_lines_mb", double(m_rawBytes) / mb},
             {"build_ms", m_buildMs},
             {"upload_ms", m_uploadMs},
-            {"soft_shadows", m_spec.shadows},
+            {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
+            {"hard_shadows", m_shadowLines.id() != 0 ? nlohmann::json{{"level", m_shadowLevel},
+                                                                       {"grid", {m_shadowGridSize.x, m_shadowGridSize.y, m_shadowGridSize.z}},
+                                                                       {"build_ms", m_representativeMs}}
+                                                     : nlohmann::json(false)},
             {"ambient_occlusion", m_ao && m_aoEnabled ? m_ao->describe() : nlohmann::json(false)}};
 }
 

@@ -6,7 +6,8 @@
 // semi-transparent with front-to-back compositing along the ray (no fragment sorting, no
 // per-pixel lists). Ambient occlusion and soft shadows cone-trace the density volume of
 // gl/ambient_occlusion.h (the tube volume per voxel: Eq. 1's length x opacity weighted by the
-// cross-section).
+// cross-section); hard shadows trace a ray against the representative lines of one LoD level
+// (core/vrc_representative.h).
 #include <optional>
 
 #include "core/scene.h"
@@ -24,13 +25,16 @@ namespace tc::gl {
 // the pieces with their voxel ids (the walk in double precision, unfused: the CPU's arithmetic);
 // the stable GPU radix sort (gl/radix_sort.h) orders (voxel id, slot) pairs, and
 // shaders/vrc_gather.comp gathers the pieces and writes the headers and neighbourhood bits. The
-// polyline vertex ranges are found on the CPU (one pass over the flags). Needs a current context;
+// polyline vertex ranges are found on the CPU (one pass over the flags); the copies
+// (VrcBuildOptions::dilate) are added on the CPU by tc::dilateVrcModel after the read-back. Needs a current context;
 // `gpuMs` (if not null) receives the wall time from upload to the finished model on the GPU.
 VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs = nullptr);
 
 class VrcRenderer final : public Technique {
 public:
     // Builds the model (render.vrc), uploads it and compiles the ray caster. Needs a current context.
+    // With render.vrc.neighbors off the model gets copies (core/vrc_model.h); when those exceed
+    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE it falls back to neighbour tests (describe(): copies_did_not_fit).
     static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines);
     // Same, from a model built elsewhere (tests, the GPU build path).
     static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines, const VrcModel& model);
@@ -54,10 +58,20 @@ private:
     glm::vec3 m_origin{0.0f};
     float m_voxelSize = 0, m_maxRadius = 0;
     int m_quantization = 0;
-    std::size_t m_pieces = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0, m_rawBytes = 0;
+    std::size_t m_pieces = 0, m_copies = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0, m_rawBytes = 0;
     double m_buildMs = 0, m_uploadMs = 0;
+    bool m_copiesDidNotFit = false;  // render.vrc.neighbors off, but the copies exceeded one SSBO
+
+    // Hard shadows: the representative lines of one LoD level (2 x vec4 per voxel).
+    Buffer m_shadowLines;
+    glm::ivec3 m_shadowGridSize{0};
+    float m_shadowVoxelSize = 0;
+    int m_shadowLevel = 0;
+    double m_representativeMs = 0;
 
     Buffer m_header, m_pieceBuffer;
+    Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
+    glm::ivec3 m_brickGridSize{1};
     Program m_program;
     int m_width = 0, m_height = 0;
     Texture m_color, m_normalDepth, m_id, m_aoImage;

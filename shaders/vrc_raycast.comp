@@ -9,7 +9,12 @@
 // opaque: the first accepted hit), NEIGHBORS (also test the pieces of the 26 neighbouring voxels,
 // for tubes that stick out of the voxel holding their axis), AMBIENT_OCCLUSION (cone traced AO of
 // the density volume, as the rasterized path), SOFT_SHADOWS (a cone toward the light through the
-// same density volume, growing footprint = mip level).
+// same density volume, growing footprint = mip level), HARD_SHADOWS (a ray toward the light against
+// the representative lines of one LoD level), VRC_Q (the quantization, with QUANTIZED), BRICK_SKIP
+// (empty space skipping over bricks of 4^3 voxels).
+//
+// Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
+// neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
 #include "camera.glsl"
 #include "rounded_cone.glsl"
 #include "shading.glsl"
@@ -43,10 +48,15 @@ struct VrcExactPiece {
 layout(std430, binding = 1) readonly buffer VrcPieces { VrcExactPiece vrcPieces[]; };
 #endif
 
+#ifdef BRICK_SKIP
+// Per brick of kBrick^3 voxels: 0 when no voxel in it can hold a surface (gl/vrc_renderer.cpp).
+const int kBrick = 4;
+layout(std430, binding = 3) readonly buffer VrcBricks { uint vrcBricks[]; };
+uniform ivec3 uBrickGridSize;
+#endif
 uniform ivec3 uGridSize;
 uniform vec3 uGridOrigin;
 uniform float uVoxelSize;
-uniform int uQuantization;
 uniform float uMaxRadius;
 uniform float uOpacityThreshold;
 uniform vec3 uLightDir;    // world space, toward the light
@@ -69,23 +79,32 @@ struct VrcPiece {
     bool vertexA, vertexB;
 };
 
-// Twin of tc::decodeEnd (core/vrc_model.cpp).
+#ifdef QUANTIZED
+// Twin of tc::decodeEnd (core/vrc_model.cpp). The quantization is a compile-time constant
+// (VRC_Q, set by gl/vrc_renderer.cpp): llvmpipe has no vector integer division, so a division by
+// a uniform runs as one scalar division per lane; by a constant it becomes shifts or a multiply.
+const uint kVrcQ = uint(VRC_Q);
+const uint kVrcM = min(kVrcQ, 16u);  // interior lattice (kInteriorLattice)
 vec3 vrcDecodeEnd(ivec3 v, uint code) {
     uint face = code >> 13u, bin = code & 0x1FFFu;
     vec3 p = vec3(v);
     if (face == kVrcInteriorFace) {
-        uint m = uint(min(uQuantization, 16));
-        uvec3 cell = uvec3(bin % m, bin / m % m, bin / m / m);
-        p += (vec3(cell) + 0.5) / float(m);
+        uvec3 cell = uvec3(bin % kVrcM, bin / kVrcM % kVrcM, bin / (kVrcM * kVrcM));
+        p += (vec3(cell) + 0.5) / float(kVrcM);
     } else {
         int axis = int(face / 2u);
         ivec2 plane = axis == 0 ? ivec2(1, 2) : (axis == 1 ? ivec2(0, 2) : ivec2(0, 1));
-        uint q = uint(uQuantization);
         p[axis] += float(face & 1u);
-        p[plane.x] += (float(bin % q) + 0.5) / float(q);
-        p[plane.y] += (float(bin / q) + 0.5) / float(q);
+        p[plane.x] += (float(bin % kVrcQ) + 0.5) / float(kVrcQ);
+        p[plane.y] += (float(bin / kVrcQ) + 0.5) / float(kVrcQ);
     }
     return uGridOrigin + p * uVoxelSize;
+}
+#endif
+
+// Home voxel offset of a copy (core/vrc_model.h, Copies): 2-bit two's complement per axis.
+ivec3 vrcHomeOffset(uint bits) {
+    return ivec3(bitfieldExtract(int(bits), 0, 2), bitfieldExtract(int(bits), 2, 2), bitfieldExtract(int(bits), 4, 2));
 }
 
 VrcPiece vrcPiece(uint i, ivec3 v) {
@@ -93,10 +112,11 @@ VrcPiece vrcPiece(uint i, ivec3 v) {
 #ifdef QUANTIZED
     uvec4 c = vrcPieces[i];
     uint codeA = c.x & 0xFFFFu, codeB = c.x >> 16u;
-    p.cone = RoundedCone(vrcDecodeEnd(v, codeA), uMaxRadius * float(c.w & 0xFFFFu) / 65535.0,
-                         vrcDecodeEnd(v, codeB), uMaxRadius * float(c.w >> 16u) / 65535.0);
+    ivec3 home = v + vrcHomeOffset(c.y >> 26u);
+    p.cone = RoundedCone(vrcDecodeEnd(home, codeA), uMaxRadius * float(c.w & 0xFFFFu) / 65535.0,
+                         vrcDecodeEnd(home, codeB), uMaxRadius * float(c.w >> 16u) / 65535.0);
     p.color = unpackUnorm4x8(c.z);
-    p.line = c.y;
+    p.line = c.y & 0x03FFFFFFu;
     p.vertexA = (codeA >> 13u) == kVrcInteriorFace;
     p.vertexB = (codeB >> 13u) == kVrcInteriorFace;
 #else
@@ -110,35 +130,121 @@ VrcPiece vrcPiece(uint i, ivec3 v) {
     return p;
 }
 
+// Squared distance between the ray's part in [tEnter, tExit] and the segment [x0, x1] (closest
+// points of two segments, Ericson, Real-Time Collision Detection 5.1.9; dir is unit length).
+float raySegmentDistance2(Ray ray, float tEnter, float tExit, vec3 x0, vec3 x1) {
+    vec3 e = x1 - x0;
+    vec3 w = ray.origin + tEnter * ray.dir - x0;
+    float len = tExit - tEnter;
+    float b = dot(ray.dir, e), c = dot(e, e), d = dot(ray.dir, w), f = dot(e, w);
+    float denom = c - b * b;
+    float t = denom > 1e-12 * c ? clamp((b * f - c * d) / denom, 0.0, len) : 0.0;
+    float s = c > 0.0 ? clamp((f + t * b) / c, 0.0, 1.0) : 0.0;
+    t = clamp(s * b - d, 0.0, len);
+    vec3 r = w + t * ray.dir - s * e;
+    return dot(r, r);
+}
+
+#ifdef HARD_SHADOWS
+// Representative lines of one LoD level (core/vrc_representative.h), per level voxel x fastest:
+// a.xyz + radius, b.xyz + weight (0 = empty voxel).
+layout(std430, binding = 2) readonly buffer VrcShadowLines { vec4 vrcShadowLines[]; };
+uniform ivec3 uShadowGridSize;
+uniform float uShadowVoxelSize;
+
+// 0 when the ray from `pos` toward the light meets a representative line's tube (capsule of its
+// radius) farther than one level voxel away, else 1. The first voxel length is skipped: the
+// shaded tube's own representative lies within it (and would shadow every point of the tube).
+float hardShadowVisibility(vec3 pos) {
+    Ray ray;
+    ray.origin = pos;
+    ray.dir = normalize(uLightDir);
+    float tStart = uShadowVoxelSize;
+    vec3 lo = uGridOrigin, hi = uGridOrigin + vec3(uShadowGridSize) * uShadowVoxelSize;
+    vec3 invDir = vec3(ray.dir.x != 0.0 ? 1.0 / ray.dir.x : 1e30, ray.dir.y != 0.0 ? 1.0 / ray.dir.y : 1e30,
+                       ray.dir.z != 0.0 ? 1.0 / ray.dir.z : 1e30);
+    vec3 ta = (lo - ray.origin) * invDir, tb = (hi - ray.origin) * invDir;
+    vec3 tNear3 = min(ta, tb), tFar3 = max(ta, tb);
+    float tNear = max(max(tNear3.x, tNear3.y), max(tNear3.z, 0.0));
+    float tFar = min(min(tFar3.x, tFar3.y), tFar3.z);
+    if (!(tNear < tFar)) return 1.0;
+    vec3 g = (ray.origin + tNear * ray.dir - uGridOrigin) / uShadowVoxelSize;
+    ivec3 v = clamp(ivec3(floor(g)), ivec3(0), uShadowGridSize - 1);
+    ivec3 stepDir = ivec3(sign(ray.dir));
+    vec3 tDelta = abs(uShadowVoxelSize * invDir);
+    vec3 tMax;
+    for (int k = 0; k < 3; ++k) {
+        float face = uGridOrigin[k] + float(v[k] + (stepDir[k] > 0 ? 1 : 0)) * uShadowVoxelSize;
+        tMax[k] = stepDir[k] == 0 ? 1e30 : (face - ray.origin[k]) * invDir[k];
+    }
+    float visibility = 1.0;
+    for (int steps = 0; steps < 4096; ++steps) {
+        uint i = uint((v.z * uShadowGridSize.y + v.y) * uShadowGridSize.x + v.x);
+        vec4 a = vrcShadowLines[2u * i], b = vrcShadowLines[2u * i + 1u];
+        // The whole ray beyond tStart: a line's tube may reach out of its voxel.
+        if (b.w > 0.0 && raySegmentDistance2(ray, tStart, tFar, a.xyz, b.xyz) <= a.w * a.w) {
+            visibility = 0.0;
+            break;
+        }
+        if (tMax.x <= tMax.y && tMax.x <= tMax.z) {
+            v.x += stepDir.x;
+            tMax.x += tDelta.x;
+        } else if (tMax.y <= tMax.z) {
+            v.y += stepDir.y;
+            tMax.y += tDelta.y;
+        } else {
+            v.z += stepDir.z;
+            tMax.z += tDelta.z;
+        }
+        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uShadowGridSize))) break;
+    }
+    return visibility;
+}
+#endif
+
 #ifdef TRANSPARENT
 const int kMaxHits = 16;
 #else
 const int kMaxHits = 1;
 #endif
 // The accepted hits of the current voxel, sorted by t (insertion sort; the farthest drops out).
+// The colour is kept with the hit: re-reading and decoding the piece after sorting costs another
+// per-lane SSBO gather.
 float hitT[kMaxHits];
 vec3 hitNormal[kMaxHits];
-uint hitPiece[kMaxHits];
+vec4 hitColor[kMaxHits];
 uint hitLine[kMaxHits];
-ivec3 hitVoxel[kMaxHits];
+#if defined(AMBIENT_OCCLUSION) || defined(SOFT_SHADOWS)
+// The hit piece's axis ends and radii (x0, r0), (x1, r1): its own tube is excluded from the AO
+// and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
+#define VRC_HIT_CONE
+vec4 hitEnd0[kMaxHits];
+vec4 hitEnd1[kMaxHits];
+#endif
 int hitCount = 0;
 
-void insertHit(float t, vec3 n, uint piece, uint line, ivec3 v) {
+void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone) {
     int i = min(hitCount, kMaxHits - 1);
     if (hitCount == kMaxHits && t >= hitT[i]) return;
     while (i > 0 && hitT[i - 1] > t) {
         hitT[i] = hitT[i - 1];
         hitNormal[i] = hitNormal[i - 1];
-        hitPiece[i] = hitPiece[i - 1];
+        hitColor[i] = hitColor[i - 1];
         hitLine[i] = hitLine[i - 1];
-        hitVoxel[i] = hitVoxel[i - 1];
+#ifdef VRC_HIT_CONE
+        hitEnd0[i] = hitEnd0[i - 1];
+        hitEnd1[i] = hitEnd1[i - 1];
+#endif
         --i;
     }
     hitT[i] = t;
     hitNormal[i] = n;
-    hitPiece[i] = piece;
+    hitColor[i] = color;
     hitLine[i] = line;
-    hitVoxel[i] = v;
+#ifdef VRC_HIT_CONE
+    hitEnd0[i] = vec4(cone.x0, cone.r0);
+    hitEnd1[i] = vec4(cone.x1, cone.r1);
+#endif
     hitCount = min(hitCount + 1, kMaxHits);
 }
 
@@ -150,12 +256,12 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
     for (uint k = 0u; k < count; ++k) {
         uint i = h.x + k;
         VrcPiece p = vrcPiece(i, v);
-        // Bounding sphere of the rounded cone first: most pieces of a voxel miss the ray, and this
-        // costs a fraction of the full intersector.
-        vec3 centre = 0.5 * (p.cone.x0 + p.cone.x1) - ray.origin;
-        float bound = 0.5 * length(p.cone.x1 - p.cone.x0) + max(p.cone.r0, p.cone.r1);
-        vec3 perp = centre - dot(centre, ray.dir) * ray.dir;
-        if (dot(perp, perp) > bound * bound) continue;
+        // Capsule of the larger radius around the axis against the ray's part in this voxel first:
+        // a hit accepted here lies on the tube's surface inside [tEnter, tExit), within that radius
+        // of the axis. It costs a fraction of the full intersector and rejects most pieces (and
+        // most copies, whose tubes only graze this voxel).
+        float rMax = max(p.cone.r0, p.cone.r1) * 1.0001 + 1e-4 * uVoxelSize;
+        if (raySegmentDistance2(ray, tEnter, tExit, p.cone.x0, p.cone.x1) > rMax * rMax) continue;
         ConeInterval iv = intersectRoundedCone(ray, p.cone);
         if (!iv.hit) continue;
         // The visible surface rule of the opaque path (shaders/visible_hit.glsl): the entry, or
@@ -178,15 +284,16 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
             if ((y < p.cone.r0 * sinAlpha && !p.vertexA) || (y > len + p.cone.r1 * sinAlpha && !p.vertexB)) continue;
         }
 #endif
-        insertHit(t, n, i, p.line, v);
+        insertHit(t, n, p.color, p.line, p.cone);
     }
 }
 
-// cone: the hit piece (its own tube is excluded from the AO and shadow cones).
-vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, RoundedCone cone, out float ao) {
+// end0, end1: the hit piece's (x0, r0), (x1, r1) (its own tube is excluded from the AO and
+// shadow cones; unused without them).
+vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, vec4 end0, vec4 end1, out float ao) {
     vec3 pos = ray.origin + t * ray.dir;
     vec3 facing = dot(n, ray.dir) <= 0.0 ? n : -n;
-    ConeOwnTube own = coneOwnTube(vec4(cone.x0, cone.r0), vec4(cone.x1, cone.r1), base.a, base.a);
+    ConeOwnTube own = coneOwnTube(end0, end1, base.a, base.a);
     ao = 1.0;
 #ifdef AMBIENT_OCCLUSION
     ao = tubeAmbientOcclusion(pos, facing, own);
@@ -195,6 +302,9 @@ vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, RoundedCone cone, out float a
 #ifdef SOFT_SHADOWS
     visibility = 1.0 - traceOcclusionCone(pos, uLightDir, uShadowTanHalfAperture, uShadowDistance, uShadowStrength,
                                           uShadowStartOffset, own);
+#endif
+#ifdef HARD_SHADOWS
+    visibility = hardShadowVisibility(pos);
 #endif
     return shadeBlinnPhong(base.rgb * ao, n, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y * visibility,
                            uLightTerms.z * visibility, uLightTerms.w);
@@ -234,7 +344,40 @@ void main() {
         }
         float tEnter = tNear;
         bool done = false;
+#ifdef BRICK_SKIP
+        ivec3 curBrick = ivec3(-1);
+        bool curBrickEmpty = false;
+#endif
         while (!done) {
+#ifdef BRICK_SKIP
+            // Empty space: jump over a whole empty brick (kBrick^3 voxels) to the first voxel past
+            // its exit face, instead of stepping (and reading a header) voxel by voxel.
+            ivec3 brick = v / kBrick;
+            if (brick != curBrick) {  // one brick read per brick entered, not per voxel step
+                curBrick = brick;
+                curBrickEmpty = vrcBricks[(brick.z * uBrickGridSize.y + brick.y) * uBrickGridSize.x + brick.x] == 0u;
+            }
+            if (curBrickEmpty) {
+                vec3 bLo = uGridOrigin + vec3(brick * kBrick) * uVoxelSize;
+                vec3 bT = (bLo + vec3(stepDir + 1) * (0.5 * float(kBrick) * uVoxelSize) - ray.origin) * invDir;
+                if (stepDir.x == 0) bT.x = 1e30;
+                if (stepDir.y == 0) bT.y = 1e30;
+                if (stepDir.z == 0) bT.z = 1e30;
+                float tOut = min(min(bT.x, bT.y), bT.z);
+                int axis = bT.x <= bT.y && bT.x <= bT.z ? 0 : (bT.y <= bT.z ? 1 : 2);
+                vec3 g2 = (ray.origin + tOut * ray.dir - uGridOrigin) / uVoxelSize;
+                ivec3 next = clamp(ivec3(floor(g2)), brick * kBrick, brick * kBrick + (kBrick - 1));
+                next[axis] = stepDir[axis] > 0 ? (brick[axis] + 1) * kBrick : brick[axis] * kBrick - 1;
+                v = next;
+                for (int k = 0; k < 3; ++k) {
+                    float face = uGridOrigin[k] + float(v[k] + (stepDir[k] > 0 ? 1 : 0)) * uVoxelSize;
+                    tMax[k] = stepDir[k] == 0 ? 1e30 : (face - ray.origin[k]) * invDir[k];
+                }
+                tEnter = max(tEnter, tOut);
+                done = any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize)) || tEnter > tFar;
+                continue;
+            }
+#endif
             float tExit = min(min(tMax.x, tMax.y), tMax.z);
             uint header = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x].y;
 #ifdef NEIGHBORS
@@ -258,9 +401,13 @@ void main() {
                     for (int j = 0; j < i; ++j) seen = seen || hitLine[j] == hitLine[i];
                     if (seen) continue;
 #endif
-                    VrcPiece p = vrcPiece(hitPiece[i], hitVoxel[i]);
+                    vec4 base = hitColor[i];
                     float ao;
-                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], p.color, p.cone, ao);
+#ifdef VRC_HIT_CONE
+                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], base, hitEnd0[i], hitEnd1[i], ao);
+#else
+                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], base, vec4(0.0), vec4(0.0), ao);
+#endif
                     if (firstLine == kNoLine) {
                         firstDepth = viewDepth(ray, hitT[i]);
                         firstNormal = hitNormal[i];
@@ -269,7 +416,7 @@ void main() {
                     }
 #ifdef TRANSPARENT
                     // As every transparent path: shaded colour clamped to [0, 1], blended "under".
-                    float a = p.color.a;
+                    float a = base.a;
                     accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
                     accum.a += (1.0 - accum.a) * a;
 #else

@@ -27,7 +27,7 @@ frame() {  # name, then --set overrides
     "$TC" render configs/tornado_1m.json -q --overwrite -o "$OUT/$name" --frames 0 "$@" >/dev/null
     grep -v '^frame' "$OUT/$name/timings.csv" | awk -F, '{printf "  %-12s gpu %8s ms  cpu %8s ms\n", $2, $3, $4}'
     python3 -c "import json,sys; t=json.load(open('$OUT/$name/run.json'))['technique']; \
-print('  ' + ', '.join(f'{k}={t[k]}' for k in ('pieces','bytes_per_piece','model_mb','raw_lines_mb','build_ms','upload_ms') if k in t))"
+print('  ' + ', '.join(f'{k}={t[k]}' for k in ('pieces','copies','copies_did_not_fit','bytes_per_piece','model_mb','raw_lines_mb','build_ms','upload_ms') if k in t))"
 }
 echo "## frames at 1920x1080, 10^6 segments"
 frame raster_opaque

@@ -101,7 +101,8 @@ void frames(std::size_t segments, int points) {
             const Frame f = renderOnce(scene, lines, cam);
             std::string notes;
             if (vrc)
-                notes = "q 32, res 128, " + std::to_string(f.described.value("pieces", 0)) + " pieces, build " +
+                notes = "q 32, res 128, " + std::to_string(f.described.value("pieces", 0)) + " pieces (" +
+                        std::to_string(f.described.value("copies", 0)) + " copies), build " +
                         std::to_string(int(f.described.value("build_ms", 0.0))) + " ms";
             std::printf("| %zu | %s %s | %.0f | %s |\n", lines.segmentCount(), vrc ? "VRC" : "rasterized",
                         opacity < 1 ? "transparent (0.2)" : "opaque", f.ms, notes.c_str());

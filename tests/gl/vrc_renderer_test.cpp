@@ -1,7 +1,8 @@
 // Voxel-based line ray casting (gl/vrc_renderer.h) against the rasterized rounded-cone paths on
-// straight tubes, where VRC with exact ends (quantization 0) and neighbour tests is exact: the
-// pieces of a straight tube are collinear sub-cones whose union is the tube, and every piece whose
-// tube reaches into a voxel is tested there when radius < voxel size.
+// straight tubes, where VRC with exact ends (quantization 0) and neighbour tests (or copies into
+// the neighbours, the default) is exact: the pieces of a straight tube are collinear sub-cones
+// whose union is the tube, and every piece whose tube reaches into a voxel is tested there when
+// radius < voxel size.
 //   - opaque: view depth, polyline id and colour == the opaque rounded-cone renderer (M1);
 //   - transparent: colour and alpha == depth peeling of the same tubes (non-intersecting, so the
 //     per-ray order of the tubes is the same in both).
@@ -70,6 +71,14 @@ Scene vrcScene(int w, int h, bool transparent, int quantization, bool neighbors)
     return scene;
 }
 
+FrameImages render(gl::Technique& t, const Scene& scene, const Camera& cam) {
+    gl::StageTimer timer;
+    FrameImages out;
+    t.render(gl::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
+    timer.collect();
+    return out;
+}
+
 FrameImages render(const Scene& scene, const StyledLines& lines, const Camera& cam) {
     std::unique_ptr<gl::Technique> t = gl::createTechnique(scene, lines);
     gl::StageTimer timer;
@@ -110,7 +119,11 @@ TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_
     raster.image.width = w;
     raster.image.height = h;
     const FrameImages ref = render(raster, lines, cam);
-    const FrameImages vrc = render(vrcScene(w, h, false, 0, true), lines, cam);
+    // Neighbour tests at render time, or copies into the neighbours at build time (the default):
+    // both test every piece whose tube reaches into the voxel.
+    for (bool neighbors : {true, false}) {
+    SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+    const FrameImages vrc = render(vrcScene(w, h, false, 0, neighbors), lines, cam);
     ASSERT_EQ(vrc.depth.size(), ref.depth.size());
     auto refId = [&](int x, int y) { return ref.id[std::size_t(y) * w + x]; };
     std::size_t compared = 0, coverageOff = 0, idOff = 0, depthOff = 0, colorOff = 0;
@@ -150,16 +163,23 @@ TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_
     EXPECT_EQ(idOff, 0u);
     EXPECT_EQ(depthOff, 0u) << "worst " << worstDepth;
     EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+    }
 }
 
-TEST_F(GlTest, vrc_without_neighbor_tests_cuts_tubes_at_voxel_faces) {
-    // The reason render.vrc.neighbors exists: tubes that stick out of the voxels holding their
-    // axis lose those parts when only the current voxel's pieces are tested.
+TEST_F(GlTest, vrc_without_neighbor_tests_or_copies_cuts_tubes_at_voxel_faces) {
+    // The reason for render.vrc.neighbors and the copies: tubes that stick out of the voxels
+    // holding their axis lose those parts when only the current voxel's own pieces are tested.
     const int w = 96, h = 72;
     const StyledLines lines = straightTubes(1.0f);
     const Camera cam = obliqueCamera();
     const FrameImages on = render(vrcScene(w, h, false, 0, true), lines, cam);
-    const FrameImages off = render(vrcScene(w, h, false, 0, false), lines, cam);
+    VrcBuildOptions o;
+    o.resolution = 24;
+    o.quantization = 0;
+    o.dilate = false;
+    const Scene offScene = vrcScene(w, h, false, 0, false);
+    const std::unique_ptr<gl::VrcRenderer> plain = gl::VrcRenderer::create(offScene, lines, buildVrcModel(lines, o));
+    const FrameImages off = render(*plain, offScene, cam);
     std::size_t hitsOn = 0, hitsOff = 0, offOnly = 0;
     for (std::size_t i = 0; i < on.id.size(); ++i) {
         hitsOn += on.id[i] != kBackgroundId;
@@ -180,7 +200,9 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
     peel.render.transparency = Transparency::DepthPeeling;
     peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
     const FrameImages ref = render(peel, lines, cam);
-    const FrameImages vrc = render(vrcScene(w, h, true, 0, true), lines, cam);
+    for (bool neighbors : {true, false}) {
+    SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+    const FrameImages vrc = render(vrcScene(w, h, true, 0, neighbors), lines, cam);
     ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
     // Alpha is piecewise constant (1 - 0.6^layers): an edge is where it changes.
     auto layers = [&](int x, int y) { return int(std::lround(ref.rgba[4 * (std::size_t(y) * w + x) + 3] * 1000)); };
@@ -214,6 +236,7 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
     EXPECT_GT(multi, 20u);
     EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
     EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+    }
 }
 
 TEST_F(GlTest, vrc_quantized_model_renders_close_to_exact_and_early_termination_only_drops_light) {
@@ -285,6 +308,46 @@ TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_
     EXPECT_GT(rightShadowed, 0.99f * rightLit);  // its own tube does not shadow it (measured: equal)
 }
 
+TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind_another) {
+    // As the soft shadow test: the left tube lies in the right one's shadow for a light from +x.
+    // Hard shadows trace a ray per shaded point against the level-1 representative lines (straight
+    // tubes: their representatives are the tubes' axes), so the shadowed pixels lose all diffuse
+    // and specular light; the right tube has nothing toward the light.
+    const int w = 96, h = 64;
+    const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
+    const StyledLines lines = makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
+                                               {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
+    Camera cam;
+    cam.eye = {0.0f, 0.0f, 2.0f};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 1.0f;
+    Scene scene = vrcScene(w, h, false, 32, false);
+    scene.lighting.direction = {1.0f, 0.0f, 0.0f};
+    const FrameImages lit = render(scene, lines, cam);
+    scene.render.vrc.shadows = true;
+    scene.render.vrc.shadowMode = VrcSpec::ShadowMode::Hard;
+    scene.render.vrc.shadowLevel = 1;
+    const FrameImages shadowed = render(scene, lines, cam);
+    auto sum = [&](const FrameImages& f, float xWorld) {
+        float total = 0;
+        for (int y = h / 4; y < 3 * h / 4; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float px = (float(x) + 0.5f - 0.5f * w) / float(h) * cam.orthoHeight;
+                if (std::abs(px - xWorld) <= 0.06f) total += f.rgba[4 * (std::size_t(y) * w + x)];
+            }
+        return total;
+    };
+    const float leftLit = sum(lit, -0.15f), leftShadowed = sum(shadowed, -0.15f);
+    const float rightLit = sum(lit, 0.15f), rightShadowed = sum(shadowed, 0.15f);
+    std::printf("vrc hard shadows: left tube %.4f -> %.4f, right tube %.4f -> %.4f\n", leftLit, leftShadowed, rightLit,
+                rightShadowed);
+    ASSERT_GT(leftLit, 10.0f);
+    // The lit side of the left tube faces the right tube: most of its diffuse light goes (ambient
+    // stays). 20 % is far from float noise and below the effect.
+    EXPECT_LT(leftShadowed, 0.8f * leftLit);
+    EXPECT_GT(rightShadowed, 0.999f * rightLit);  // nothing toward the light, no self-shadowing
+}
+
 TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
     RandomSceneOptions o;
     o.polylines = 40;
@@ -299,10 +362,13 @@ TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
             b.resolution = 20;
             b.quantization = q;
             b.lod = false;
+            b.dilate = q == 7;  // copies: added to both by the same CPU function (one case suffices)
             const VrcModel cpu = buildVrcModel(lines, b);
             const VrcModel gpu = gl::buildVrcModelGpu(lines, b);
             ASSERT_EQ(gpu.pieceCount(), cpu.pieceCount()) << "q=" << q;
             ASSERT_GT(cpu.pieceCount(), 100u);
+            if (b.dilate) EXPECT_GT(cpu.copies, 0u);
+            EXPECT_EQ(gpu.copies, cpu.copies);
             EXPECT_EQ(gpu.size, cpu.size);
             EXPECT_EQ(gpu.pieceVoxel, cpu.pieceVoxel) << "q=" << q;
             std::size_t headerDiffs = 0, pieceDiffs = 0;

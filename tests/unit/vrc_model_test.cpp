@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -257,6 +258,85 @@ TEST(VrcModel, quantized_pieces_stay_connected_across_voxel_faces) {
         }
     }
     EXPECT_GT(faceEnds, 100u);
+}
+
+TEST(VrcModel, copies_put_each_piece_into_every_voxel_its_tube_reaches) {
+    // Points of each piece's tube (axis points pushed out by the local radius, and points on the
+    // spheres at polyline end vertices) must find, in the voxel holding them, the piece itself or
+    // a copy that decodes to the same world geometry; copies change neither the LoD totals nor
+    // the home pieces. Within one radius of a joint with the next/previous piece (a face end) the
+    // neighbouring piece covers the tube instead (core/vrc_model.h): those samples are left to
+    // the GL tests on straight tubes, where the two coincide.
+    const auto curves = randomCurves(17, 20, 40, 0.06f);
+    const StyledLines lines = makeLines(curves);
+    for (int q : {0, 16}) {
+        VrcBuildOptions o;
+        o.resolution = 64;
+        o.quantization = q;
+        const VrcModel base = buildVrcModel(lines, o);
+        o.dilate = true;
+        const VrcModel m = buildVrcModel(lines, o);
+        ASSERT_GT(m.voxelSize, lines.maxRadius);  // copies reach one voxel out
+        EXPECT_GT(m.copies, 0u);
+        EXPECT_EQ(m.pieceCount(), base.pieceCount() + m.copies);
+        std::size_t homes = 0;
+        for (std::size_t i = 0; i < m.pieceCount(); ++i) homes += !m.piece(i).copy;
+        EXPECT_EQ(homes, base.pieceCount());
+        ASSERT_EQ(m.lod.size(), base.lod.size());
+        EXPECT_EQ(m.lod[0].density, base.lod[0].density);
+        // Header partitions the array, as without copies.
+        std::uint64_t next = 0;
+        for (std::size_t v = 0; v < m.voxelCount(); ++v) {
+            const std::uint32_t count = m.voxels[v].count & kCountMask;
+            if (count == 0) continue;
+            EXPECT_EQ(m.voxels[v].offset, next);
+            for (std::uint32_t k = 0; k < count; ++k) ASSERT_EQ(m.pieceVoxel[m.voxels[v].offset + k], v);
+            next += count;
+        }
+        EXPECT_EQ(next, m.pieceCount());
+
+        std::size_t samples = 0, outside = 0;
+        for (std::size_t i = 0; i < base.pieceCount(); ++i) {
+            const VrcPiece p = base.piece(i);
+            const glm::vec3 axis = p.b - p.a;
+            const glm::vec3 u = glm::normalize(glm::cross(axis + glm::vec3(1e-3f, 2e-3f, 0), glm::vec3(0.3f, 0.5f, 0.8f)));
+            const glm::vec3 w = glm::normalize(glm::cross(axis + glm::vec3(1e-3f, 2e-3f, 0), u));
+            std::vector<glm::vec3> points;
+            const float len = glm::length(axis), rMax = std::max(p.ra, p.rb);
+            const float sLo = p.vertexA ? 0.0f : std::min(rMax / len + 1e-3f, 0.5f);
+            const float sHi = p.vertexB ? 1.0f : std::max(1.0f - rMax / len - 1e-3f, 0.5f);
+            for (int k = 0; k <= 8; ++k)
+                for (int j = 0; j < 12; ++j) {
+                    const float s = sLo + (sHi - sLo) * float(k) / 8.0f, phi = 6.2831853f * float(j) / 12.0f;
+                    const float r = 0.999f * (p.ra + (p.rb - p.ra) * s);
+                    points.push_back(p.a + s * axis + r * (std::cos(phi) * u + std::sin(phi) * w));
+                }
+            for (const glm::vec3& d : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, -1, 0),
+                                       glm::vec3(0, 0, 1), glm::vec3(0, 0, -1)}) {
+                if (p.vertexA) points.push_back(p.a + 0.999f * p.ra * d);
+                if (p.vertexB) points.push_back(p.b + 0.999f * p.rb * d);
+            }
+            for (const glm::vec3& x : points) {
+                const glm::ivec3 v = glm::ivec3(glm::floor((x - m.origin) / m.voxelSize));
+                if (glm::any(glm::lessThan(v, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(v, m.size))) {
+                    ++outside;
+                    continue;
+                }
+                ++samples;
+                const VrcVoxel& h = m.voxels[m.index(v.x, v.y, v.z)];
+                bool found = false;
+                for (std::uint32_t k = 0; k < (h.count & kCountMask) && !found; ++k) {
+                    const VrcPiece c = m.piece(h.offset + k);
+                    found = c.line == p.line && c.a == p.a && c.b == p.b && c.ra == p.ra && c.rb == p.rb;
+                }
+                ASSERT_TRUE(found) << "q=" << q << " piece " << i << " point in voxel " << v.x << "," << v.y << "," << v.z;
+            }
+        }
+        EXPECT_GT(samples, 50000u);
+        EXPECT_EQ(outside, 0u);  // the grid keeps half a voxel of margin around the tubes
+        std::printf("q=%d: %zu pieces + %zu copies (%.2fx)\n", q, base.pieceCount(), m.copies,
+                    double(m.pieceCount()) / double(base.pieceCount()));
+    }
 }
 
 TEST(VrcModel, build_is_identical_for_any_thread_count) {
