@@ -29,14 +29,14 @@ std::uint32_t frontPart(const LineFragmentW& f) {
 // Applies the normalisation by part j's fragment count and builds the compressed rows from
 // (key, weight) records sorted by key, each key once.
 SparseMatrixD buildNormalised(const std::vector<std::pair<std::uint64_t, double>>& sorted,
-                              const std::vector<double>& counts, std::size_t n) {
+                              const std::vector<double>& counts, std::size_t n, bool clampToOne) {
     SparseMatrixD h{Eigen::Index(n), Eigen::Index(n)};
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(sorted.size());
     for (const auto& [key, value] : sorted) {
         const std::uint32_t i = std::uint32_t(key >> 32), j = std::uint32_t(key & 0xFFFFFFFFu);
         if (counts[j] <= 0) continue;
-        triplets.emplace_back(int(i), int(j), std::min(1.0, value / counts[j]));
+        triplets.emplace_back(int(i), int(j), clampToOne ? std::min(1.0, value / counts[j]) : value / counts[j]);
     }
     h.setFromTriplets(triplets.begin(), triplets.end());
     return h;
@@ -68,7 +68,7 @@ std::vector<double> partFragmentCounts(const FragmentLists& lists, std::size_t p
     return counts;
 }
 
-SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t partCount) {
+SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t partCount, bool clampToOne) {
     std::map<std::pair<std::uint32_t, std::uint32_t>, double> sum;
     for (std::size_t p = 0; p < lists.pixelCount(); ++p) {
         for (std::uint64_t a = lists.offsets[p]; a < lists.offsets[p + 1]; ++a) {
@@ -84,7 +84,7 @@ SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t p
     }
     std::vector<std::pair<std::uint64_t, double>> sorted;
     for (const auto& [ij, value] : sum) sorted.emplace_back(pairKey(ij.first, ij.second), value);
-    return buildNormalised(sorted, partFragmentCounts(lists, partCount), partCount);
+    return buildNormalised(sorted, partFragmentCounts(lists, partCount), partCount, clampToOne);
 }
 
 namespace {

@@ -36,8 +36,9 @@ struct FragmentLists {
 std::vector<double> partFragmentCounts(const FragmentLists& lists, std::size_t partCount);
 
 // Algorithm 1 as written: one loop over pixels and pairs, accumulating into an ordered map. The
-// reference the fast path is tested against. Lists must be sorted front to back.
-SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t partCount);
+// reference the fast path is tested against. Lists must be sorted front to back. Without
+// `clampToOne` the normalised sums are kept as they are (core/fragment_occlusion.h's matrix).
+SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t partCount, bool clampToOne = true);
 
 // The same sum, parallel over image tiles with oneTBB: each thread sums a tile's pairs in a dense
 // matrix over the tile's parts and flushes them as (i, j, sum) records; a counting sort on i and

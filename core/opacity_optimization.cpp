@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/fragment_occlusion.h"
 
 namespace tc {
 
@@ -183,14 +184,7 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
       m_firstPart(parts.firstPart) {
     TC_CHECK_OP(h.rows(), ==, m_n);
     TC_CHECK_OP(h.cols(), ==, m_n);
-    TC_CHECK_OP(Eigen::Index(g.size()), ==, m_n);
-    // (I - G)^lambda with 0^0 = 1: lambda = 0 leaves the unimportant-first weighting out.
-    m_rowScale.resize(m_n);
-    m_colScale2.resize(m_n);
-    for (Eigen::Index i = 0; i < m_n; ++i) {
-        m_rowScale[i] = std::pow(std::max(0.0, 1.0 - g[i]), weights.lambda);
-        m_colScale2[i] = g[i] * g[i];
-    }
+    setScales(g);
     // H in single precision, zeros and entries below dropBelow left out.
     m_h.resize(m_n, m_n);
     m_h.reserve(h.nonZeros());
@@ -221,8 +215,7 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
     }
     m_rowChunks.push_back(int(m_n));
 
-    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2,
-    // diag(D^T D)_i = the number of neighbours of part i on its polyline.
+    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2.
     Eigen::VectorXd rowSum = Eigen::VectorXd::Zero(m_n), colSum = Eigen::VectorXd::Zero(m_n);
     for (Eigen::Index i = 0; i < m_n; ++i)
         for (SparseMatrixF::InnerIterator it(m_h, i); it; ++it) {
@@ -230,6 +223,42 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
             rowSum[i] += v2 * m_colScale2[it.index()];
             colSum[it.index()] += v2 * m_colScale2[i];
         }
+    setDiagonal(rowSum, colSum, parts);
+}
+
+OpacityEnergy::OpacityEnergy(std::shared_ptr<const FragmentOcclusion> occlusion, const std::vector<double>& g,
+                             const OpacityParts& parts, const OpacityWeights& weights, double squareEstimate)
+    : m_n(Eigen::Index(parts.partCount())),
+      m_weights(weights),
+      m_fragments(std::move(occlusion)),
+      m_partsPerLine(parts.partsPerLine),
+      m_firstPart(parts.firstPart) {
+    TC_CHECK(m_fragments != nullptr);
+    TC_CHECK_OP(Eigen::Index(m_fragments->partCount()), ==, m_n);
+    setScales(g);
+    m_h.resize(m_n, m_n);
+    // The squared sums of diag(Q) estimated from one pass: sum_j h_ij^2 c_j ~= k sum_j h_ij c_j,
+    // k = squareEstimate. Exact when every non-zero h_ij equals k; an upper bound for k = 1 while
+    // h <= 1. Only the preconditioner sees it (measured at 8k parts, docs/performance.md M7).
+    Eigen::VectorXd rowSum, colSum;
+    m_fragments->multiply(&m_colScale2, &rowSum, &m_colScale2, &colSum);
+    setDiagonal(squareEstimate * rowSum, squareEstimate * colSum, parts);
+}
+
+void OpacityEnergy::setScales(const std::vector<double>& g) {
+    TC_CHECK_OP(Eigen::Index(g.size()), ==, m_n);
+    // (I - G)^lambda with 0^0 = 1: lambda = 0 leaves the unimportant-first weighting out.
+    m_rowScale.resize(m_n);
+    m_colScale2.resize(m_n);
+    for (Eigen::Index i = 0; i < m_n; ++i) {
+        m_rowScale[i] = std::pow(std::max(0.0, 1.0 - g[i]), m_weights.lambda);
+        m_colScale2[i] = g[i] * g[i];
+    }
+}
+
+void OpacityEnergy::setDiagonal(const Eigen::VectorXd& rowSum, const Eigen::VectorXd& colSum,
+                                const OpacityParts& parts) {
+    // diag(D^T D)_i = the number of neighbours of part i on its polyline.
     m_diagonal.resize(m_n);
     const int m = parts.partsPerLine;
     for (std::size_t l = 0; l < parts.polylineCount(); ++l)
@@ -237,13 +266,17 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
             const Eigen::Index i = parts.firstPart[l] + k;
             const double r2 = m_rowScale[i] * m_rowScale[i];
             const int neighbours = (k > 0) + (k + 1 < m);
-            m_diagonal[i] =
-                2.0 * (weights.p + weights.q * r2 * rowSum[i] + weights.r * r2 * colSum[i] + weights.s * neighbours);
+            m_diagonal[i] = 2.0 * (m_weights.p + m_weights.q * r2 * rowSum[i] + m_weights.r * r2 * colSum[i] +
+                                   m_weights.s * neighbours);
         }
 }
 
 void OpacityEnergy::multiplyBoth(const Eigen::VectorXd& xg, const Eigen::VectorXd& xs, Eigen::VectorXd* hx,
                                  Eigen::VectorXd* htx) const {
+    if (m_fragments) {
+        m_fragments->multiply(&xg, hx, &xs, htx);
+        return;
+    }
     const int* outer = m_h.outerIndexPtr();
     const int* inner = m_h.innerIndexPtr();
     const float* value = m_h.valuePtr();
@@ -293,7 +326,7 @@ void OpacityEnergy::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
     // Q x = 2(p x + q R H C^2 H^T R x + r R H^T C^2 H R x + s D^T D x).
     y = m_weights.p * x;
     const bool wTerm = m_weights.q != 0, vTerm = m_weights.r != 0;
-    if ((wTerm || vTerm) && m_h.nonZeros() > 0) {
+    if ((wTerm || vTerm) && (m_fragments || m_h.nonZeros() > 0)) {
         const Eigen::VectorXd u = m_rowScale.cwiseProduct(x);
         Eigen::VectorXd hu, htu, a, b;
         multiplyBoth(u, u, vTerm ? &hu : nullptr, wTerm ? &htu : nullptr);
@@ -355,6 +388,7 @@ double OpacityEnergy::energy(const Eigen::VectorXd& a) const {
 }
 
 SparseMatrixD OpacityEnergy::assemble() const {
+    TC_CHECK(!m_fragments);  // H from the fragment lists is never assembled
     Eigen::VectorXd colScale = m_colScale2.cwiseSqrt();
     const SparseMatrixD h = m_h.cast<double>();
     const SparseMatrixD ht = h.transpose();
@@ -491,10 +525,11 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             if (!(x[i] > lo[i] && x[i] < hi[i]) && d[i] != 0) faceSettled = false;
         forceGradientStep = false;
         if (!faceSettled) {
+            if (options.scaledGradientStep) d = d.cwiseProduct(inverseDiagonal);
             q.multiply(d, qd);
             ++result.products;
-            const double curvature = d.dot(qd);
-            projectedSearch(d, qd, curvature > 0 ? d.squaredNorm() / curvature : 1.0, curvature > 0);
+            const double curvature = d.dot(qd), slope = -g.dot(d);  // slope = |d|^2 unscaled
+            projectedSearch(d, qd, curvature > 0 ? slope / curvature : 1.0, curvature > 0);
         }
 
         // 2. Truncated PCG on the face of the box the projected step landed on.
@@ -546,13 +581,17 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         }
         if (!projectedSearch(d, qd, 1.0, true)) forceGradientStep = true;
     }
-    // The residual above uses the running gradient; recompute it from scratch so the reported
-    // value is the true one (rounding accumulates over many updates).
-    q.multiply(x, qx);
-    ++result.products;
-    g = qx + c;
-    result.residual = projectedGradientNorm(g, x, lo, hi);
-    result.converged = result.residual <= options.tolerance;
+    // The residual above uses the running gradient, updated with the exact Q s of every step
+    // (its drift from Q x + c is rounding; tubecast_opacity_bench prints both). A converged solve keeps
+    // it (a product is 1/12 of a warm solve); one that ran out of iterations recomputes it from
+    // scratch, so the value in the warning is the true one.
+    if (!result.converged) {
+        q.multiply(x, qx);
+        ++result.products;
+        g = qx + c;
+        result.residual = projectedGradientNorm(g, x, lo, hi);
+        result.converged = result.residual <= options.tolerance;
+    }
     result.x = std::move(x);
     return result;
 }

@@ -13,6 +13,7 @@
 #include <Eigen/SparseCore>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 namespace tc {
 
 using SparseMatrixD = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+class FragmentOcclusion;  // core/fragment_occlusion.h
 
 // The parts of a line set. Part k of polyline l (k = 0..m-1, m = segments per line) has global
 // index firstPart[l] + k and sits at arc-length fraction t = k / (m - 1) along the polyline. Every
@@ -96,11 +98,20 @@ struct OpacityWeights {
 // polyline's parts directly.
 class OpacityEnergy final : public QpOperator {
 public:
+    // The factor k of the fragment-list constructor's diagonal estimate.
+    static constexpr double kSquareEstimate = 0.25;
+
     // `h` is n x n (h_ij: i occludes j), `g` the importance per part. Entries h_ij < dropBelow are
     // left out (sparsification, render.opacity.drop_below; 0 keeps all): the solution then moves
     // by at most sparsificationBound() from the exact one.
     OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
                   const OpacityWeights& weights, double dropBelow = 0);
+    // H applied from the fragment lists, never assembled (core/fragment_occlusion.h). diag(Q)
+    // needs sums of squared entries of H, which the lists do not give in linear time; the
+    // preconditioner gets the estimate sum_j h_ij^2 c_j ~= kSquareEstimate * sum_j h_ij c_j (see
+    // the constructor). assemble() is not available.
+    OpacityEnergy(std::shared_ptr<const FragmentOcclusion> occlusion, const std::vector<double>& g,
+                  const OpacityParts& parts, const OpacityWeights& weights, double squareEstimate = kSquareEstimate);
 
     Eigen::Index size() const override { return m_n; }
     void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
@@ -114,8 +125,9 @@ public:
     double energy(const Eigen::VectorXd& a) const;
     // Q assembled (for --dump-system and tests); can be far denser than H.
     SparseMatrixD assemble() const;
-    // Non-zeros of H kept, and left out by dropBelow.
+    // Non-zeros of H kept, and left out by dropBelow (0 when H comes from the fragment lists).
     std::size_t nonZeros() const { return std::size_t(m_h.nonZeros()); }
+    bool fromFragments() const { return m_fragments != nullptr; }
     std::size_t droppedNonZeros() const { return m_dropped; }
     const OpacityWeights& weights() const { return m_weights; }
 
@@ -124,6 +136,9 @@ private:
     // hx = H xg and htx = H^T xs in one pass over H (either output may be null).
     void multiplyBoth(const Eigen::VectorXd& xg, const Eigen::VectorXd& xs, Eigen::VectorXd* hx,
                       Eigen::VectorXd* htx) const;
+    // R and C^2 from g; the diagonal from the row and column sums of squares of H C.
+    void setScales(const std::vector<double>& g);
+    void setDiagonal(const Eigen::VectorXd& rowSum, const Eigen::VectorXd& colSum, const OpacityParts& parts);
     // f(i) for every pair (i, i + 1) of adjacent parts of a polyline: the rows of D.
     template <class F>
     void forEachNeighbourPair(F&& f) const {
@@ -134,6 +149,7 @@ private:
     Eigen::Index m_n = 0;
     OpacityWeights m_weights;
     SparseMatrixF m_h;
+    std::shared_ptr<const FragmentOcclusion> m_fragments;  // instead of m_h
     std::size_t m_dropped = 0;
     Eigen::VectorXd m_rowScale, m_colScale2;  // diagonals of R and C^2
     int m_partsPerLine = 1;
@@ -159,6 +175,10 @@ struct QpSolverOptions {
     double tolerance = 1e-6;  // stop when the projected gradient's max norm is at most this
     int maxIterations = 500;  // outer iterations (one gradient projection + one CG subspace step each)
     int maxCgIterations = 50;
+    // The projected gradient step along -diag(Q)^-1 g instead of -g (a diagonal scaling keeps
+    // the projection a descent direction). Off: on the opacity problems at 2k and 8k parts it
+    // saved no products (docs/performance.md M7).
+    bool scaledGradientStep = false;
 };
 
 struct QpResult {

@@ -341,6 +341,16 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     op.maxIterations = o.getInt("max_iterations", op.maxIterations, 1, 1000000);
     op.dropBelow = o.getFloat("drop_below", op.dropBelow, 0.0f, 1.0f);
     op.dumpDir = o.getString("dump_dir", op.dumpDir);
+    {
+        const std::string kind = o.getEnum("occlusion", "auto", {"auto", "assembled", "fragments"});
+        op.occlusion = kind == "assembled"   ? OpacityOptimizationSpec::Occlusion::Assembled
+                       : kind == "fragments" ? OpacityOptimizationSpec::Occlusion::Fragments
+                                             : OpacityOptimizationSpec::Occlusion::Auto;
+        if (op.occlusion == OpacityOptimizationSpec::Occlusion::Fragments && op.dropBelow > 0)
+            o.fail("occlusion", "\"fragments\" never forms h_ij, so render.opacity.drop_below must be 0");
+        if (op.occlusion == OpacityOptimizationSpec::Occlusion::Fragments && !op.dumpDir.empty())
+            o.fail("occlusion", "\"fragments\" never assembles Q, which render.opacity.dump_dir writes");
+    }
     if (o.has("importance")) {
         if (o.raw("importance").is_string()) {
             std::string kind = o.getEnum("importance", "constant", {"constant", "length", "curvature"});

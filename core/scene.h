@@ -161,6 +161,9 @@ struct OpacityOptimizationSpec {
     float tolerance = 1e-4f;  // solver stop: projected-gradient max norm
     int maxIterations = 200;
     float dropBelow = 0;      // sparsification: h_ij below this are left out of the energy
+    // How products with H are formed: H assembled (Algorithm 1's pairs), or straight from the
+    // fragment lists by prefix sums (core/fragment_occlusion.h); auto picks by the pair count.
+    enum class Occlusion { Auto, Assembled, Fragments } occlusion = Occlusion::Auto;
     std::string dumpDir;      // debug: write Q, c, g, bounds and the solution of each frame here
 };
 

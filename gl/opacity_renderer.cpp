@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <iostream>
 #include <limits>
 
 #include "core/error.h"
+#include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
 #include "core/shading.h"
 #include "gl/gpu_timer.h"
@@ -20,20 +22,16 @@ namespace {
 
 constexpr GLuint kVertexPartWBinding = 11;
 constexpr GLuint kListHeadBinding = 12;
-constexpr GLuint kFragmentNodeBinding = 13;
+constexpr GLuint kFragmentDepthBinding = 13;
 constexpr GLuint kFragmentNextBinding = 14;
 constexpr GLuint kFragmentCounterBinding = 15;
+constexpr GLuint kFragmentPartBinding = 17;
+constexpr GLuint kFragmentFracBinding = 18;
+constexpr GLuint kFragmentColorBinding = 19;
 
-constexpr std::size_t kNodeBytes = 16 + 4;  // FragmentNode + next link (shaders/opacity_common.glsl)
+// Depth, part, fraction, colour and the next link, each a 4-byte array (shaders/opacity_common.glsl).
+constexpr std::size_t kNodeBytes = 5 * 4;
 constexpr std::uint32_t kEndOfList = 0xFFFFFFFFu;
-
-struct GpuNode {
-    float depth;
-    std::uint32_t part;
-    float frac;
-    std::uint32_t color;
-};
-static_assert(sizeof(GpuNode) == 16);
 
 struct PartW {
     float localW;
@@ -108,7 +106,7 @@ void OpacityRenderer::resize(int width, int height) {
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
     std::size_t capacity = (m_memoryBudgetBytes - fixed) / kNodeBytes;
-    if (maxBlock > 0) capacity = std::min(capacity, std::size_t(maxBlock) / sizeof(GpuNode));
+    if (maxBlock > 0) capacity = std::min(capacity, std::size_t(maxBlock) / 4);
     capacity = std::min<std::size_t>(capacity, 0xFFFFFFF0u);  // node indices are 32-bit
     m_capacity = capacity;
     m_width = width;
@@ -118,19 +116,26 @@ void OpacityRenderer::resize(int width, int height) {
     m_heads = makeBuffer(pixels * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);  // sorted links come back
     const GLuint end = kEndOfList;
     glClearNamedBufferData(m_heads.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
-    m_nodes = makeBuffer(capacity * sizeof(GpuNode));
+    m_nodeDepth = makeBuffer(capacity * 4);
+    m_nodePart = makeBuffer(capacity * 4);
+    m_nodeFrac = makeBuffer(capacity * 4);
+    m_nodeColor = makeBuffer(capacity * 4);
     m_next = makeBuffer(capacity * sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint64_t stored,
                                                 std::vector<std::uint32_t>& colors) {
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    std::vector<std::uint32_t> heads(pixels), next(stored);
-    std::vector<GpuNode> nodes(stored);
+    std::vector<std::uint32_t> heads(pixels), next(stored), part(stored), color(stored);
+    std::vector<float> depth(stored), frac(stored);
     glGetNamedBufferSubData(m_heads.id(), 0, GLsizeiptr(pixels * sizeof(GLuint)), heads.data());
     if (stored) {
-        glGetNamedBufferSubData(m_nodes.id(), 0, GLsizeiptr(stored * sizeof(GpuNode)), nodes.data());
-        glGetNamedBufferSubData(m_next.id(), 0, GLsizeiptr(stored * sizeof(GLuint)), next.data());
+        const GLsizeiptr bytes = GLsizeiptr(stored * 4);
+        glGetNamedBufferSubData(m_nodeDepth.id(), 0, bytes, depth.data());
+        glGetNamedBufferSubData(m_nodePart.id(), 0, bytes, part.data());
+        glGetNamedBufferSubData(m_nodeFrac.id(), 0, bytes, frac.data());
+        glGetNamedBufferSubData(m_nodeColor.id(), 0, bytes, color.data());
+        glGetNamedBufferSubData(m_next.id(), 0, bytes, next.data());
     }
     // Linked lists -> compressed rows: count per pixel, prefix sum, fill; both walks in parallel.
     FragmentLists lists;
@@ -150,23 +155,30 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
     for (std::size_t p = 0; p < pixels; ++p) lists.offsets[p + 1] += lists.offsets[p];
     lists.fragments.resize(lists.offsets[pixels]);
     colors.resize(lists.fragments.size());
-    std::vector<std::uint32_t> nodeOf(lists.fragments.size());
     // Each list sorted front to back once, here: Algorithm 1 needs the order, and the resolve
-    // blends the same sorted lists (on the CPU, see render()).
+    // blends the same sorted lists (on the CPU, see render()). Sorted as (depth, part, node)
+    // keys gathered into a per-range buffer: no indirect loads in the comparisons, and equal
+    // depths stay in a fixed order.
+    struct SortEntry {
+        std::uint64_t key;  // monotone depth bits << 32 | part
+        std::uint32_t node;
+        bool operator<(const SortEntry& o) const { return key != o.key ? key < o.key : node < o.node; }
+    };
+    auto depthKey = [](float d) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &d, sizeof bits);
+        return bits & 0x80000000u ? ~bits : bits | 0x80000000u;  // IEEE order as unsigned order
+    };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 1024), [&](const auto& range) {
+        std::vector<SortEntry> entries;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
-            const std::uint64_t begin = lists.offsets[p];
-            std::uint64_t k = begin;
-            walk(heads[p], [&](std::uint32_t n) { nodeOf[k++] = n; });
-            std::sort(nodeOf.begin() + std::ptrdiff_t(begin), nodeOf.begin() + std::ptrdiff_t(k),
-                      [&](std::uint32_t a, std::uint32_t b) {
-                          if (nodes[a].depth != nodes[b].depth) return nodes[a].depth < nodes[b].depth;
-                          return nodes[a].part != nodes[b].part ? nodes[a].part < nodes[b].part : a < b;
-                      });
-            for (std::uint64_t i = begin; i < k; ++i) {
-                const GpuNode& node = nodes[nodeOf[i]];
-                lists.fragments[i] = {node.depth, node.part, node.frac};
-                colors[i] = node.color;
+            entries.clear();
+            walk(heads[p], [&](std::uint32_t n) { entries.push_back({std::uint64_t(depthKey(depth[n])) << 32 | part[n], n}); });
+            std::sort(entries.begin(), entries.end());
+            std::uint64_t i = lists.offsets[p];
+            for (const SortEntry& e : entries) {
+                lists.fragments[i] = {depth[e.node], part[e.node], frac[e.node]};
+                colors[i++] = color[e.node];
             }
         }
     });
@@ -213,7 +225,10 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     glUseProgram(b);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexPartWBinding, m_vertexPartW.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListHeadBinding, m_heads.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNodeBinding, m_nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentDepthBinding, m_nodeDepth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentPartBinding, m_nodePart.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentFracBinding, m_nodeFrac.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentColorBinding, m_nodeColor.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNextBinding, m_next.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCounterBinding, m_counter.id());
     m_geometry.draw(0, m_geometry.segmentCount());
@@ -238,25 +253,49 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
         readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity), colors);
     timer.end();
     m_stats.readbackMs = msSince(t0);
+    // Assembled H costs Algorithm 1's pairs once plus ~its non-zeros per product; from the lists
+    // a product costs the fragments. Auto assembles while the pairs are at most
+    // kAssembleBelowPairsPerFragment per fragment: at 8k parts (9.8 per fragment) assembling took
+    // 13x the list operator's set-up and saved 15 ms of CPU per product, ~0.35 s per solve
+    // (docs/performance.md M7); at 2k parts (2.4) the two are about even.
+    std::uint64_t pairs = 0;
+    for (std::size_t p = 0; p < lists.pixelCount(); ++p) {
+        const std::uint64_t length = lists.offsets[p + 1] - lists.offsets[p];
+        pairs += length > 1 ? length * (length - 1) / 2 : 0;
+    }
+    m_stats.pairs = pairs;
+    constexpr double kAssembleBelowPairsPerFragment = 4;
+    using Occlusion = OpacityOptimizationSpec::Occlusion;
+    const bool fromFragments =
+        m_spec.occlusion == Occlusion::Fragments ||
+        (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
+         double(pairs) > kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, lists.fragments.size())));
+    m_stats.fromFragments = fromFragments;
+    const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
     t0 = std::chrono::steady_clock::now();
     timer.begin("h_assembly");
-    SparseMatrixD h = occlusionMatrix(lists, n);
-    m_stats.hNonZeros = std::size_t(h.nonZeros());
-    timer.setItems(m_stats.hNonZeros);
+    SparseMatrixD h;
+    std::optional<OpacityEnergy> energy;
+    if (fromFragments) {
+        energy.emplace(std::make_shared<const FragmentOcclusion>(lists, n), m_importance, m_parts, weights);
+    } else {
+        h = occlusionMatrix(lists, n);
+        m_stats.hNonZeros = std::size_t(h.nonZeros());
+    }
+    timer.setItems(fromFragments ? lists.fragments.size() : m_stats.hNonZeros);
     timer.end();
     m_stats.assemblyMs = msSince(t0);
 
     // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
     t0 = std::chrono::steady_clock::now();
     timer.begin("solve");
-    const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
-    OpacityEnergy energy(h, m_importance, m_parts, weights, m_spec.dropBelow);
+    if (!energy) energy.emplace(h, m_importance, m_parts, weights, m_spec.dropBelow);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
     if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
     QpSolverOptions options;
     options.tolerance = m_spec.tolerance;
     options.maxIterations = m_spec.maxIterations;
-    m_stats.solve = solveBoundedQp(energy, energy.linearTerm(), lo, hi, m_solution, options);
+    m_stats.solve = solveBoundedQp(*energy, energy->linearTerm(), lo, hi, m_solution, options);
     m_solution = m_stats.solve.x;
     if (m_displayed.size() != Eigen::Index(n))
         m_displayed = m_solution;
@@ -269,7 +308,9 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
         std::cerr << "warning: opacity optimization, frame " << setup.frame << ": solver stopped after "
                   << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
                   << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
-    if (m_sink) m_sink({setup.frame, &energy, &h, &m_parts, &m_importance, &m_solution, &m_displayed, &m_stats.solve});
+    if (m_sink)
+        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &h, &lists, &m_parts, &m_importance, &m_solution,
+                &m_displayed, &m_stats.solve});
 
     // 4. Resolve: blend each sorted list front to back with the displayed opacities, on the CPU.
     // The lists are in memory and sorted already; a full-screen GL pass walking them was what
@@ -339,6 +380,9 @@ nlohmann::json OpacityRenderer::describe() const {
          "gradient projection + CG on the free set, diag + smoothness (tridiagonal) preconditioner, "
          "warm started"},
         {"h_assembly", "CPU, oneTBB (Algorithm 1 on read-back sorted per-pixel lists, image tiles)"},
+        {"occlusion", m_spec.occlusion == OpacityOptimizationSpec::Occlusion::Assembled   ? "assembled"
+                      : m_spec.occlusion == OpacityOptimizationSpec::Occlusion::Fragments ? "fragments"
+                                                                                          : "auto"},
         {"drop_below", m_spec.dropBelow},
         {"resolve", "CPU (the sorted lists blended front to back)"},
         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};

@@ -7,15 +7,18 @@
 // transparent_fragment.glsl) go into per-pixel linked lists (A-buffer: global atomic counter,
 // per-pixel heads; shaders/opacity_build.frag) with depth, colour and the blending parameter w;
 // (2) "lists_sort" + "h_assembly": the lists are read back and sorted per pixel on the CPU
-// (oneTBB), and Algorithm 1 builds h_ij from them (core/occlusion_matrix.h); (3) "solve": the
+// (oneTBB), and Algorithm 1 builds h_ij from them (core/occlusion_matrix.h), or, with
+// render.opacity.occlusion "fragments", products with H are formed from the lists by prefix sums
+// and H is never built (core/fragment_occlusion.h); (3) "solve": the
 // bounded QP, warm started from the previous frame's solution (h_ij below
 // render.opacity.drop_below left out); displayed opacities move toward the solution by
 // render.opacity.blend per frame; (4) "resolve": the same sorted lists are blended front to back
 // on the CPU with alpha = style alpha * lerp(a_i, a_i+1, frac(w)).
 //
-// Memory: the node pool gets what render.memory_budget_mb leaves after the colour target and the
-// heads (and at most GL_MAX_SHADER_STORAGE_BLOCK_SIZE); fragments past it are counted, not
-// stored, and reported (lastStats().overflow, stderr): never a crash.
+// Memory: the node pool (20 bytes a node in five 4-byte arrays) gets what render.memory_budget_mb
+// leaves after the colour target and the heads, and at most GL_MAX_SHADER_STORAGE_BLOCK_SIZE / 4
+// nodes (33.5 M on llvmpipe); fragments past it are counted, not stored, and reported
+// (lastStats().overflow, stderr): never a crash.
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
@@ -35,7 +38,9 @@ namespace tc::gl {
 struct OpacitySystem {
     int frame = 0;
     const OpacityEnergy* energy = nullptr;  // Q (factored; assemble() for the matrix) and c
-    const SparseMatrixD* h = nullptr;       // the occlusion penalties the energy was built from
+    const SparseMatrixD* h = nullptr;       // the occlusion penalties the energy was built from (null
+                                            // when H came from the fragment lists)
+    const FragmentLists* lists = nullptr;   // sorted front to back
     const OpacityParts* parts = nullptr;
     const std::vector<double>* importance = nullptr;
     const Eigen::VectorXd* solution = nullptr;
@@ -50,7 +55,9 @@ public:
         std::uint64_t fragments = 0;  // produced by the lines (stored + overflow)
         std::uint64_t overflow = 0;   // not stored: the node pool was full
         std::size_t capacity = 0;     // nodes that fit
-        std::size_t hNonZeros = 0;
+        std::size_t hNonZeros = 0;    // 0 when H came from the fragment lists
+        bool fromFragments = false;   // products with H from the lists (render.opacity.occlusion)
+        std::uint64_t pairs = 0;      // pairs Algorithm 1 visits (sum over pixels of L(L-1)/2)
         QpResult solve;  // iterations, products, residual (solve.x: the solution)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
     };
@@ -91,7 +98,7 @@ private:
     FrameStats m_stats;
 
     Program m_buildProgram;
-    Buffer m_vertexPartW, m_heads, m_nodes, m_next, m_counter;
+    Buffer m_vertexPartW, m_heads, m_nodeDepth, m_nodePart, m_nodeFrac, m_nodeColor, m_next, m_counter;
     int m_width = 0, m_height = 0;
     std::size_t m_capacity = 0;
     Texture m_color;

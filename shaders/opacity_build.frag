@@ -30,6 +30,9 @@ void main() {
 
     uint node = atomicAdd(fragmentCount, 1u);
     if (node >= uCapacity) discard;  // counted, not stored: the renderer reports the overflow
-    fragmentNode[node] = FragmentNode(f.depth, vertexPartW[v0].firstPart + uint(whole), frac, packUnorm4x8(f.color));
+    fragmentDepth[node] = f.depth;
+    fragmentPart[node] = vertexPartW[v0].firstPart + uint(whole);
+    fragmentFrac[node] = frac;
+    fragmentColor[node] = packUnorm4x8(f.color);
     fragmentNext[node] = atomicExchange(listHead[pixelIndex(ivec2(gl_FragCoord.xy))], node);
 }

@@ -6,6 +6,15 @@
 //
 //   tubecast_opacity_bench [--parts 2000,8000,32000,128000] [--points 64] [--size 1280x1024] [--reps 3]
 //                          [--drop 0.001,0.01]   (sparsification thresholds to compare with the exact solve)
+//                          [--occlusion auto|assembled|fragments|both] [--square-estimate K]
+//                          [--scaled-gradient 0|1]   (QpSolverOptions::scaledGradientStep of the timed solves)
+//                          [--frames F] [--step-deg D]  (F - 1 more frames of an orbit about z, D degrees apart:
+//                                                        the renderer's own warm start from the previous frame)
+//
+// --occlusion both: the frame runs with H assembled, then the same lists give the fragment-list
+// operator (core/fragment_occlusion.h), and both are timed on the same system (A/B in one run);
+// the row "fragments" then reports its own build time in the h column and the largest opacity
+// difference to the assembled solve. "frame opt ms" = lists + read-back/sort + h + the solve.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -16,6 +25,7 @@
 #include <vector>
 
 #include "core/animation.h"
+#include "core/fragment_occlusion.h"
 #include "core/generators.h"
 #include "core/opacity_optimization.h"
 #include "core/scene.h"
@@ -50,7 +60,11 @@ int main(int argc, char** argv) {
     std::vector<int> parts{2000, 8000, 32000, 128000};
     int points = 64, width = 1280, height = 1024, reps = 3;
     std::vector<double> drops;  // sparsification thresholds to compare against the exact solve
-    std::string dropRows;
+    std::string dropRows, frameRows, occlusion = "auto";
+    double squareEstimate = tc::OpacityEnergy::kSquareEstimate;
+    int scaledGradient = -1;  // -1: the solver's default
+    int frames = 1;
+    float stepDeg = 2.0f;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--parts"))
             parts = parseList(argv[i + 1]);
@@ -65,6 +79,16 @@ int main(int argc, char** argv) {
                 if (end == p) break;
                 p = *end == ',' ? end + 1 : end;
             }
+        else if (!std::strcmp(argv[i], "--occlusion"))
+            occlusion = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--frames"))
+            frames = std::max(1, std::atoi(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--step-deg"))
+            stepDeg = float(std::atof(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--scaled-gradient"))
+            scaledGradient = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--square-estimate"))
+            squareEstimate = std::atof(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--size"))
             std::sscanf(argv[i + 1], "%dx%d", &width, &height);
     }
@@ -76,9 +100,10 @@ int main(int argc, char** argv) {
             "(p=1 q=1 r=0.1 s=0.3 lambda=1), importance length, tolerance 1e-4\n\n",
             context.info().renderer.c_str(), width, height, points);
         std::printf(
-            "| parts | fragments | H nnz | lists ms | readback+sort ms | h ms | solve ms (it, products, residual) | "
-            "resolve ms | ms/product | cold solves/s (products) | warm solves/s (it, products) |\n"
-            "|---|---|---|---|---|---|---|---|---|---|---|\n");
+            "| parts | occlusion | fragments | pairs | H nnz | lists ms | readback+sort ms | h ms | solve ms (it, "
+            "products, residual) | resolve ms | frame opt ms (lists+sort+h+solve) | ms/product (CPU ms) | cold solves/s "
+            "(products, cg) | warm solves/s (it, products) |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (int n : parts) {
             tc::Scene scene;
             scene.dataset.generate = "tornado";
@@ -86,6 +111,10 @@ int main(int argc, char** argv) {
             scene.image.height = height;
             scene.render.transparency = tc::Transparency::OpacityOptimization;
             scene.render.opacity.importance = tc::OpacityOptimizationSpec::Importance::Length;
+            using Occlusion = tc::OpacityOptimizationSpec::Occlusion;
+            scene.render.opacity.occlusion = occlusion == "assembled" || occlusion == "both" ? Occlusion::Assembled
+                                             : occlusion == "fragments"                      ? Occlusion::Fragments
+                                                                                             : Occlusion::Auto;
             scene.style.radius.constant = 0.002f;
             scene.style.opacity.constant = 1.0f;
             scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
@@ -98,39 +127,74 @@ int main(int argc, char** argv) {
             scene.camera.camera.up = {0.0f, 0.0f, 1.0f};
             const tc::Camera cam = tc::fitCamera(scene.camera, styled.bounds, float(width) / float(height));
 
-            double coldRate = 0, warmRate = 0, productMs = 0;
-            tc::QpResult cold, warm;
-            auto sink = [&](const tc::gl::OpacitySystem& sys) {
-                const tc::OpacityEnergy& e = *sys.energy;
+            // Products, cold and warm solves of one energy.
+            struct Rates {
+                double productMs = 0, productCpuMs = 0, coldRate = 0, warmRate = 0;
+                tc::QpResult cold, warm;
+            };
+            auto measure = [&](const tc::OpacityEnergy& e, const Eigen::VectorXd& warmStart, const char* label) {
+                Rates out;
                 const Eigen::Index size = e.size();
                 const Eigen::VectorXd lo = Eigen::VectorXd::Zero(size), hi = Eigen::VectorXd::Ones(size);
                 Eigen::VectorXd y;
                 auto t0 = Clock::now();
                 const std::clock_t cpu0 = std::clock();
                 for (int r = 0; r < 10; ++r) e.multiply(hi, y);
-                productMs = msSince(t0) / 10;
+                out.productMs = msSince(t0) / 10;
                 // Process CPU time (all threads): less sensitive to other processes than wall time.
-                std::fprintf(stderr, "  product: %.2f ms wall, %.2f ms CPU (all threads)\n", productMs,
-                             100.0 * double(std::clock() - cpu0) / CLOCKS_PER_SEC);
+                out.productCpuMs = 100.0 * double(std::clock() - cpu0) / CLOCKS_PER_SEC;
                 tc::QpSolverOptions opt;
                 opt.tolerance = 1e-4;
+                if (scaledGradient >= 0) opt.scaledGradientStep = scaledGradient != 0;
                 t0 = Clock::now();
-                for (int r = 0; r < reps; ++r) cold = tc::solveBoundedQp(e, e.linearTerm(), lo, hi, hi, opt);
-                coldRate = reps / (msSince(t0) / 1000.0);
+                for (int r = 0; r < reps; ++r) out.cold = tc::solveBoundedQp(e, e.linearTerm(), lo, hi, hi, opt);
+                out.coldRate = reps / (msSince(t0) / 1000.0);
                 // The next frame of an animation: the linear term moves by 1 %.
                 const Eigen::VectorXd c = 1.01 * e.linearTerm();
                 t0 = Clock::now();
-                for (int r = 0; r < reps; ++r) warm = tc::solveBoundedQp(e, c, lo, hi, *sys.solution, opt);
-                warmRate = reps / (msSince(t0) / 1000.0);
+                for (int r = 0; r < reps; ++r) out.warm = tc::solveBoundedQp(e, c, lo, hi, warmStart, opt);
+                out.warmRate = reps / (msSince(t0) / 1000.0);
+                // The reported residual is the solver's running gradient; the true one for comparison.
+                Eigen::VectorXd gc, gw;
+                e.multiply(out.cold.x, gc);
+                e.multiply(out.warm.x, gw);
+                gc += e.linearTerm();
+                gw += c;
                 std::fprintf(stderr,
-                             "  cold: it %d, cg %d, search products %d; warm: it %d, cg %d, search products %d\n",
-                             cold.iterations, cold.cgIterations, cold.searchProducts, warm.iterations,
-                             warm.cgIterations, warm.searchProducts);
+                             "  %s: product %.2f ms wall, %.2f ms CPU; cold: it %d, cg %d, search products %d, "
+                             "residual %.2e (true %.2e); warm: it %d, cg %d, search products %d, residual %.2e "
+                             "(true %.2e)\n",
+                             label, out.productMs, out.productCpuMs, out.cold.iterations, out.cold.cgIterations,
+                             out.cold.searchProducts, out.cold.residual, tc::projectedGradientNorm(gc, out.cold.x, lo, hi),
+                             out.warm.iterations, out.warm.cgIterations, out.warm.searchProducts, out.warm.residual,
+                             tc::projectedGradientNorm(gw, out.warm.x, lo, hi));
+                return out;
+            };
+            Rates primary, frag;
+            double fragBuildMs = 0, fragMaxDiff = 0;
+            std::size_t atOne = 0;
+            auto sink = [&](const tc::gl::OpacitySystem& sys) {
+                if (sys.frame > 0) return;  // later frames: the renderer's own timings only
+                const tc::OpacityEnergy& e = *sys.energy;
+                const Eigen::Index size = e.size();
+                const Eigen::VectorXd lo = Eigen::VectorXd::Zero(size), hi = Eigen::VectorXd::Ones(size);
+                primary = measure(e, *sys.solution, e.fromFragments() ? "fragments" : "assembled");
+                if (occlusion == "both" && sys.h) {
+                    for (Eigen::Index i = 0; i < sys.h->nonZeros(); ++i) atOne += sys.h->valuePtr()[i] >= 1.0;
+                    const auto t0 = Clock::now();
+                    const tc::OpacityEnergy ef(std::make_shared<const tc::FragmentOcclusion>(*sys.lists, size_t(size)),
+                                               *sys.importance, *sys.parts, e.weights(), squareEstimate);
+                    fragBuildMs = msSince(t0);
+                    frag = measure(ef, *sys.solution, "fragments");
+                    fragMaxDiff = (frag.cold.x - primary.cold.x).lpNorm<Eigen::Infinity>();
+                }
+                const Eigen::VectorXd c = 1.01 * e.linearTerm();
                 if (drops.empty()) return;
                 // Sparsification: the exact and the sparsified minimisers solved tightly, compared.
                 tc::QpSolverOptions tight;
                 tight.tolerance = 1e-9;
                 tight.maxIterations = 2000;
+                if (!sys.h) return;
                 const tc::QpResult exact = tc::solveBoundedQp(e, e.linearTerm(), lo, hi, *sys.solution, tight);
                 auto objective = [&](const Eigen::VectorXd& a) {
                     Eigen::VectorXd qa;
@@ -144,11 +208,13 @@ int main(int argc, char** argv) {
                     const tc::SparsificationBound bound = tc::sparsificationBound(e, es, approx.x, 2.0 * e.weights().p);
                     auto t1 = Clock::now();
                     tc::QpResult c0;
-                    for (int r = 0; r < reps; ++r) c0 = tc::solveBoundedQp(es, es.linearTerm(), lo, hi, hi, opt);
+                    tc::QpSolverOptions opt4;
+                    opt4.tolerance = 1e-4;
+                    for (int r = 0; r < reps; ++r) c0 = tc::solveBoundedQp(es, es.linearTerm(), lo, hi, hi, opt4);
                     const double cRate = reps / (msSince(t1) / 1000.0);
                     t1 = Clock::now();
                     tc::QpResult w0;
-                    for (int r = 0; r < reps; ++r) w0 = tc::solveBoundedQp(es, c, lo, hi, approx.x, opt);
+                    for (int r = 0; r < reps; ++r) w0 = tc::solveBoundedQp(es, c, lo, hi, approx.x, opt4);
                     const double wRate = reps / (msSince(t1) / 1000.0);
                     char line[512];
                     std::snprintf(
@@ -171,14 +237,59 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "  %zu parts, stage %s: gpu %.1f ms, cpu %.1f ms\n", std::size_t(n),
                              st.stage.c_str(), st.gpuMs, st.cpuMs);
             const auto& s = renderer->lastStats();
-            std::printf(
-                "| %zu | %llu%s | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.2f | %.1f (%d) | %.1f (%d, "
-                "%d) |\n",
-                s.parts, (unsigned long long)s.fragments, s.overflow ? " (overflow)" : "", s.hNonZeros, s.listsMs,
-                s.readbackMs, s.assemblyMs, s.solveMs, s.solve.iterations, s.solve.products, s.solve.residual,
-                s.resolveMs, productMs, coldRate, cold.products, warmRate, warm.iterations, warm.products);
+            auto row = [&](const char* mode, double hMs, double solveMs, const Rates& r, const char* extra) {
+                std::printf(
+                    "| %zu | %s%s | %llu%s | %llu | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f | %.2f "
+                    "(%.2f) | %.1f (%d, %d) | %.1f (%d, %d) |\n",
+                    s.parts, mode, extra, (unsigned long long)s.fragments, s.overflow ? " (overflow)" : "",
+                    (unsigned long long)s.pairs, s.hNonZeros, s.listsMs, s.readbackMs, hMs, solveMs,
+                    s.solve.iterations, s.solve.products, s.solve.residual, s.resolveMs,
+                    s.listsMs + s.readbackMs + hMs + solveMs, r.productMs, r.productCpuMs, r.coldRate,
+                    r.cold.products, r.cold.cgIterations, r.warmRate, r.warm.iterations, r.warm.products);
+            };
+            row(s.fromFragments ? "fragments" : "assembled", s.assemblyMs, s.solveMs, primary, "");
+            if (occlusion == "both") {
+                char extra[160];
+                std::snprintf(extra, sizeof extra,
+                              " (same lists; solve = its cold solve, it/products of the frame's; max |a - "
+                              "a_assembled| %.1e, %zu entries of H at 1)",
+                              fragMaxDiff, atOne);
+                row("fragments", fragBuildMs, 1000.0 / frag.coldRate, frag, extra);
+            }
+            if (s.overflow)
+                std::fprintf(stderr, "  %zu parts: %llu of %llu fragments over the pool of %zu nodes\n", s.parts,
+                             (unsigned long long)s.overflow, (unsigned long long)s.fragments, s.capacity);
             std::fflush(stdout);
+            // The next frames of an orbit: the renderer warm starts from the previous solution.
+            tc::AnimationSpec orbit;
+            orbit.type = tc::AnimationSpec::Type::Orbit;
+            orbit.axis = {0.0f, 0.0f, 1.0f};
+            orbit.frames = 1;
+            orbit.degrees = stepDeg;
+            for (int f = 1; f < frames; ++f) {
+                tc::gl::StageTimer t;
+                renderer->render(tc::gl::FrameSetup{f, tc::cameraAtFrame(orbit, cam, f), width, height}, images, t);
+                t.collect();
+                const auto& sf = renderer->lastStats();
+                frameRows += "| " + std::to_string(sf.parts) + " | " + std::to_string(f) + " | " +
+                             (sf.fromFragments ? "fragments" : "assembled") + " | " + std::to_string(sf.fragments) +
+                             (sf.overflow ? " (overflow)" : "");
+                char line[400];
+                std::snprintf(line, sizeof line,
+                              " | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f |\n", sf.listsMs,
+                              sf.readbackMs, sf.assemblyMs, sf.solveMs, sf.solve.iterations, sf.solve.products,
+                              sf.solve.residual, sf.resolveMs,
+                              sf.listsMs + sf.readbackMs + sf.assemblyMs + sf.solveMs);
+                frameRows += line;
+            }
         }
+        if (!frameRows.empty())
+            std::printf(
+                "\nNext frames of an orbit about z, %.1f degrees apart, warm started from the previous frame:\n\n"
+                "| parts | frame | occlusion | fragments | lists ms | readback+sort ms | h ms | solve ms (it, "
+                "products, residual) | resolve ms | frame opt ms (lists+sort+h+solve) |\n"
+                "|---|---|---|---|---|---|---|---|---|---|\n%s",
+                double(stepDeg), frameRows.c_str());
         if (!drops.empty())
             std::printf(
                 "\nSparsification (h_ij < drop left out), compared with the exact minimiser (both solved to 1e-9):\n\n"

@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/scene.h"
 #include "gl/gpu_timer.h"
 #include "gl/technique.h"
@@ -139,6 +142,32 @@ TEST_F(GlTest, opacity_optimization_blends_toward_the_new_solution_across_frames
     Frame s2 = renderOnce(*moving, 2);
     EXPECT_LE((s2.opacity - 0.5 * (s1.opacity + s2.stats.solve.x)).lpNorm<Eigen::Infinity>(), 1e-12);
     EXPECT_LT(s2.opacity[1], s1.opacity[1]);
+}
+
+TEST_F(GlTest, opacity_optimization_from_the_fragment_lists_matches_the_assembled_occlusion_matrix) {
+    // render.opacity.occlusion "fragments" forms the products with H from the lists by prefix
+    // sums (core/fragment_occlusion.h); no h_ij reaches 1 here, so the clamp of the assembled
+    // path changes nothing and the opacities and images agree.
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(400.0f);
+    scene.render.opacity.occlusion = OpacityOptimizationSpec::Occlusion::Assembled;
+    auto assembled = gl::OpacityRenderer::create(scene, lines);
+    Frame a = renderOnce(*assembled);
+    scene.render.opacity.occlusion = OpacityOptimizationSpec::Occlusion::Fragments;
+    auto fromLists = gl::OpacityRenderer::create(scene, lines);
+    Frame b = renderOnce(*fromLists);
+    EXPECT_FALSE(a.stats.fromFragments);
+    EXPECT_TRUE(b.stats.fromFragments);
+    EXPECT_EQ(b.stats.hNonZeros, 0u);
+    EXPECT_EQ(a.stats.pairs, b.stats.pairs);
+    EXPECT_GT(b.stats.pairs, 0u);
+    ASSERT_TRUE(b.stats.solve.converged);
+    EXPECT_LT(a.opacity.minCoeff(), 0.5);
+    EXPECT_LE((a.opacity - b.opacity).lpNorm<Eigen::Infinity>(), 1e-5);
+    float diff = 0;
+    for (std::size_t k = 0; k < a.images.rgba.size(); ++k)
+        diff = std::max(diff, std::abs(a.images.rgba[k] - b.images.rgba[k]));
+    EXPECT_LE(diff, 1e-4f);
 }
 
 TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_failing) {

@@ -344,6 +344,16 @@ TEST(OpacityScene, keys_parse_with_defaults_and_located_errors) {
                   .find("scene.json: render.opacity.importance.range: expected [a, b] with a < b"),
               std::string::npos);
     EXPECT_NE(renderError(R"({"opacity": {"blend": 0}})").find("render.opacity.blend"), std::string::npos);
+    EXPECT_EQ(parseRender(R"({"opacity": {}})").render.opacity.occlusion, OpacityOptimizationSpec::Occlusion::Auto);
+    EXPECT_EQ(parseRender(R"({"opacity": {"occlusion": "fragments"}})").render.opacity.occlusion,
+              OpacityOptimizationSpec::Occlusion::Fragments);
+    EXPECT_EQ(parseRender(R"({"opacity": {"occlusion": "assembled", "drop_below": 0.01}})").render.opacity.occlusion,
+              OpacityOptimizationSpec::Occlusion::Assembled);
+    EXPECT_NE(renderError(R"({"opacity": {"occlusion": "fragments", "drop_below": 0.01}})")
+                  .find("scene.json: render.opacity.occlusion: \"fragments\" never forms h_ij"),
+              std::string::npos);
+    EXPECT_NE(renderError(R"({"opacity": {"occlusion": "lists"}})").find("render.opacity.occlusion"),
+              std::string::npos);
     EXPECT_NE(renderError(R"({"opacity": {"segment_per_line": 4}})").find("render.opacity.segment_per_line"),
               std::string::npos);
     EXPECT_NE(renderError(R"({"technique": "raytraced", "transparency": "opacity_optimization"})")

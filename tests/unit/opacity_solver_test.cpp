@@ -161,6 +161,42 @@ TEST(OpacitySolver, satisfies_kkt_on_larger_sparse_problems_with_many_active_bou
     EXPECT_NEAR(res.residual, projectedGradientNorm(g, res.x, lo, hi), 1e-9);
 }
 
+TEST(OpacitySolver, diagonally_scaled_gradient_step_reaches_the_same_minimiser) {
+    // QpSolverOptions::scaledGradientStep: tiny problems against the exhaustive active set, and
+    // a larger badly scaled one (diagonal spread over three decades) against the KKT conditions.
+    std::mt19937 rng(17);
+    QpSolverOptions opt;
+    opt.tolerance = 1e-11;
+    opt.scaledGradientStep = true;
+    for (int trial = 0; trial < 20; ++trial) {
+        const int n = 2 + trial % 6;
+        SparseMatrixD q = randomSpd(n, 0.3, 0.1, rng);
+        Eigen::VectorXd c = randomVector(n, -3, 3, rng);
+        Eigen::VectorXd lo = randomVector(n, -1.0, 0.0, rng), hi = randomVector(n, 0.1, 1.0, rng);
+        SparseQpOperator op(q);
+        QpResult res = solveBoundedQp(op, c, lo, hi, Eigen::VectorXd::Zero(n), opt);
+        ASSERT_TRUE(res.converged) << "trial " << trial << " residual " << res.residual;
+        const Eigen::VectorXd ref = exhaustiveActiveSet(Eigen::MatrixXd(q), c, lo, hi);
+        EXPECT_LE((res.x - ref).lpNorm<Eigen::Infinity>(), 1e-8) << "trial " << trial;
+    }
+    const int n = 400;
+    SparseMatrixD b = randomSpd(n, 0.01, 0.2, rng);
+    Eigen::VectorXd scale(n);
+    for (int i = 0; i < n; ++i) scale[i] = std::pow(10.0, 1.5 * double(i % 3));
+    const SparseMatrixD q = SparseMatrixD(scale.cwiseSqrt().asDiagonal() * b * scale.cwiseSqrt().asDiagonal());
+    const Eigen::VectorXd c = randomVector(n, -4, 4, rng).cwiseProduct(scale);
+    const Eigen::VectorXd lo = Eigen::VectorXd::Zero(n), hi = Eigen::VectorXd::Ones(n);
+    opt.tolerance = 1e-7;
+    SparseQpOperator op(q);
+    const QpResult scaled = solveBoundedQp(op, c, lo, hi, hi, opt);
+    opt.scaledGradientStep = false;
+    const QpResult plain = solveBoundedQp(op, c, lo, hi, hi, opt);
+    ASSERT_TRUE(scaled.converged) << scaled.residual;
+    ASSERT_TRUE(plain.converged) << plain.residual;
+    EXPECT_LE(projectedGradientNorm(Eigen::MatrixXd(q) * scaled.x + c, scaled.x, lo, hi), 1e-7);
+    EXPECT_LE((scaled.x - plain.x).lpNorm<Eigen::Infinity>(), 1e-6);
+}
+
 TEST(OpacitySolver, warm_start_needs_fewer_products_than_cold_start_on_a_perturbed_problem) {
     std::mt19937 rng(5);
     const int n = 2000;

@@ -1,0 +1,65 @@
+#pragma once
+// The occlusion matrix H of opacity optimization applied straight from the sorted per-pixel
+// fragment lists, without assembling it (render.opacity.occlusion "fragments").
+//
+// Algorithm 1 (Günther, Rössl & Theisel 2013) sums, for every pixel, over the pairs (A, B) with A
+// in front of B. Assembling H costs the number of such pairs (quadratic in the list length: 22 M
+// pairs for 2.3 M fragments at 8k parts, and H has up to that many non-zeros), but a product
+// with H only needs sums over them, and those are prefix sums along each list:
+//
+//   (S^T y)_j = sum over fragments B: w_j(B) * (sum of y_round(A.w) over the A in front of B)
+//   (S x)_i   = sum over fragments A with round(A.w) = i:
+//                   sum over the B behind A of w0(B) x_floor(B.w) + w1(B) x_floor(B.w)+1
+//
+// with S the unnormalised pair sum including i == j. Algorithm 1 skips i == j (a part does not
+// occlude itself), which removes exactly S's diagonal d, so with N = diag(1 / fragment count)
+//
+//   H = (S - diag(d)) N,   H x = S (N x) - d . (N x),   H^T y = N (S^T y - d . y).
+//
+// d is summed once, in time linear in the fragments. A product then costs one pass over the
+// fragments (8 bytes each) instead of one over H's non-zeros (8 bytes each, several times as
+// many on dense views), and H is never built. This is Algorithm 1's sum without the clamp to 1
+// of core/occlusion_matrix.h (an entry exceeds 1 only when part i has two fragments in front of
+// most of part j's: the joints of its segments); occlusionMatrixReference(lists, n, false) is the
+// same matrix assembled. What it cannot give cheaply is a sum of squared entries (diag(Q)): see
+// OpacityEnergy's constructor for the estimate the preconditioner uses. No OpenGL.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "core/occlusion_matrix.h"
+
+namespace tc {
+
+class FragmentOcclusion {
+public:
+    // `lists` sorted front to back (FragmentLists::sortByDepth); only lists of two or more
+    // fragments are kept (a single fragment occludes nothing and is occluded by nothing).
+    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount);
+
+    std::size_t partCount() const { return m_n; }
+    // Fragments kept (in lists of at least two) and the pairs Algorithm 1 would visit.
+    std::size_t fragmentCount() const { return m_fragments.size(); }
+    std::uint64_t pairCount() const { return m_pairs; }
+
+    // hx = H x and htx = H^T y in one pass over the fragments (either output may be null; its
+    // input is then not read). Parallel over lists (oneTBB); the scattered sums go to per-chunk
+    // buffers that are added afterwards (no atomics).
+    void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y,
+                  Eigen::VectorXd* htx) const;
+
+private:
+    struct Fragment {
+        std::uint32_t part;  // floor(w)
+        float frac;          // w - floor(w)
+    };
+    std::size_t m_n = 0;
+    std::vector<Fragment> m_fragments;        // lists of >= 2 fragments, front to back
+    std::vector<std::uint64_t> m_listStart;   // list k = [m_listStart[k], m_listStart[k + 1])
+    std::vector<std::size_t> m_chunks;        // list ranges of about equal fragments
+    Eigen::VectorXd m_inverseCount;           // 1 / part j's fragment count, 0 for parts never seen
+    Eigen::VectorXd m_self;                   // d: S's diagonal (pairs of a part with itself)
+    std::uint64_t m_pairs = 0;
+};
+
+}  // namespace tc
