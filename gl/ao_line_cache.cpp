@@ -9,22 +9,10 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/tangent_frame.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
-namespace {
-
-// coneTangentFrame of shaders/cone_tracing.glsl (Duff et al. 2017).
-void tangentFrame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
-    const float a = -1.0f / (s + n.z);
-    const float c = n.x * n.y * a;
-    t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
-    b = glm::vec3(c, s + n.y * n.y * a, -n.y);
-}
-
-}  // namespace
-
 AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& lines, float spacing,
                                const std::function<void(GLuint)>& setAoUniforms) {
     TC_CHECK(spacing > 0.0f);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/mip_pyramid.h"
 #include "gl/gl_api.h"
 #include "gl/shader_library.h"
 
@@ -22,12 +23,7 @@ void setIvec3(GLuint program, const char* name, const glm::ivec3& v) {
 
 }  // namespace
 
-int DensityVolume::fullLevels(const glm::ivec3& size) {
-    int longest = std::max({size.x, size.y, size.z});
-    int levels = 1;
-    while (longest >>= 1) ++levels;
-    return levels;
-}
+int DensityVolume::fullLevels(const glm::ivec3& size) { return fullMipLevels(size); }
 
 glm::ivec3 DensityVolume::levelSize(int level) const {
     return glm::max(glm::ivec3(1), m_size >> level);

@@ -9,49 +9,13 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/tangent_frame.h"
 
 namespace tc::rt {
 namespace {
 
 constexpr float kConeOcclusionCutoff = 0.99f;
 constexpr int kConeMaxSteps = 128;
-constexpr int kMaxTaps = 4;
-
-// axisTaps of shaders/density_mip.comp: coarse texel i of nc covers fine texels [i nf / nc,
-// (i + 1) nf / nc) with exact integer overlaps.
-struct Taps {
-    int first = 0, count = 0;
-    float weights[kMaxTaps] = {0, 0, 0, 0};
-};
-Taps axisTaps(int i, int nf, int nc) {
-    Taps taps;
-    const int lo = i * nf, hi = lo + nf;
-    taps.first = lo / nc;
-    const int last = (hi + nc - 1) / nc;
-    taps.count = std::min(last - taps.first, kMaxTaps);
-    for (int k = 0; k < kMaxTaps; ++k) {
-        const int j = taps.first + k;
-        const int overlap = std::min(hi, (j + 1) * nc) - std::max(lo, j * nc);
-        taps.weights[k] = k < taps.count ? float(overlap) / float(nf) : 0.0f;
-    }
-    return taps;
-}
-
-int fullLevels(const glm::ivec3& size) {
-    int longest = std::max({size.x, size.y, size.z});
-    int levels = 1;
-    while (longest >>= 1) ++levels;
-    return levels;
-}
-
-// Duff et al. 2017 (coneTangentFrame).
-void coneTangentFrame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
-    const float a = -1.0f / (s + n.z);
-    const float c = n.x * n.y * a;
-    t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
-    b = glm::vec3(c, s + n.y * n.y * a, -n.y);
-}
 
 float coneDensity(const DensityPyramid& v, glm::vec3 p, float lod) {
     const glm::vec3 uvw = (p - v.origin()) / (v.voxelSize() * glm::vec3(v.size()));
@@ -152,79 +116,8 @@ ConeOwnTube coneOwnTube(const glm::vec4& a, const glm::vec4& b, float alphaA, fl
     return own;
 }
 
-DensityPyramid::DensityPyramid(DensityGrid grid) : m_origin(grid.origin), m_voxelSize(grid.voxelSize) {
-    const int levels = fullLevels(grid.size);
-    m_sizes.push_back(grid.size);
-    m_levels.push_back(std::move(grid.density));
-    for (int l = 0; l + 1 < levels; ++l) {
-        const glm::ivec3 nf = m_sizes.back();
-        const glm::ivec3 nc = glm::max(glm::ivec3(1), nf / 2);
-        std::vector<float> coarse(std::size_t(nc.x) * nc.y * nc.z);
-        const std::vector<float>& fine = m_levels.back();
-        tbb::parallel_for(tbb::blocked_range<int>(0, nc.z), [&](const tbb::blocked_range<int>& zs) {
-            for (int z = zs.begin(); z != zs.end(); ++z)
-                for (int y = 0; y < nc.y; ++y)
-                    for (int x = 0; x < nc.x; ++x) {
-                        const Taps tx = axisTaps(x, nf.x, nc.x), ty = axisTaps(y, nf.y, nc.y),
-                                   tz = axisTaps(z, nf.z, nc.z);
-                        // The shader's summation order (z, y, x), same float results for even sizes.
-                        float sum = 0.0f;
-                        for (int k = 0; k < tz.count; ++k) {
-                            float plane = 0.0f;
-                            for (int j = 0; j < ty.count; ++j) {
-                                float row = 0.0f;
-                                for (int i = 0; i < tx.count; ++i)
-                                    row += tx.weights[i] *
-                                           fine[(std::size_t(tz.first + k) * nf.y + std::size_t(ty.first + j)) * nf.x +
-                                                std::size_t(tx.first + i)];
-                                plane += ty.weights[j] * row;
-                            }
-                            sum += tz.weights[k] * plane;
-                        }
-                        coarse[(std::size_t(z) * nc.y + std::size_t(y)) * nc.x + std::size_t(x)] = sum;
-                    }
-        });
-        m_sizes.push_back(nc);
-        m_levels.push_back(std::move(coarse));
-    }
-}
-
-float DensityPyramid::texel(int level, int x, int y, int z) const {
-    const glm::ivec3 s = m_sizes[std::size_t(level)];
-    if (x < 0 || y < 0 || z < 0 || x >= s.x || y >= s.y || z >= s.z) return 0.0f;
-    return m_levels[std::size_t(level)][(std::size_t(z) * s.y + std::size_t(y)) * s.x + std::size_t(x)];
-}
-
-float DensityPyramid::sampleLevel(const glm::vec3& uvw, int level) const {
-    const glm::vec3 c = uvw * glm::vec3(m_sizes[std::size_t(level)]) - 0.5f;
-    const glm::vec3 base = glm::floor(c);
-    const glm::vec3 f = c - base;
-    const glm::ivec3 i0(base);
-    float result = 0.0f;
-    for (int corner = 0; corner < 8; ++corner) {
-        const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-        const float w = (dx ? f.x : 1.0f - f.x) * (dy ? f.y : 1.0f - f.y) * (dz ? f.z : 1.0f - f.z);
-        if (w != 0.0f) result += w * texel(level, i0.x + dx, i0.y + dy, i0.z + dz);
-    }
-    return result;
-}
-
-float DensityPyramid::textureLod(const glm::vec3& uvw, float lod) const {
-    const float maxLevel = float(levels() - 1);
-    if (!(lod > 0.0f)) return sampleLevel(uvw, 0);  // magnification: GL_LINEAR on the base level
-    lod = std::min(lod, maxLevel);
-    const int l0 = int(std::floor(lod));
-    const int l1 = std::min(l0 + 1, levels() - 1);
-    const float f = lod - float(l0);
-    const float a = sampleLevel(uvw, l0);
-    return f > 0.0f && l1 != l0 ? a + f * (sampleLevel(uvw, l1) - a) : a;
-}
-
-std::size_t DensityPyramid::bytes() const {
-    std::size_t b = 0;
-    for (const auto& l : m_levels) b += l.size() * sizeof(float);
-    return b;
-}
+DensityPyramid::DensityPyramid(DensityGrid grid)
+    : m_mip(grid.size, std::move(grid.density)), m_origin(grid.origin), m_voxelSize(grid.voxelSize) {}
 
 float coneTracedOcclusion(const DensityPyramid& volume, const ConeTracingParams& prm, glm::vec3 position,
                           glm::vec3 normal, const ConeOwnTube& own) {
@@ -236,7 +129,7 @@ float coneTracedOcclusion(const DensityPyramid& volume, const ConeTracingParams&
         tangent = glm::normalize(along);
         bitangent = glm::cross(n, tangent);
     } else {
-        coneTangentFrame(n, tangent, bitangent);
+        tangentFrame(n, tangent, bitangent);
     }
     const float tanHalfAperture = std::tan(0.5f * prm.apertureRad);
     const bool central = prm.cones == 1 || prm.cones >= 6;

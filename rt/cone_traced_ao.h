@@ -12,6 +12,7 @@
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/voxel_density.h"
+#include "core/mip_pyramid.h"
 #include "rt/ao_estimator.h"
 
 namespace tc::rt {
@@ -22,22 +23,21 @@ class DensityPyramid {
 public:
     explicit DensityPyramid(DensityGrid grid);
 
-    int levels() const { return int(m_levels.size()); }
-    glm::ivec3 levelSize(int level) const { return m_sizes[std::size_t(level)]; }
-    const glm::ivec3& size() const { return m_sizes[0]; }
+    int levels() const { return m_mip.levels(); }
+    glm::ivec3 levelSize(int level) const { return m_mip.levelSize(level); }
+    const glm::ivec3& size() const { return m_mip.size(); }
     const glm::vec3& origin() const { return m_origin; }
     float voxelSize() const { return m_voxelSize; }
     // GL textureLod(sampler3D, uvw, lod) with the filters above; uvw in [0, 1]^3 over the grid.
-    float textureLod(const glm::vec3& uvw, float lod) const;
+    float textureLod(const glm::vec3& uvw, float lod) const { return m_mip.textureLod(uvw, lod); }
     // One level, trilinear between texel centres, 0 outside (the border colour).
-    float sampleLevel(const glm::vec3& uvw, int level) const;
+    float sampleLevel(const glm::vec3& uvw, int level) const { return m_mip.sampleLevel(uvw, level); }
     // Texel (x, y, z) of `level`, 0 outside the level (the border colour).
-    float texel(int level, int x, int y, int z) const;
-    std::size_t bytes() const;
+    float texel(int level, int x, int y, int z) const { return m_mip.texel(level, x, y, z); }
+    std::size_t bytes() const { return m_mip.bytes(); }
 
 private:
-    std::vector<std::vector<float>> m_levels;
-    std::vector<glm::ivec3> m_sizes;
+    MipPyramid<float> m_mip;
     glm::vec3 m_origin{0.0f};
     float m_voxelSize = 1.0f;
 };

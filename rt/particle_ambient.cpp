@@ -12,48 +12,10 @@
 
 #include "core/camera.h"
 #include "core/sphere_glyph.h"
+#include "core/tangent_frame.h"
 
 namespace tc::rt {
 namespace {
-
-constexpr int kMaxTaps = 4;
-
-// axisTaps of shaders/density_mip.comp (see rt/cone_traced_ao.cpp): coarse texel i of nc covers
-// fine texels [i nf / nc, (i + 1) nf / nc) with exact integer overlaps.
-struct Taps {
-    int first = 0, count = 0;
-    float weights[kMaxTaps] = {0, 0, 0, 0};
-};
-Taps axisTaps(int i, int nf, int nc) {
-    Taps taps;
-    const int lo = i * nf, hi = lo + nf;
-    taps.first = lo / nc;
-    const int last = (hi + nc - 1) / nc;
-    taps.count = std::min(last - taps.first, kMaxTaps);
-    for (int k = 0; k < kMaxTaps; ++k) {
-        const int j = taps.first + k;
-        const int overlap = std::min(hi, (j + 1) * nc) - std::max(lo, j * nc);
-        taps.weights[k] = k < taps.count ? float(overlap) / float(nf) : 0.0f;
-    }
-    return taps;
-}
-
-// gl::DensityVolume::fullLevels.
-int fullLevels(const glm::ivec3& size) {
-    int longest = std::max({size.x, size.y, size.z});
-    int levels = 1;
-    while (longest >>= 1) ++levels;
-    return levels;
-}
-
-// Duff et al. 2017 (coneTangentFrame of shaders/cone_tracing.glsl).
-void tangentFrame(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
-    const float a = -1.0f / (s + n.z);
-    const float c = n.x * n.y * a;
-    t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
-    b = glm::vec3(c, s + n.y * n.y * a, -n.y);
-}
 
 // GLSL packUnorm4x8 / unpackUnorm4x8 (other names: glm has its own, found by ADL).
 std::uint32_t packUnorm8x4(const glm::vec4& v) {
@@ -146,77 +108,8 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles)
                                   float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
     });
     acc = {};
-    m_sizes.push_back(size);
-    m_levels.push_back(std::move(level0));
-
     // shaders/density_mip.comp with MIP_RGBA (same taps and summation order).
-    const int levels = fullLevels(size);
-    for (int l = 0; l + 1 < levels; ++l) {
-        const glm::ivec3 nf = m_sizes.back();
-        const glm::ivec3 nc = glm::max(glm::ivec3(1), nf / 2);
-        std::vector<glm::vec4> coarse(std::size_t(nc.x) * nc.y * nc.z);
-        const std::vector<glm::vec4>& fine = m_levels.back();
-        tbb::parallel_for(tbb::blocked_range<int>(0, nc.z), [&](const tbb::blocked_range<int>& zs) {
-            for (int z = zs.begin(); z != zs.end(); ++z)
-                for (int y = 0; y < nc.y; ++y)
-                    for (int x = 0; x < nc.x; ++x) {
-                        const Taps tx = axisTaps(x, nf.x, nc.x), ty = axisTaps(y, nf.y, nc.y),
-                                   tz = axisTaps(z, nf.z, nc.z);
-                        glm::vec4 sum(0.0f);
-                        for (int k = 0; k < tz.count; ++k) {
-                            glm::vec4 plane(0.0f);
-                            for (int j = 0; j < ty.count; ++j) {
-                                glm::vec4 row(0.0f);
-                                for (int i = 0; i < tx.count; ++i)
-                                    row += tx.weights[i] *
-                                           fine[(std::size_t(tz.first + k) * nf.y + std::size_t(ty.first + j)) * nf.x +
-                                                std::size_t(tx.first + i)];
-                                plane += ty.weights[j] * row;
-                            }
-                            sum += tz.weights[k] * plane;
-                        }
-                        coarse[(std::size_t(z) * nc.y + std::size_t(y)) * nc.x + std::size_t(x)] = sum;
-                    }
-        });
-        m_sizes.push_back(nc);
-        m_levels.push_back(std::move(coarse));
-    }
-}
-
-glm::vec4 SphereVolume::fetch(int level, int x, int y, int z) const {
-    const glm::ivec3 s = m_sizes[std::size_t(level)];
-    if (x < 0 || y < 0 || z < 0 || x >= s.x || y >= s.y || z >= s.z) return glm::vec4(0.0f);
-    return m_levels[std::size_t(level)][(std::size_t(z) * s.y + std::size_t(y)) * s.x + std::size_t(x)];
-}
-
-glm::vec4 SphereVolume::sampleLevel(const glm::vec3& uvw, int level) const {
-    const glm::vec3 c = uvw * glm::vec3(m_sizes[std::size_t(level)]) - 0.5f;
-    const glm::vec3 base = glm::floor(c);
-    const glm::vec3 f = c - base;
-    const glm::ivec3 i0(base);
-    glm::vec4 result(0.0f);
-    for (int corner = 0; corner < 8; ++corner) {
-        const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-        const float w = (dx ? f.x : 1.0f - f.x) * (dy ? f.y : 1.0f - f.y) * (dz ? f.z : 1.0f - f.z);
-        if (w != 0.0f) result += w * fetch(level, i0.x + dx, i0.y + dy, i0.z + dz);
-    }
-    return result;
-}
-
-glm::vec4 SphereVolume::textureLod(const glm::vec3& uvw, float lod) const {
-    if (!(lod > 0.0f)) return sampleLevel(uvw, 0);  // magnification: GL_LINEAR on the base level
-    lod = std::min(lod, float(levels() - 1));
-    const int l0 = int(std::floor(lod));
-    const int l1 = std::min(l0 + 1, levels() - 1);
-    const float f = lod - float(l0);
-    const glm::vec4 a = sampleLevel(uvw, l0);
-    return f > 0.0f && l1 != l0 ? a + f * (sampleLevel(uvw, l1) - a) : a;
-}
-
-std::size_t SphereVolume::bytes() const {
-    std::size_t b = 0;
-    for (const auto& l : m_levels) b += l.size() * sizeof(glm::vec4);
-    return b;
+    m_mip = MipPyramid<glm::vec4>(size, std::move(level0));
 }
 
 // --- ParticleAmbient ---------------------------------------------------------------------------

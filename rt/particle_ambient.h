@@ -26,6 +26,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/mip_pyramid.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
 
@@ -36,21 +37,19 @@ class SphereVolume {
 public:
     SphereVolume(const AoSpec& spec, const StyledParticles& particles);
 
-    int levels() const { return int(m_levels.size()); }
-    const glm::ivec3& size() const { return m_sizes[0]; }
-    glm::ivec3 levelSize(int level) const { return m_sizes[std::size_t(level)]; }
+    int levels() const { return m_mip.levels(); }
+    const glm::ivec3& size() const { return m_mip.size(); }
+    glm::ivec3 levelSize(int level) const { return m_mip.levelSize(level); }
     const glm::vec3& origin() const { return m_origin; }
     float voxelSize() const { return m_voxelSize; }
     // Level `level`, texel (x, y, z), x fastest; (0, 0, 0, 0) outside (the border colour).
-    glm::vec4 fetch(int level, int x, int y, int z) const;
+    glm::vec4 fetch(int level, int x, int y, int z) const { return m_mip.texel(level, x, y, z); }
     // GL textureLod on a GL_LINEAR_MIPMAP_LINEAR RGBA 3D texture with CLAMP_TO_BORDER (border 0).
-    glm::vec4 textureLod(const glm::vec3& uvw, float lod) const;
-    std::size_t bytes() const;
+    glm::vec4 textureLod(const glm::vec3& uvw, float lod) const { return m_mip.textureLod(uvw, lod); }
+    std::size_t bytes() const { return m_mip.bytes(); }
 
 private:
-    glm::vec4 sampleLevel(const glm::vec3& uvw, int level) const;
-    std::vector<std::vector<glm::vec4>> m_levels;
-    std::vector<glm::ivec3> m_sizes;
+    MipPyramid<glm::vec4> m_mip;
     glm::vec3 m_origin{0.0f};
     float m_voxelSize = 1.0f;
 };
