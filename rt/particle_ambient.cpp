@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/sphere_glyph.h"
 #include "core/tangent_frame.h"
+#include "rt/ray_traced_ao.h"
 
 namespace tc::rt {
 namespace {
@@ -28,13 +29,6 @@ glm::vec4 unpackUnorm8x4(std::uint32_t v) {
     return glm::vec4(float(v & 0xFFu), float((v >> 8) & 0xFFu), float((v >> 16) & 0xFFu), float(v >> 24)) / 255.0f;
 }
 
-// PCG hash (Jarzynski & Olano 2020), as rt/ray_traced_ao.cpp.
-std::uint32_t pcgHash(std::uint32_t v) {
-    std::uint32_t state = v * 747796405u + 2891336453u;
-    std::uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-float unitFloat(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
 
 const glm::vec3 kFaceNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 
@@ -223,51 +217,25 @@ AmbientTerms ParticleAmbient::cached(std::uint32_t sphere, const glm::vec3& n) c
 }
 
 AmbientTerms ParticleAmbient::rayTraced(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel) const {
-    glm::vec3 t, b;
-    tangentFrame(n, t, b);
     // Off the surface by a small fraction of the radius (as rt/ray_traced_ao.cpp).
     const glm::vec3 origin = p + (1e-3f * std::max(m_particles.maxRadius, 1e-12f) + 1e-6f * glm::length(p)) * n;
     const float P = densityNormalisation(m_spheres.density, m_spheres.innerRadius);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
     const int m = std::max(1, int(std::lround(std::sqrt(double(m_spec.samples)))));
     float blocked = 0.0f;
     glm::vec3 light(0.0f);
-    std::uint32_t seed = pcgHash(pixel);
-    for (int j = 0; j < m; ++j)
-        for (int i = 0; i < m; ++i) {
-            seed = pcgHash(seed);
-            const float u1 = (float(i) + unitFloat(seed)) / float(m);
-            seed = pcgHash(seed);
-            const float u2 = (float(j) + unitFloat(seed)) / float(m);
-            const float r = std::sqrt(u1), phi = glm::two_pi<float>() * u2;
-            const glm::vec3 dir = glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b +
-                                                 std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
-            RTCRayHit rh;
-            rh.ray.org_x = origin.x, rh.ray.org_y = origin.y, rh.ray.org_z = origin.z;
-            rh.ray.dir_x = dir.x, rh.ray.dir_y = dir.y, rh.ray.dir_z = dir.z;
-            rh.ray.tnear = 0.0f;
-            rh.ray.tfar = m_distance;
-            rh.ray.time = 0.0f;
-            rh.ray.mask = 0xFFFFFFFFu;
-            rh.ray.id = 0;
-            rh.ray.flags = 0;
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(m_scene, &context, &rh);
-            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-            const std::uint32_t s = rh.hit.primID;
-            const glm::vec4 cr = m_particles.centerRadius[s];
-            const glm::vec4 col = m_particles.color[s];
-            float a = col.w;
-            if (!m_opaque) {
-                const SphereInterval iv = intersectSphere(Ray{origin, dir}, glm::vec3(cr), cr.w);
-                a = iv.hit ? sphereOpacity(col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, iv, cr.w), P)
-                           : 0.0f;
-            }
-            blocked += a;
-            light += a * glm::clamp(glm::vec3(col), 0.0f, 1.0f);
+    traceHemisphereRays(m_scene, origin, n, pixel, m, m_distance, [&](const RTCRayHit& rh, const glm::vec3& dir) {
+        const std::uint32_t s = rh.hit.primID;
+        const glm::vec4 cr = m_particles.centerRadius[s];
+        const glm::vec4 col = m_particles.color[s];
+        float a = col.w;
+        if (!m_opaque) {
+            const SphereInterval iv = intersectSphere(Ray{origin, dir}, glm::vec3(cr), cr.w);
+            a = iv.hit ? sphereOpacity(col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, iv, cr.w), P)
+                       : 0.0f;
         }
+        blocked += a;
+        light += a * glm::clamp(glm::vec3(col), 0.0f, 1.0f);
+    });
     const float inv = 1.0f / float(m * m);
     return {std::pow(std::max(1.0f - blocked * inv, 0.0f), m_spec.strength), light * inv};
 }
