@@ -124,12 +124,17 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPyramidBinding, m_pyramid.id());
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, kCounterBinding, m_counter.id());
+    // The slices are cut from the segments in view (the order's prefix, gl/segment_order.h); the
+    // rest cannot rasterize in the view the order was sorted for, and is one more slice when the
+    // order is reused for another view (opaque culling re-sorts only after large changes).
     const std::size_t n = geometry.segmentCount();
-    for (int s = 0; s < m_slices; ++s) {
-        const std::size_t first = n * std::size_t(s) / std::size_t(m_slices);
-        const std::size_t end = n * std::size_t(s + 1) / std::size_t(m_slices);
+    const std::size_t inView = order.inViewCount();
+    const bool tail = inView < n && !order.sortedForView(setup);
+    for (int s = 0; s < m_slices + (tail ? 1 : 0); ++s) {
+        const std::size_t first = s < m_slices ? inView * std::size_t(s) / std::size_t(m_slices) : inView;
+        const std::size_t end = s < m_slices ? inView * std::size_t(s + 1) / std::size_t(m_slices) : n;
         if (end == first) continue;
-        if (s > 0) rebuild(source, geometry.farDepth(setup));
+        if (first > 0) rebuild(source, geometry.farDepth(setup));
         order.bind();
         if (billboards) {
             geometry.buildBillboards(billboards, first, end - first);
@@ -156,6 +161,7 @@ nlohmann::json HierarchicalCulling::describe() const {
             {"pyramid", m_target == Target::MaxDepth ? "max view depth" : "min accumulated opacity"},
             {"opacity_threshold", m_threshold},
             {"billboard_test", m_billboards ? "compute pre-pass, per slice" : "where the billboard is built"},
+            {"frustum", "segments outside the view sorted last, not drawn (timings stage \"frustum\")"},
             {"fragment_test", true}};
 }
 

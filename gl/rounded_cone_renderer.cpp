@@ -22,7 +22,7 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
         new RoundedConeRenderer(std::move(geometry), std::move(gbuffer), std::move(culling)));
     if (r->m_culling)
         r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::LargeChange, scene.render.culling,
-                                          lines.bounds.center());
+                                          lines.bounds.center(), /*frustumTest=*/true);
     r->m_lighting = scene.lighting;
     std::vector<std::string> defines;
     if (scene.render.ao.enabled) {
@@ -45,7 +45,7 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
         m_shaded = makeFramebuffer({&m_color, &m_aoFactor}, nullptr, "shading target");
     }
     if (m_culling) {
-        m_order->update(m_geometry, setup.camera, timer);
+        m_order->update(m_geometry, setup, timer);
         m_gbuffer.render(m_geometry, setup, timer, &*m_culling, &*m_order);
     } else {
         m_geometry.computeBillboards(setup, timer);

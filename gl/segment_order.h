@@ -7,6 +7,12 @@
 // change re-sorts (ResortPolicy::EveryChange). Opaque rendering with culling only uses the order
 // to find occluders early — any order gives the same image — so, as in the paper, it re-sorts
 // only after a large camera change (ResortPolicy::LargeChange, render.culling.resort_*).
+//
+// With a frustum test (depth slices of render.culling), segments whose bounding sphere lies
+// outside the view frustum of the sort's camera (core/frustum.h) get the largest key: the first
+// inViewCount() segments of the order are the ones in view, front to back, and the rest cannot
+// rasterize a fragment in that view, so the slices are cut from what is in view and the rest is
+// not drawn (drawn as one more slice when the order is reused for another view).
 #include <cstddef>
 #include <optional>
 
@@ -16,6 +22,7 @@
 #include "gl/objects.h"
 #include "gl/radix_sort.h"
 #include "gl/sort_keys.h"
+#include "gl/technique.h"
 
 namespace tc::gl {
 
@@ -26,11 +33,19 @@ public:
     enum class ResortPolicy { EveryChange, LargeChange };
 
     // `centre`: the point the LargeChange angle is measured around (the data's centre).
-    static SegmentOrder create(ResortPolicy policy, const CullingSpec& culling, const glm::vec3& centre);
+    // `frustumTest`: sort what lies outside the view last and count it (see above).
+    static SegmentOrder create(ResortPolicy policy, const CullingSpec& culling, const glm::vec3& centre,
+                               bool frustumTest = false);
 
-    // Sorts for `camera` as stage "sort" of `timer` if the policy asks for it; returns whether
-    // it did. The first call always sorts.
-    bool update(const LineGeometry& geometry, const Camera& camera, StageTimer& timer);
+    // Sorts for setup.camera as stage "sort" of `timer` if the policy asks for it; returns whether
+    // it did. The first call always sorts. With the frustum test, stage "frustum" follows (items:
+    // segments outside the view; its time is the wait for the key pass's count).
+    bool update(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer);
+    // Segments in view of the last sort's camera (all without the frustum test): the order's prefix.
+    std::size_t inViewCount() const { return m_inView; }
+    // Whether the last sort was for exactly this camera and full image size, so that segments
+    // behind inViewCount() are outside this view.
+    bool sortedForView(const FrameSetup& setup) const;
     // Binds the draw order to binding 5 (kDrawOrderBinding).
     void bind() const;
     const Buffer& drawOrder() const { return m_drawOrder; }
@@ -38,6 +53,8 @@ public:
     std::size_t sortsPerformed() const { return m_sorts; }
     // Whether `camera` is far enough from the camera of the last sort to sort again.
     bool needsSort(const Camera& camera) const;
+    // Pixels the frustum grows by on every side (sample jitter is at most half a pixel).
+    static constexpr float kFrustumMarginPixels = 2.0f;
 
 private:
     SegmentOrder(SegmentSortKeys keys, RadixSort sort) : m_keys(std::move(keys)), m_radixSort(std::move(sort)) {}
@@ -50,6 +67,9 @@ private:
     glm::vec3 m_centre{0.0f};
     Buffer m_keyBuffer, m_drawOrder;
     std::optional<Camera> m_sortedFor;
+    glm::ivec2 m_sortedImageSize{0};
+    bool m_frustumTest = false;
+    std::size_t m_inView = 0;
     std::size_t m_sorts = 0;
 };
 

@@ -31,14 +31,20 @@ SegmentSortKeys SegmentSortKeys::create() {
     pass.m_eye = glGetUniformLocation(id, "eye");
     pass.m_forward = glGetUniformLocation(id, "forward");
     pass.m_orthographic = glGetUniformLocation(id, "orthographic");
+    pass.m_frustumTest = glGetUniformLocation(id, "frustumTest");
+    pass.m_frustumPlanes = glGetUniformLocation(id, "frustumPlanes");
+    pass.m_outside = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
     return pass;
 }
 
 void SegmentSortKeys::compute(const Buffer& positionRadius, const Buffer& segmentVertices,
                               std::size_t segments, const glm::vec3& eye, bool orthographic,
-                              const glm::vec3& forward, Buffer& keysOut, Buffer& segmentIdsOut) {
+                              const glm::vec3& forward, Buffer& keysOut, Buffer& segmentIdsOut,
+                              const ViewFrustum* frustum) {
     ensureSize(keysOut, segments * sizeof(GLuint));
     ensureSize(segmentIdsOut, segments * sizeof(GLuint));
+    const GLuint zero = 0;
+    glNamedBufferSubData(m_outside.id(), 0, sizeof zero, &zero);
     if (segments == 0) return;
     TC_CHECK_OP(segments, <=, std::size_t(0xFFFFFFFFu));
 
@@ -47,11 +53,14 @@ void SegmentSortKeys::compute(const Buffer& positionRadius, const Buffer& segmen
     glProgramUniform3f(id, m_eye, eye.x, eye.y, eye.z);
     glProgramUniform3f(id, m_forward, forward.x, forward.y, forward.z);
     glProgramUniform1i(id, m_orthographic, orthographic ? 1 : 0);
+    glProgramUniform1i(id, m_frustumTest, frustum ? 1 : 0);
+    if (frustum) glProgramUniform4fv(id, m_frustumPlanes, 5, &frustum->planes[0].x);
     glUseProgram(id);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positionRadius.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, segmentVertices.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, keysOut.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, segmentIdsOut.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_outside.id());
     // 65535 is the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT; larger inputs take several dispatches.
     constexpr std::size_t kChunk = std::size_t(65535) * kLocalSize;
     for (std::size_t first = 0; first < segments; first += kChunk) {
@@ -61,6 +70,12 @@ void SegmentSortKeys::compute(const Buffer& positionRadius, const Buffer& segmen
     }
     glUseProgram(0);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+std::size_t SegmentSortKeys::outsideCount() const {
+    GLuint outside = 0;
+    glGetNamedBufferSubData(m_outside.id(), 0, sizeof outside, &outside);
+    return outside;
 }
 
 }  // namespace tc::gl

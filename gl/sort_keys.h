@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/frustum.h"
 #include "gl/objects.h"
 
 namespace tc::gl {
@@ -25,14 +26,21 @@ public:
     // segments * 4 bytes is replaced by a new one of exactly that size (never shrunk).
     // GL state: binds shader storage binding points 0..3, leaves no program bound; ends with
     // glMemoryBarrier(shader storage | buffer update) so the sort and readbacks see the keys.
+    // With `frustum`, segments whose bounding sphere it excludes get key 0xFFFFFFFF (behind
+    // every segment in view) and are counted for outsideCount().
     void compute(const Buffer& positionRadius, const Buffer& segmentVertices, std::size_t segments,
                  const glm::vec3& eye, bool orthographic, const glm::vec3& forward, Buffer& keysOut,
-                 Buffer& segmentIdsOut);
+                 Buffer& segmentIdsOut, const ViewFrustum* frustum = nullptr);
+    // Segments the last compute() with a frustum found outside it (0 without one). Waits for the
+    // key pass (a read-back).
+    std::size_t outsideCount() const;
 
 private:
     SegmentSortKeys() = default;
     Program m_program;
+    Buffer m_outside;  // one uint
     GLint m_segmentCount = -1, m_firstSegment = -1, m_eye = -1, m_forward = -1, m_orthographic = -1;
+    GLint m_frustumTest = -1, m_frustumPlanes = -1;
 };
 
 }  // namespace tc::gl

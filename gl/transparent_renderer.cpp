@@ -115,7 +115,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         TC_CHECK(false);
     }
     if (r->m_mode != Transparency::DepthPeeling)
-        r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::EveryChange, rs.culling, lines.bounds.center());
+        r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::EveryChange, rs.culling, lines.bounds.center(),
+                                          /*frustumTest=*/rs.culling.enabled);
     r->m_emptyVao = VertexArray::create();
     // Allocate (and check the memory budget) now, before the frame loop writes any output.
     r->resize(scene.image.width, scene.image.height);
@@ -174,7 +175,7 @@ void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     // needs them all.
     if (!m_culling || m_gbuffer) m_geometry.computeBillboards(setup, timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
-    if (m_order) m_order->update(m_geometry, setup.camera, timer);
+    if (m_order) m_order->update(m_geometry, setup, timer);
 
     glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
     glViewport(0, 0, setup.width, setup.height);

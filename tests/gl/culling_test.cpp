@@ -14,7 +14,9 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <tuple>
 
+#include "core/frustum.h"
 #include "core/scene.h"
 #include "gl/gpu_timer.h"
 #include "gl/hierarchical_culling.h"
@@ -29,6 +31,7 @@ namespace {
 struct Rendered {
     FrameImages images;
     std::uint64_t culled = 0;
+    std::uint64_t outsideView = 0;  // stage "frustum" of the last frame
     bool hadCullingStage = false;
     nlohmann::json description;
 };
@@ -41,11 +44,14 @@ Rendered render(const Scene& scene, const StyledLines& lines, const std::vector<
         r.images = FrameImages{};
         technique->render(gl::FrameSetup{int(i), cameras[i], scene.image.width, scene.image.height}, r.images, timer);
         r.culled = 0;
-        for (const gl::StageTime& t : timer.collect())
+        r.outsideView = 0;
+        for (const gl::StageTime& t : timer.collect()) {
             if (t.stage == "culling") {
                 r.culled = t.items;
                 r.hadCullingStage = true;
             }
+            if (t.stage == "frustum") r.outsideView = t.items;
+        }
     }
     r.description = technique->describe();
     return r;
@@ -279,6 +285,78 @@ TEST_F(GlTest, slicing_without_culling_leaves_the_kbuffer_bit_identical) {
             EXPECT_TRUE(sliced.images.rgba == single.images.rgba) << slices << " slices, path " << int(path);
         }
     }
+}
+
+// Segments of `lines` whose bounding sphere lies outside the frustum by more than a rounding margin:
+// the frustum pass must find at least these.
+std::size_t clearlyOutside(const StyledLines& lines, const Camera& cam, int w, int h) {
+    const ViewFrustum frustum = viewFrustum(cam, w, h, 2.0f);
+    std::size_t n = 0;
+    for (std::size_t s = 0; s < lines.segmentCount(); ++s) {
+        const glm::vec4 a = lines.positionRadius[lines.segmentVertices[2 * s]];
+        const glm::vec4 b = lines.positionRadius[lines.segmentVertices[2 * s + 1]];
+        const glm::vec3 c = 0.5f * (glm::vec3(a) + glm::vec3(b));
+        const float r = 0.5f * glm::distance(glm::vec3(a), glm::vec3(b)) + std::max(a.w, b.w);
+        n += frustum.excludesSphere(c, r * 1.01f + 1e-4f) ? 1 : 0;
+    }
+    return n;
+}
+
+// A near view into the dense ball: many segments lie outside the view. The depth slices are cut
+// from the segments in view and the rest is not drawn; the opaque image is still the unculled one,
+// also when the order is reused for a turned camera (the rest is then drawn as one more slice),
+// and the k-buffer with nothing to cull (threshold 1) stays bit-identical.
+TEST_F(GlTest, culling_slices_what_is_in_view_and_skips_the_rest_without_changing_the_image) {
+    const int w = 80, h = 60;
+    const StyledLines lines = denseBall(9, 1000, 1.0f);
+    // Looking at the left part of the ball, then (same eye: opaque culling re-sorts on eye moves
+    // only) at its right part, which was mostly outside the first view.
+    const Camera cam = lookAt({0.0f, 0.1f, 0.8f}, {-0.35f, 0.0f, 0.0f});
+    const Camera turned = lookAt({0.0f, 0.1f, 0.8f}, {0.35f, 0.0f, 0.0f});
+    const std::size_t outside = clearlyOutside(lines, cam, w, h);
+    ASSERT_GT(outside, lines.segmentCount() / 4) << "the test view must leave many segments outside";
+
+    Scene scene = baseScene(w, h);
+    scene.output.aovId = true;
+    const Rendered off = render(scene, lines, cam);
+    const Rendered offTurned = render(scene, lines, turned);
+    scene.render.culling.enabled = true;
+    scene.render.culling.resortAngleDeg = 10.0f;
+    const Rendered on = render(scene, lines, cam);
+    const Rendered onTurned = render(scene, lines, std::vector<Camera>{cam, turned});
+    EXPECT_GE(on.outsideView, outside);
+    EXPECT_LT(on.outsideView, lines.segmentCount());
+    EXPECT_EQ(onTurned.description["sorts_performed"].get<int>(), 1);
+    for (const auto& [culled, unculled, label] :
+         {std::tuple{&on, &off, "sorted for this view"}, std::tuple{&onTurned, &offTurned, "order reused"}}) {
+        SCOPED_TRACE(label);
+        std::size_t covered = 0, differ = 0;
+        for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+            const float d0 = unculled->images.depth[i], d1 = culled->images.depth[i];
+            ASSERT_EQ(std::isfinite(d0), std::isfinite(d1)) << "pixel " << i;
+            if (!std::isfinite(d0)) continue;
+            ++covered;
+            EXPECT_NEAR(d0, d1, 1e-5 * d0) << "pixel " << i;
+            differ += unculled->images.id[i] != culled->images.id[i] ? 1 : 0;
+        }
+        EXPECT_GT(covered, std::size_t(w) * h / 2);
+        EXPECT_LE(differ, covered / 50);  // depth ties only (see the dense-scene test)
+    }
+
+    // Transparent: threshold 1 culls nothing, so only the slicing of what is in view remains.
+    StyledLines glassy = lines;
+    for (glm::vec4& c : glassy.color) c.w = 0.4f;
+    Scene t = baseScene(w, h);
+    t.output.aovDepth = t.output.aovNormal = t.output.aovId = false;
+    t.render.transparency = Transparency::KBuffer;
+    t.render.kbufferK = 4;
+    const Rendered all = render(t, glassy, cam);
+    t.render.culling.enabled = true;
+    t.render.culling.opacityThreshold = 1.0f;
+    const Rendered sliced = render(t, glassy, cam);
+    EXPECT_GE(sliced.outsideView, outside);
+    EXPECT_EQ(sliced.culled, 0u);
+    EXPECT_TRUE(sliced.images.rgba == all.images.rgba);
 }
 
 }  // namespace
