@@ -11,7 +11,8 @@
 
 namespace tc {
 
-// 8-bit RGBA PNG, sRGB, straight (unassociated) alpha: each pixel's premultiplied linear colour
+// 8-bit PNG, sRGB, straight (unassociated) alpha; RGB without the alpha channel when every pixel
+// rounds to alpha 255 (a frame over an opaque background). Each pixel's premultiplied linear colour
 // is divided by its alpha (alpha 0 -> black), clamped to [0,1], encoded with linearToSrgb and
 // rounded to the nearest 8-bit value. Written through an AtomicFile. `text` becomes PNG tEXt
 // chunks (key -> value), e.g. the scene hash that --resume checks. `zlibLevel` 0..9 (zlib's

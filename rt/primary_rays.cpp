@@ -58,6 +58,47 @@ void tracePacket(RTCScene scene, RTCIntersectContext& context, const Tile& tile,
 
 }  // namespace
 
+SceneBounds sceneBounds(RTCScene scene) {
+    alignas(16) RTCBounds b;
+    rtcGetSceneBounds(scene, &b);
+    SceneBounds box{{b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z}};
+    // Grown by a little of its size: Embree's bounds are tight, the test below is in floats.
+    const glm::vec3 pad = 1e-4f * (box.hi - box.lo) + 1e-6f * glm::max(glm::abs(box.lo), glm::abs(box.hi)) + 1e-30f;
+    box.lo -= pad;
+    box.hi += pad;
+    return box;
+}
+
+bool pixelBlockMisses(const PixelRays& rays, const ImageWindow& window, int x0, int y0, int w, int h,
+                      const SceneBounds& box) {
+    if (!(box.lo.x <= box.hi.x && box.lo.y <= box.hi.y && box.lo.z <= box.hi.z)) return true;  // empty scene
+    // PixelRays(px, py) passes through the centre of pixel (px, py), i.e. continuous position
+    // (px + 0.5, py + 0.5); the block with one pixel of margin spans px in [x0 - 1.5, x0 + w + 0.5].
+    const float left = float(x0) - 1.5f, right = float(x0 + w) + 0.5f;
+    const float top = float(y0) - 1.5f, bottom = float(y0 + h) + 0.5f;
+    auto ray = [&](float px, float py) {
+        const glm::vec2 p = fullImagePixel(window, px, py);
+        return rays(p.x, p.y);
+    };
+    const Ray corner[4] = {ray(left, top), ray(right, top), ray(right, bottom), ray(left, bottom)};
+    const Ray centre = ray(0.5f * (left + right), 0.5f * (top + bottom));
+    const glm::vec3 inside = centre.origin + centre.dir;
+    for (int i = 0; i < 4; ++i) {
+        const Ray& a = corner[i];
+        const Ray& b = corner[(i + 1) % 4];
+        // The side through ray a and ray b: it holds a's origin and direction and a point of b
+        // (perspective: both start at the eye; orthographic: parallel rays, other origins).
+        glm::vec3 n = glm::cross(a.dir, b.origin + b.dir - a.origin);
+        if (glm::dot(n, inside - a.origin) < 0.0f) n = -n;
+        // The box corner farthest along n: if even it is outside, the whole box is.
+        const glm::vec3 far(n.x > 0.0f ? box.hi.x : box.lo.x, n.y > 0.0f ? box.hi.y : box.lo.y,
+                            n.z > 0.0f ? box.hi.z : box.lo.z);
+        const float slack = 1e-5f * glm::length(n) * (glm::length(far - a.origin) + 1.0f);
+        if (glm::dot(n, far - a.origin) < -slack) return true;
+    }
+    return false;
+}
+
 void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, FirstHit* hits) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);

@@ -34,6 +34,9 @@ const char* traversalName(Traversal t);
 // The primary rays of one tile, row-major; pixels outside the image are not in it.
 struct Tile {
     int x0 = 0, y0 = 0, w = 0, h = 0;
+    // No ray of the tile can meet the scene's bounds (forEachTile with bounds): `rays` are not
+    // set, every pixel is background.
+    bool outside = false;
     Ray rays[kTile * kTile];
     int count() const { return w * h; }
     int px(int k) const { return x0 + k % w; }
@@ -71,12 +74,30 @@ inline RTCRayHit makeRayHit(const Ray& ray, float tnear) {
 // hits[k] = the first hit of tile.rays[k] in `scene` (geometry 0).
 void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, FirstHit* hits);
 
+// Axis-aligned bounds of everything the scene's rays can hit (rtcGetSceneBounds).
+struct SceneBounds {
+    glm::vec3 lo{0.0f}, hi{0.0f};
+};
+SceneBounds sceneBounds(RTCScene scene);
+
+// Whether no sample ray of the target pixels [x0, x0 + w) x [y0, y0 + h) can meet the box. Those
+// rays lie inside the pyramid (perspective; the prism, orthographic) spanned by the rays through
+// the block's outer corners, here taken one pixel further out (sample jitter is at most half a
+// pixel, and it covers rounding); the box misses if it lies entirely outside one of its four
+// sides. Conservative: false whenever in doubt.
+bool pixelBlockMisses(const PixelRays& rays, const ImageWindow& window, int x0, int y0, int w, int h,
+                      const SceneBounds& box);
+
 // Calls fn(tile) for every tile of a width x height image, in parallel; fn must only write the
 // tile's own pixels (then images do not depend on the thread count).
 // `window`: which part of the full image (and which sub-pixel sample) the width x height target
 // is (core/tiling.h: tiles, image.samples); rays are those of the full image's pixels.
+// With `bounds`, a tile none of whose rays can meet them is passed with `outside` set and no rays
+// (in a fitted view of the 1M tornado two thirds of the tiles; their rays cost a third of an
+// opaque frame, docs/performance.md, M10).
 template <class TileFn>
-void forEachTile(const Camera& camera, const ImageWindow& window, int width, int height, TileFn&& fn) {
+void forEachTile(const Camera& camera, const ImageWindow& window, int width, int height, TileFn&& fn,
+                 const SceneBounds* bounds = nullptr) {
     const PixelRays pixelRays(camera, fullWidthOf(window, width), fullHeightOf(window, height));
     const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
     tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& range) {
@@ -86,10 +107,18 @@ void forEachTile(const Camera& camera, const ImageWindow& window, int width, int
             tile.y0 = (t / tilesX) * kTile;
             tile.w = std::min(kTile, width - tile.x0);
             tile.h = std::min(kTile, height - tile.y0);
-            for (int k = 0; k < tile.count(); ++k) {
-                const glm::vec2 p = fullImagePixel(window, float(tile.px(k)), float(tile.py(k)));
-                tile.rays[k] = pixelRays(p.x, p.y);
+            tile.outside = bounds && pixelBlockMisses(pixelRays, window, tile.x0, tile.y0, tile.w, tile.h, *bounds);
+            if (tile.outside) {
+                fn(tile);
+                continue;
             }
+            // Rows and columns, not px(k) / py(k): two integer divisions per pixel were a
+            // measurable part of a frame whose rays mostly miss (docs/performance.md, M10).
+            for (int row = 0, k = 0; row < tile.h; ++row)
+                for (int col = 0; col < tile.w; ++col, ++k) {
+                    const glm::vec2 p = fullImagePixel(window, float(tile.x0 + col), float(tile.y0 + row));
+                    tile.rays[k] = pixelRays(p.x, p.y);
+                }
             fn(tile);
         }
     });

@@ -68,6 +68,7 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     r->m_joinNeighbours = r->m_transparent ? rs.capClipping : true;
     r->m_jointEpsilon = 1e-3f * std::max(lines.maxRadius, 1e-12f);
     r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);
+    r->m_bounds = sceneBounds(r->m_embree->scene());
     if (rs.ao.enabled) r->m_ao = makeAoEstimator(rs.ao, r->m_lines, *r->m_embree);
     return r;
 }
@@ -84,25 +85,44 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     const bool ortho = camera.projection == Projection::Orthographic;
     std::atomic<std::uint64_t> totalHits{0};
 
+    float* const ao = out.ao.empty() ? nullptr : out.ao.data();
     forEachTile(camera, window, width, height, [&](const Tile& tile) {
+        if (tile.outside) {
+            const PixelContext background{};
+            for (int row = 0; row < tile.h; ++row)
+                for (int col = 0; col < tile.w; ++col) {
+                    const std::size_t pixel = std::size_t(tile.y0 + row) * std::size_t(width) + std::size_t(tile.x0 + col);
+                    storePixel(out, pixel, background.rgba, background.depth, background.normal, background.id);
+                    if (ao) ao[pixel] = background.ao;
+                }
+            return;
+        }
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
         if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
-        for (int k = 0; k < tile.count(); ++k) {
-            PixelContext c;
-            c.ray = tile.rays[k];
-            c.pixel = std::uint32_t(tile.py(k)) * std::uint32_t(width) + std::uint32_t(tile.px(k));
-            c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
-            c.lightDir = lightDir;
-            if (m_transparent) shadeTransparent(c);
-            else if (firstHits[k].hit) shadeOpaque(c, firstHits[k]);
-            // else background: PixelContext's defaults are FrameImages::allocate's clear values
-            hits += c.hits;
-            storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
-            if (!out.ao.empty()) out.ao[c.pixel] = c.ao;
+        for (int row = 0, k = 0; row < tile.h; ++row) {
+            const std::uint32_t rowStart = std::uint32_t(tile.y0 + row) * std::uint32_t(width) + std::uint32_t(tile.x0);
+            for (int col = 0; col < tile.w; ++col, ++k) {
+                PixelContext c;
+                c.pixel = rowStart + std::uint32_t(col);
+                if (!m_transparent && !firstHits[k].hit) {
+                    // Background: PixelContext's defaults are FrameImages::allocate's clear values.
+                    storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
+                    if (ao) ao[c.pixel] = c.ao;
+                    continue;
+                }
+                c.ray = tile.rays[k];
+                c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
+                c.lightDir = lightDir;
+                if (m_transparent) shadeTransparent(c);
+                else shadeOpaque(c, firstHits[k]);
+                hits += c.hits;
+                storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
+                if (ao) ao[c.pixel] = c.ao;
+            }
         }
         totalHits += hits;
-    });
+    }, &m_bounds);
     m_lastHits = totalHits.load();
     sink.setItems(m_lastHits);
     sink.end();

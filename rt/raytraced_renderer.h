@@ -81,6 +81,7 @@ private:
     std::unique_ptr<EmbreeLines> m_embree;
     std::unique_ptr<AoEstimator> m_ao;
     Traversal m_traversal = Traversal::Packet16;
+    SceneBounds m_bounds;  // of the BVH: tiles whose rays miss it are background (forEachTile)
     mutable std::uint64_t m_lastHits = 0;
 };
 

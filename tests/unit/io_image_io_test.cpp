@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
 
 #include "core/color.h"
 #include "core/error.h"
@@ -61,6 +62,37 @@ TEST(WritePng, half_alpha_example_from_the_spec) {
     RgbaImage img = readImageRgba(path);
     EXPECT_EQ(std::lround(img.rgba[0] * 255.0f), 127);
     EXPECT_EQ(std::lround(img.rgba[3] * 255.0f), 128);  // 127.5 rounds away from zero
+}
+
+TEST(WritePng, opaque_frames_are_rgb_with_the_same_pixels_and_any_transparency_keeps_alpha) {
+    FrameImages f;
+    f.allocate(4, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x) setPixel(f, x, y, 0.1f * float(x), 0.3f * float(y), 0.7f, 1.0f);
+    const std::string rgbPath = testDir() + "/opaque.png";
+    writePng(f, rgbPath);
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(rgbPath);
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().nchannels, 3);
+    in->close();
+    const RgbaImage rgb = readImageRgba(rgbPath);
+
+    // The same colours with one pixel at alpha 254/255 (premultiplied): RGBA, every other pixel
+    // decodes to the same bytes.
+    FrameImages g = f;
+    const float a = 254.0f / 255.0f;
+    setPixel(g, 3, 1, 0.3f * a, 0.3f * a, 0.7f * a, a);
+    const std::string rgbaPath = testDir() + "/alpha.png";
+    writePng(g, rgbaPath);
+    in = OIIO::ImageInput::open(rgbaPath);
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().nchannels, 4);
+    in->close();
+    const RgbaImage rgba = readImageRgba(rgbaPath);
+    ASSERT_EQ(rgb.rgba.size(), rgba.rgba.size());
+    for (std::size_t i = 0; i + 4 < rgb.rgba.size(); ++i) EXPECT_EQ(rgb.rgba[i], rgba.rgba[i]) << "channel " << i;
+    EXPECT_EQ(rgb.rgba.back(), 1.0f);
+    EXPECT_NEAR(rgba.rgba.back(), a, 1e-6f);
 }
 
 TEST(WritePng, leaves_no_temp_file_and_replaces_the_previous_one) {
