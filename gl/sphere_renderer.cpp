@@ -346,8 +346,6 @@ void SphereRenderer::drawFrame(const FrameSetup& setup, const Programs& programs
 void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
     resize(setup.width, setup.height);
     const int w = setup.width, h = setup.height;
-    m_lastShaded = 0;
-    m_lastSkipped = 0;
     if (m_ambient && m_voxelsStale) {
         // Once per data frame (the paper's dynamic-data timings voxelize every frame).
         timer.begin("voxelize");
