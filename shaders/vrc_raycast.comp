@@ -11,7 +11,8 @@
 // the density volume, as the rasterized path), SOFT_SHADOWS (a cone toward the light through the
 // same density volume, growing footprint = mip level), HARD_SHADOWS (a ray toward the light against
 // the representative lines of one LoD level), VRC_Q (the quantization, with QUANTIZED), BRICK_SKIP
-// (empty space skipping over bricks of 4^3 voxels).
+// (empty space skipping over bricks of 4^3 voxels), VRC_PIECE_BLOCKS and VRC_BLOCK_SHIFT (the
+// piece array's storage blocks, below).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -37,7 +38,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) readonly buffer VrcHeader { uvec2 vrcVoxels[]; };
 #ifdef QUANTIZED
 // ends (2 x 16-bit codes), polyline id, RGBA8 colour, 2 x unorm16 radius (of uMaxRadius).
-layout(std430, binding = 1) readonly buffer VrcPieces { uvec4 vrcPieces[]; };
+#define VRC_PIECE_T uvec4
 #else
 struct VrcExactPiece {
     vec4 a;      // xyz, radius
@@ -45,8 +46,80 @@ struct VrcExactPiece {
     vec4 color;  // linear RGBA, straight alpha
     uvec4 info;  // polyline id, end flags (bit 0: a is a polyline vertex, bit 1: b)
 };
-layout(std430, binding = 1) readonly buffer VrcPieces { VrcExactPiece vrcPieces[]; };
+#define VRC_PIECE_T VrcExactPiece
 #endif
+// The piece array in VRC_PIECE_BLOCKS blocks of 2^VRC_BLOCK_SHIFT pieces (one shader storage
+// block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe): block 0 at binding
+// 1, blocks 1.. at bindings 4.. (gl/vrc_renderer.cpp). Piece i is in block i >> VRC_BLOCK_SHIFT.
+layout(std430, binding = 1) readonly buffer VrcPieces0 { VRC_PIECE_T vrcPieces0[]; };
+#if VRC_PIECE_BLOCKS > 1
+layout(std430, binding = 4) readonly buffer VrcPieces1 { VRC_PIECE_T vrcPieces1[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 2
+layout(std430, binding = 5) readonly buffer VrcPieces2 { VRC_PIECE_T vrcPieces2[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 3
+layout(std430, binding = 6) readonly buffer VrcPieces3 { VRC_PIECE_T vrcPieces3[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 4
+layout(std430, binding = 7) readonly buffer VrcPieces4 { VRC_PIECE_T vrcPieces4[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 5
+layout(std430, binding = 8) readonly buffer VrcPieces5 { VRC_PIECE_T vrcPieces5[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 6
+layout(std430, binding = 9) readonly buffer VrcPieces6 { VRC_PIECE_T vrcPieces6[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 7
+layout(std430, binding = 10) readonly buffer VrcPieces7 { VRC_PIECE_T vrcPieces7[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 8
+#error "at most 8 piece blocks (VrcRenderer::kMaxPieceBlocks)"
+#endif
+
+VRC_PIECE_T vrcFetchPiece(uint i) {
+#if VRC_PIECE_BLOCKS == 1
+    return vrcPieces0[i];
+#else
+    // Blocks are slabs of voxels in z order, so the lanes of a workgroup nearly always agree.
+    uint block = i >> uint(VRC_BLOCK_SHIFT), j = i & ((1u << uint(VRC_BLOCK_SHIFT)) - 1u);
+    if (block == 0u) return vrcPieces0[j];
+#if VRC_PIECE_BLOCKS > 2
+    if (block == 1u) return vrcPieces1[j];
+#endif
+#if VRC_PIECE_BLOCKS > 3
+    if (block == 2u) return vrcPieces2[j];
+#endif
+#if VRC_PIECE_BLOCKS > 4
+    if (block == 3u) return vrcPieces3[j];
+#endif
+#if VRC_PIECE_BLOCKS > 5
+    if (block == 4u) return vrcPieces4[j];
+#endif
+#if VRC_PIECE_BLOCKS > 6
+    if (block == 5u) return vrcPieces5[j];
+#endif
+#if VRC_PIECE_BLOCKS > 7
+    if (block == 6u) return vrcPieces6[j];
+#endif
+    // The last block.
+#if VRC_PIECE_BLOCKS == 2
+    return vrcPieces1[j];
+#elif VRC_PIECE_BLOCKS == 3
+    return vrcPieces2[j];
+#elif VRC_PIECE_BLOCKS == 4
+    return vrcPieces3[j];
+#elif VRC_PIECE_BLOCKS == 5
+    return vrcPieces4[j];
+#elif VRC_PIECE_BLOCKS == 6
+    return vrcPieces5[j];
+#elif VRC_PIECE_BLOCKS == 7
+    return vrcPieces6[j];
+#else
+    return vrcPieces7[j];
+#endif
+#endif
+}
 
 #ifdef BRICK_SKIP
 // Per brick of kBrick^3 voxels: 0 when no voxel in it can hold a surface (gl/vrc_renderer.cpp).
@@ -110,7 +183,7 @@ ivec3 vrcHomeOffset(uint bits) {
 VrcPiece vrcPiece(uint i, ivec3 v) {
     VrcPiece p;
 #ifdef QUANTIZED
-    uvec4 c = vrcPieces[i];
+    uvec4 c = vrcFetchPiece(i);
     uint codeA = c.x & 0xFFFFu, codeB = c.x >> 16u;
     ivec3 home = v + vrcHomeOffset(c.y >> 26u);
     p.cone = RoundedCone(vrcDecodeEnd(home, codeA), uMaxRadius * float(c.w & 0xFFFFu) / 65535.0,
@@ -120,7 +193,7 @@ VrcPiece vrcPiece(uint i, ivec3 v) {
     p.vertexA = (codeA >> 13u) == kVrcInteriorFace;
     p.vertexB = (codeB >> 13u) == kVrcInteriorFace;
 #else
-    VrcExactPiece e = vrcPieces[i];
+    VrcExactPiece e = vrcFetchPiece(i);
     p.cone = RoundedCone(e.a.xyz, e.a.w, e.b.xyz, e.b.w);
     p.color = e.color;
     p.line = e.info.x;
