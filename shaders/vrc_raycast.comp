@@ -275,50 +275,73 @@ float hardShadowVisibility(vec3 pos) {
 }
 #endif
 
+// The accepted hits of the current voxel, sorted by t, in VRC_SLOTS named slots (hT0, hN0, ...;
+// the farthest drops out when all are full). Named variables, not arrays: llvmpipe keeps a local
+// array in memory and pays every access per lane, also with constant indices; an insertion sort
+// and compositing loop over arrays was about half of the semi-transparent frame
+// (docs/performance.md, M8, session 5). The colour is kept with the hit: re-reading and decoding
+// the piece after sorting costs another per-lane SSBO gather.
 #ifdef TRANSPARENT
-const int kMaxHits = 16;
+#define VRC_SLOTS 8
 #else
-const int kMaxHits = 1;
+#define VRC_SLOTS 1
 #endif
-// The accepted hits of the current voxel, sorted by t (insertion sort; the farthest drops out).
-// The colour is kept with the hit: re-reading and decoding the piece after sorting costs another
-// per-lane SSBO gather.
-float hitT[kMaxHits];
-vec3 hitNormal[kMaxHits];
-vec4 hitColor[kMaxHits];
-uint hitLine[kMaxHits];
 #if defined(AMBIENT_OCCLUSION) || defined(SOFT_SHADOWS)
-// The hit piece's axis ends and radii (x0, r0), (x1, r1): its own tube is excluded from the AO
-// and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
+// The hit piece's axis ends and radii (x0, r0), (x1, r1) in hE, hF: its own tube is excluded from
+// the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
-vec4 hitEnd0[kMaxHits];
-vec4 hitEnd1[kMaxHits];
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k;
+// Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one.
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; }
+// Slot k takes slot k + 1 (k1); a later hit of `line` becomes kNoLine.
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1;
+#else
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k;
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; }
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1;
+#endif
+VRC_SLOT(0)
+#if VRC_SLOTS > 1
+VRC_SLOT(1) VRC_SLOT(2) VRC_SLOT(3) VRC_SLOT(4) VRC_SLOT(5) VRC_SLOT(6) VRC_SLOT(7)
+#endif
+#if VRC_SLOTS != 1 && VRC_SLOTS != 8
+#error "VRC_SLOTS: 1 or 8"
 #endif
 int hitCount = 0;
 
+void clearHits() {
+    hitCount = 0;
+    // Empty slots sort last.
+    hT0 = uintBitsToFloat(0x7F800000u);
+#if VRC_SLOTS > 1
+    hT1 = hT0; hT2 = hT0; hT3 = hT0; hT4 = hT0; hT5 = hT0; hT6 = hT0; hT7 = hT0;
+#endif
+}
+
+// Carries the new hit through the sorted slots (ties keep the earlier hit first, as a stable
+// insertion sort); what is carried out of the last slot drops out.
 void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone) {
-    int i = min(hitCount, kMaxHits - 1);
-    if (hitCount == kMaxHits && t >= hitT[i]) return;
-    while (i > 0 && hitT[i - 1] > t) {
-        hitT[i] = hitT[i - 1];
-        hitNormal[i] = hitNormal[i - 1];
-        hitColor[i] = hitColor[i - 1];
-        hitLine[i] = hitLine[i - 1];
+    float cT = t;
+    vec3 cN = n;
+    vec4 cC = color;
+    uint cL = line;
 #ifdef VRC_HIT_CONE
-        hitEnd0[i] = hitEnd0[i - 1];
-        hitEnd1[i] = hitEnd1[i - 1];
+    vec4 cE = vec4(cone.x0, cone.r0), cF = vec4(cone.x1, cone.r1);
 #endif
-        --i;
-    }
-    hitT[i] = t;
-    hitNormal[i] = n;
-    hitColor[i] = color;
-    hitLine[i] = line;
-#ifdef VRC_HIT_CONE
-    hitEnd0[i] = vec4(cone.x0, cone.r0);
-    hitEnd1[i] = vec4(cone.x1, cone.r1);
+    VRC_CX(0)
+#if VRC_SLOTS > 1
+    VRC_CX(1) VRC_CX(2) VRC_CX(3) VRC_CX(4) VRC_CX(5) VRC_CX(6) VRC_CX(7)
 #endif
-    hitCount = min(hitCount + 1, kMaxHits);
+    hitCount = min(hitCount + 1, VRC_SLOTS);
+}
+
+// Removes slot 0 (the line `line` was blended) and marks the later hits of that line (each line is
+// blended once per voxel, at its nearest hit).
+void popHit(uint line) {
+#if VRC_SLOTS > 1
+    VRC_SHIFT(0, 1) VRC_SHIFT(1, 2) VRC_SHIFT(2, 3) VRC_SHIFT(3, 4) VRC_SHIFT(4, 5) VRC_SHIFT(5, 6) VRC_SHIFT(6, 7)
+    hT7 = uintBitsToFloat(0x7F800000u);
+#endif
 }
 
 // Tests the pieces of voxel v against the ray; keeps hits in [tEnter, tExit) (the current voxel).
@@ -459,7 +482,7 @@ void main() {
             bool occupied = (header & kVrcCountMask) != 0u;
 #endif
             if (occupied) {
-                hitCount = 0;
+                clearHits();
 #ifdef NEIGHBORS
                 for (int dz = -1; dz <= 1; ++dz)
                     for (int dy = -1; dy <= 1; ++dy)
@@ -467,34 +490,35 @@ void main() {
 #else
                 testVoxel(ray, v, tEnter, tExit);
 #endif
-                for (int i = 0; i < hitCount; ++i) {
-#ifdef TRANSPARENT
-                    // Each line once per voxel: the nearest of its hits here.
-                    bool seen = false;
-                    for (int j = 0; j < i; ++j) seen = seen || hitLine[j] == hitLine[i];
-                    if (seen) continue;
-#endif
-                    vec4 base = hitColor[i];
-                    float ao;
+                // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks a
+                // farther hit of a line already blended in this voxel.
+                int hits = hitCount;
+                for (int i = 0; i < hits; ++i) {
+                    uint line = hL0;
+                    if (line != kNoLine) {
+                        vec4 base = hC0;
+                        float ao;
 #ifdef VRC_HIT_CONE
-                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], base, hitEnd0[i], hitEnd1[i], ao);
+                        vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
 #else
-                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], base, vec4(0.0), vec4(0.0), ao);
+                        vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
 #endif
-                    if (firstLine == kNoLine) {
-                        firstDepth = viewDepth(ray, hitT[i]);
-                        firstNormal = hitNormal[i];
-                        firstLine = hitLine[i];
-                        firstAo = ao;
-                    }
+                        if (firstLine == kNoLine) {
+                            firstDepth = viewDepth(ray, hT0);
+                            firstNormal = hN0;
+                            firstLine = line;
+                            firstAo = ao;
+                        }
 #ifdef TRANSPARENT
-                    // As every transparent path: shaded colour clamped to [0, 1], blended "under".
-                    float a = base.a;
-                    accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
-                    accum.a += (1.0 - accum.a) * a;
+                        // As every transparent path: shaded colour clamped to [0, 1], blended "under".
+                        float a = base.a;
+                        accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
+                        accum.a += (1.0 - accum.a) * a;
 #else
-                    accum = vec4(rgb, 1.0);
+                        accum = vec4(rgb, 1.0);
 #endif
+                    }
+                    popHit(line);
                 }
 #ifdef TRANSPARENT
                 done = accum.a >= uOpacityThreshold;
