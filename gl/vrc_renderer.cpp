@@ -20,7 +20,8 @@ namespace tc::gl {
 namespace {
 
 constexpr GLuint kHeaderBinding = 0;
-constexpr GLuint kPieceBinding = 1;
+constexpr GLuint kPieceBinding = 1;      // block 0 of the piece array
+constexpr GLuint kPieceBlockBinding = 4;  // blocks 1.. at 4, 5, ... (shaders/vrc_raycast.comp)
 constexpr GLuint kShadowLineBinding = 2;
 constexpr GLuint kBrickBinding = 3;
 constexpr int kBrick = 4;  // kBrick of shaders/vrc_raycast.comp
@@ -170,10 +171,11 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     Scene used = scene;
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-    const bool tooLarge = options.dilate && GLint64(model.pieceCount() * model.bytesPerPiece()) > maxBlock;
+    const std::size_t perBlock = piecesPerBlock(model.bytesPerPiece(), std::size_t(maxBlock));
+    const bool tooLarge = options.dilate && model.pieceCount() > perBlock * kMaxPieceBlocks;
     if (tooLarge) {
-        // The copies do not fit one shader storage block (128 MiB on llvmpipe): neighbour tests at
-        // render time instead, the same image from the model without copies.
+        // The copies do not fit kMaxPieceBlocks shader storage blocks: neighbour tests at render
+        // time instead, the same image from the model without copies.
         options.dilate = false;
         model = buildVrcModel(lines, options);
         used.render.vrc.neighbors = true;
@@ -185,7 +187,14 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     return r;
 }
 
-std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const StyledLines& lines, const VrcModel& model) {
+std::size_t VrcRenderer::piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes) {
+    std::size_t n = 1;
+    while (2 * n * bytesPerPiece <= maxBlockBytes && n < (std::size_t(1) << 30)) n *= 2;
+    return n;
+}
+
+std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const StyledLines& lines, const VrcModel& model,
+                                                 std::size_t maxBlockBytes) {
     std::unique_ptr<VrcRenderer> r(new VrcRenderer());
     r->m_spec = scene.render.vrc;
     r->m_transparent = scene.render.transparency != Transparency::Opaque;
@@ -232,10 +241,36 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
         r->m_brickGridSize = bricks;
         r->m_bricks = makeBuffer(occupied.size() * sizeof(std::uint32_t), occupied.data());
     }
-    if (model.quantization > 0)
-        r->m_pieceBuffer = makeBuffer(model.compact.size() * sizeof(VrcCompactPiece), model.compact.data());
-    else
-        r->m_pieceBuffer = makeBuffer(model.exact.size() * sizeof(VrcExactPiece), model.exact.data());
+    {
+        // The piece array in blocks of 2^m_blockShift pieces, one buffer each: the GL caps one
+        // shader storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe), not the
+        // total. A piece index i lives in block i >> shift at i & (2^shift - 1).
+        GLint64 glMax = 0;
+        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &glMax);
+        const std::size_t bytesPerPiece = model.bytesPerPiece();
+        const std::size_t limit = maxBlockBytes > 0 ? std::min(maxBlockBytes, std::size_t(glMax)) : std::size_t(glMax);
+        const std::size_t perBlock = piecesPerBlock(bytesPerPiece, limit);
+        const std::size_t pieces = model.pieceCount();
+        const std::size_t blocks = std::max<std::size_t>(1, (pieces + perBlock - 1) / perBlock);
+        if (blocks > std::size_t(kMaxPieceBlocks))
+            throw InputError("render.vrc: the voxel model's " + std::to_string(pieces) + " pieces need " +
+                             std::to_string(blocks) + " shader storage blocks of " + std::to_string(perBlock) +
+                             " pieces, more than " + std::to_string(kMaxPieceBlocks) +
+                             "; lower render.vrc.resolution or turn render.vrc.neighbors on");
+        while ((std::size_t(1) << r->m_blockShift) < perBlock) ++r->m_blockShift;
+        const auto* bytes = model.quantization > 0 ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
+                                                   : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
+        for (std::size_t b = 0; b < blocks; ++b) {
+            const std::size_t first = b * perBlock, n = std::min(perBlock, pieces - std::min(pieces, first));
+            // An empty model still binds one valid (one-piece, zero) buffer.
+            if (n == 0) {
+                const std::vector<unsigned char> zero(bytesPerPiece, 0);
+                r->m_pieceBlocks.push_back(makeBuffer(zero.size(), zero.data()));
+            } else {
+                r->m_pieceBlocks.push_back(makeBuffer(n * bytesPerPiece, bytes + first * bytesPerPiece));
+            }
+        }
+    }
     glFinish();
     r->m_uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -246,6 +281,8 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     }
     if (r->m_transparent) defines.push_back("TRANSPARENT");
     defines.push_back("BRICK_SKIP");
+    defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(r->m_pieceBlocks.size()));
+    defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(r->m_blockShift));
     if (r->m_spec.neighbors) defines.push_back("NEIGHBORS");
     const AoSpec& ao = scene.render.ao;
     r->m_aoEnabled = ao.enabled;
@@ -333,7 +370,9 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& 
     glUseProgram(p);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBrickBinding, m_bricks.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeaderBinding, m_header.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPieceBinding, m_pieceBuffer.id());
+    for (std::size_t b = 0; b < m_pieceBlocks.size(); ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b == 0 ? kPieceBinding : kPieceBlockBinding + GLuint(b - 1),
+                         m_pieceBlocks[b].id());
     glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(1, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(2, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
@@ -380,6 +419,7 @@ nlohmann::json VrcRenderer::describe() const {
             {"pieces", m_pieces},
             {"copies", m_copies},
             {"copies_did_not_fit", m_copiesDidNotFit},
+            {"piece_blocks", m_pieceBlocks.size()},
             {"segments", m_segments},
             {"bytes_per_piece", m_bytesPerPiece},
             {"model_mb", double(m_modelBytes) / mb},

@@ -9,6 +9,7 @@
 // cross-section); hard shadows trace a ray against the representative lines of one LoD level
 // (core/vrc_representative.h).
 #include <optional>
+#include <vector>
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
@@ -33,11 +34,23 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
 class VrcRenderer final : public Technique {
 public:
     // Builds the model (render.vrc), uploads it and compiles the ray caster. Needs a current context.
-    // With render.vrc.neighbors off the model gets copies (core/vrc_model.h); when those exceed
-    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE it falls back to neighbour tests (describe(): copies_did_not_fit).
+    // With render.vrc.neighbors off the model gets copies (core/vrc_model.h). The piece array is
+    // split over up to kMaxPieceBlocks shader storage blocks of at most
+    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE each (128 MiB on llvmpipe; the cap is per block, not in
+    // total); only a model larger than all of them falls back to neighbour tests (describe():
+    // copies_did_not_fit).
     static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines);
-    // Same, from a model built elsewhere (tests, the GPU build path).
-    static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines, const VrcModel& model);
+    // Same, from a model built elsewhere (tests, the GPU build path). `maxBlockBytes` > 0 caps the
+    // bytes of one piece block below the GL limit (tests force several blocks on a small model);
+    // throws tc::InputError if the model needs more than kMaxPieceBlocks blocks.
+    static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines, const VrcModel& model,
+                                               std::size_t maxBlockBytes = 0);
+
+    // Most shader storage blocks the piece array is split over (VRC_PIECE_BLOCKS of
+    // shaders/vrc_raycast.comp).
+    static constexpr int kMaxPieceBlocks = 8;
+    // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
+    static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
 
     void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
     nlohmann::json describe() const override;
@@ -69,7 +82,9 @@ private:
     int m_shadowLevel = 0;
     double m_representativeMs = 0;
 
-    Buffer m_header, m_pieceBuffer;
+    Buffer m_header;
+    std::vector<Buffer> m_pieceBlocks;  // the piece array in blocks of 2^m_blockShift pieces
+    int m_blockShift = 0;
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};
     Program m_program;

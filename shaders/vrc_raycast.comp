@@ -11,7 +11,8 @@
 // the density volume, as the rasterized path), SOFT_SHADOWS (a cone toward the light through the
 // same density volume, growing footprint = mip level), HARD_SHADOWS (a ray toward the light against
 // the representative lines of one LoD level), VRC_Q (the quantization, with QUANTIZED), BRICK_SKIP
-// (empty space skipping over bricks of 4^3 voxels).
+// (empty space skipping over bricks of 4^3 voxels), VRC_PIECE_BLOCKS and VRC_BLOCK_SHIFT (the
+// piece array's storage blocks, below).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -37,7 +38,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) readonly buffer VrcHeader { uvec2 vrcVoxels[]; };
 #ifdef QUANTIZED
 // ends (2 x 16-bit codes), polyline id, RGBA8 colour, 2 x unorm16 radius (of uMaxRadius).
-layout(std430, binding = 1) readonly buffer VrcPieces { uvec4 vrcPieces[]; };
+#define VRC_PIECE_T uvec4
 #else
 struct VrcExactPiece {
     vec4 a;      // xyz, radius
@@ -45,8 +46,80 @@ struct VrcExactPiece {
     vec4 color;  // linear RGBA, straight alpha
     uvec4 info;  // polyline id, end flags (bit 0: a is a polyline vertex, bit 1: b)
 };
-layout(std430, binding = 1) readonly buffer VrcPieces { VrcExactPiece vrcPieces[]; };
+#define VRC_PIECE_T VrcExactPiece
 #endif
+// The piece array in VRC_PIECE_BLOCKS blocks of 2^VRC_BLOCK_SHIFT pieces (one shader storage
+// block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe): block 0 at binding
+// 1, blocks 1.. at bindings 4.. (gl/vrc_renderer.cpp). Piece i is in block i >> VRC_BLOCK_SHIFT.
+layout(std430, binding = 1) readonly buffer VrcPieces0 { VRC_PIECE_T vrcPieces0[]; };
+#if VRC_PIECE_BLOCKS > 1
+layout(std430, binding = 4) readonly buffer VrcPieces1 { VRC_PIECE_T vrcPieces1[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 2
+layout(std430, binding = 5) readonly buffer VrcPieces2 { VRC_PIECE_T vrcPieces2[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 3
+layout(std430, binding = 6) readonly buffer VrcPieces3 { VRC_PIECE_T vrcPieces3[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 4
+layout(std430, binding = 7) readonly buffer VrcPieces4 { VRC_PIECE_T vrcPieces4[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 5
+layout(std430, binding = 8) readonly buffer VrcPieces5 { VRC_PIECE_T vrcPieces5[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 6
+layout(std430, binding = 9) readonly buffer VrcPieces6 { VRC_PIECE_T vrcPieces6[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 7
+layout(std430, binding = 10) readonly buffer VrcPieces7 { VRC_PIECE_T vrcPieces7[]; };
+#endif
+#if VRC_PIECE_BLOCKS > 8
+#error "at most 8 piece blocks (VrcRenderer::kMaxPieceBlocks)"
+#endif
+
+VRC_PIECE_T vrcFetchPiece(uint i) {
+#if VRC_PIECE_BLOCKS == 1
+    return vrcPieces0[i];
+#else
+    // Blocks are slabs of voxels in z order, so the lanes of a workgroup nearly always agree.
+    uint block = i >> uint(VRC_BLOCK_SHIFT), j = i & ((1u << uint(VRC_BLOCK_SHIFT)) - 1u);
+    if (block == 0u) return vrcPieces0[j];
+#if VRC_PIECE_BLOCKS > 2
+    if (block == 1u) return vrcPieces1[j];
+#endif
+#if VRC_PIECE_BLOCKS > 3
+    if (block == 2u) return vrcPieces2[j];
+#endif
+#if VRC_PIECE_BLOCKS > 4
+    if (block == 3u) return vrcPieces3[j];
+#endif
+#if VRC_PIECE_BLOCKS > 5
+    if (block == 4u) return vrcPieces4[j];
+#endif
+#if VRC_PIECE_BLOCKS > 6
+    if (block == 5u) return vrcPieces5[j];
+#endif
+#if VRC_PIECE_BLOCKS > 7
+    if (block == 6u) return vrcPieces6[j];
+#endif
+    // The last block.
+#if VRC_PIECE_BLOCKS == 2
+    return vrcPieces1[j];
+#elif VRC_PIECE_BLOCKS == 3
+    return vrcPieces2[j];
+#elif VRC_PIECE_BLOCKS == 4
+    return vrcPieces3[j];
+#elif VRC_PIECE_BLOCKS == 5
+    return vrcPieces4[j];
+#elif VRC_PIECE_BLOCKS == 6
+    return vrcPieces5[j];
+#elif VRC_PIECE_BLOCKS == 7
+    return vrcPieces6[j];
+#else
+    return vrcPieces7[j];
+#endif
+#endif
+}
 
 #ifdef BRICK_SKIP
 // Per brick of kBrick^3 voxels: 0 when no voxel in it can hold a surface (gl/vrc_renderer.cpp).
@@ -110,7 +183,7 @@ ivec3 vrcHomeOffset(uint bits) {
 VrcPiece vrcPiece(uint i, ivec3 v) {
     VrcPiece p;
 #ifdef QUANTIZED
-    uvec4 c = vrcPieces[i];
+    uvec4 c = vrcFetchPiece(i);
     uint codeA = c.x & 0xFFFFu, codeB = c.x >> 16u;
     ivec3 home = v + vrcHomeOffset(c.y >> 26u);
     p.cone = RoundedCone(vrcDecodeEnd(home, codeA), uMaxRadius * float(c.w & 0xFFFFu) / 65535.0,
@@ -120,7 +193,7 @@ VrcPiece vrcPiece(uint i, ivec3 v) {
     p.vertexA = (codeA >> 13u) == kVrcInteriorFace;
     p.vertexB = (codeB >> 13u) == kVrcInteriorFace;
 #else
-    VrcExactPiece e = vrcPieces[i];
+    VrcExactPiece e = vrcFetchPiece(i);
     p.cone = RoundedCone(e.a.xyz, e.a.w, e.b.xyz, e.b.w);
     p.color = e.color;
     p.line = e.info.x;
@@ -202,50 +275,73 @@ float hardShadowVisibility(vec3 pos) {
 }
 #endif
 
+// The accepted hits of the current voxel, sorted by t, in VRC_SLOTS named slots (hT0, hN0, ...;
+// the farthest drops out when all are full). Named variables, not arrays: llvmpipe keeps a local
+// array in memory and pays every access per lane, also with constant indices; an insertion sort
+// and compositing loop over arrays was about half of the semi-transparent frame
+// (docs/performance.md, M8, session 5). The colour is kept with the hit: re-reading and decoding
+// the piece after sorting costs another per-lane SSBO gather.
 #ifdef TRANSPARENT
-const int kMaxHits = 16;
+#define VRC_SLOTS 8
 #else
-const int kMaxHits = 1;
+#define VRC_SLOTS 1
 #endif
-// The accepted hits of the current voxel, sorted by t (insertion sort; the farthest drops out).
-// The colour is kept with the hit: re-reading and decoding the piece after sorting costs another
-// per-lane SSBO gather.
-float hitT[kMaxHits];
-vec3 hitNormal[kMaxHits];
-vec4 hitColor[kMaxHits];
-uint hitLine[kMaxHits];
 #if defined(AMBIENT_OCCLUSION) || defined(SOFT_SHADOWS)
-// The hit piece's axis ends and radii (x0, r0), (x1, r1): its own tube is excluded from the AO
-// and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
+// The hit piece's axis ends and radii (x0, r0), (x1, r1) in hE, hF: its own tube is excluded from
+// the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
-vec4 hitEnd0[kMaxHits];
-vec4 hitEnd1[kMaxHits];
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k;
+// Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one.
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; }
+// Slot k takes slot k + 1 (k1); a later hit of `line` becomes kNoLine.
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1;
+#else
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k;
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; }
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1;
+#endif
+VRC_SLOT(0)
+#if VRC_SLOTS > 1
+VRC_SLOT(1) VRC_SLOT(2) VRC_SLOT(3) VRC_SLOT(4) VRC_SLOT(5) VRC_SLOT(6) VRC_SLOT(7)
+#endif
+#if VRC_SLOTS != 1 && VRC_SLOTS != 8
+#error "VRC_SLOTS: 1 or 8"
 #endif
 int hitCount = 0;
 
+void clearHits() {
+    hitCount = 0;
+    // Empty slots sort last.
+    hT0 = uintBitsToFloat(0x7F800000u);
+#if VRC_SLOTS > 1
+    hT1 = hT0; hT2 = hT0; hT3 = hT0; hT4 = hT0; hT5 = hT0; hT6 = hT0; hT7 = hT0;
+#endif
+}
+
+// Carries the new hit through the sorted slots (ties keep the earlier hit first, as a stable
+// insertion sort); what is carried out of the last slot drops out.
 void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone) {
-    int i = min(hitCount, kMaxHits - 1);
-    if (hitCount == kMaxHits && t >= hitT[i]) return;
-    while (i > 0 && hitT[i - 1] > t) {
-        hitT[i] = hitT[i - 1];
-        hitNormal[i] = hitNormal[i - 1];
-        hitColor[i] = hitColor[i - 1];
-        hitLine[i] = hitLine[i - 1];
+    float cT = t;
+    vec3 cN = n;
+    vec4 cC = color;
+    uint cL = line;
 #ifdef VRC_HIT_CONE
-        hitEnd0[i] = hitEnd0[i - 1];
-        hitEnd1[i] = hitEnd1[i - 1];
+    vec4 cE = vec4(cone.x0, cone.r0), cF = vec4(cone.x1, cone.r1);
 #endif
-        --i;
-    }
-    hitT[i] = t;
-    hitNormal[i] = n;
-    hitColor[i] = color;
-    hitLine[i] = line;
-#ifdef VRC_HIT_CONE
-    hitEnd0[i] = vec4(cone.x0, cone.r0);
-    hitEnd1[i] = vec4(cone.x1, cone.r1);
+    VRC_CX(0)
+#if VRC_SLOTS > 1
+    VRC_CX(1) VRC_CX(2) VRC_CX(3) VRC_CX(4) VRC_CX(5) VRC_CX(6) VRC_CX(7)
 #endif
-    hitCount = min(hitCount + 1, kMaxHits);
+    hitCount = min(hitCount + 1, VRC_SLOTS);
+}
+
+// Removes slot 0 (the line `line` was blended) and marks the later hits of that line (each line is
+// blended once per voxel, at its nearest hit).
+void popHit(uint line) {
+#if VRC_SLOTS > 1
+    VRC_SHIFT(0, 1) VRC_SHIFT(1, 2) VRC_SHIFT(2, 3) VRC_SHIFT(3, 4) VRC_SHIFT(4, 5) VRC_SHIFT(5, 6) VRC_SHIFT(6, 7)
+    hT7 = uintBitsToFloat(0x7F800000u);
+#endif
 }
 
 // Tests the pieces of voxel v against the ray; keeps hits in [tEnter, tExit) (the current voxel).
@@ -386,7 +482,7 @@ void main() {
             bool occupied = (header & kVrcCountMask) != 0u;
 #endif
             if (occupied) {
-                hitCount = 0;
+                clearHits();
 #ifdef NEIGHBORS
                 for (int dz = -1; dz <= 1; ++dz)
                     for (int dy = -1; dy <= 1; ++dy)
@@ -394,34 +490,35 @@ void main() {
 #else
                 testVoxel(ray, v, tEnter, tExit);
 #endif
-                for (int i = 0; i < hitCount; ++i) {
-#ifdef TRANSPARENT
-                    // Each line once per voxel: the nearest of its hits here.
-                    bool seen = false;
-                    for (int j = 0; j < i; ++j) seen = seen || hitLine[j] == hitLine[i];
-                    if (seen) continue;
-#endif
-                    vec4 base = hitColor[i];
-                    float ao;
+                // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks a
+                // farther hit of a line already blended in this voxel.
+                int hits = hitCount;
+                for (int i = 0; i < hits; ++i) {
+                    uint line = hL0;
+                    if (line != kNoLine) {
+                        vec4 base = hC0;
+                        float ao;
 #ifdef VRC_HIT_CONE
-                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], base, hitEnd0[i], hitEnd1[i], ao);
+                        vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
 #else
-                    vec3 rgb = shadeHit(ray, hitT[i], hitNormal[i], base, vec4(0.0), vec4(0.0), ao);
+                        vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
 #endif
-                    if (firstLine == kNoLine) {
-                        firstDepth = viewDepth(ray, hitT[i]);
-                        firstNormal = hitNormal[i];
-                        firstLine = hitLine[i];
-                        firstAo = ao;
-                    }
+                        if (firstLine == kNoLine) {
+                            firstDepth = viewDepth(ray, hT0);
+                            firstNormal = hN0;
+                            firstLine = line;
+                            firstAo = ao;
+                        }
 #ifdef TRANSPARENT
-                    // As every transparent path: shaded colour clamped to [0, 1], blended "under".
-                    float a = base.a;
-                    accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
-                    accum.a += (1.0 - accum.a) * a;
+                        // As every transparent path: shaded colour clamped to [0, 1], blended "under".
+                        float a = base.a;
+                        accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
+                        accum.a += (1.0 - accum.a) * a;
 #else
-                    accum = vec4(rgb, 1.0);
+                        accum = vec4(rgb, 1.0);
 #endif
+                    }
+                    popHit(line);
                 }
 #ifdef TRANSPARENT
                 done = accum.a >= uOpacityThreshold;

@@ -15,8 +15,10 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/scene.h"
 #include "core/vrc_model.h"
 #include "gl/gpu_timer.h"
@@ -346,6 +348,59 @@ TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind
     // stays). 20 % is far from float noise and below the effect.
     EXPECT_LT(leftShadowed, 0.8f * leftLit);
     EXPECT_GT(rightShadowed, 0.999f * rightLit);  // nothing toward the light, no self-shadowing
+}
+
+TEST_F(GlTest, vrc_piece_array_split_over_several_storage_blocks_renders_the_single_block_image) {
+    // The piece array of a large model is split over several shader storage blocks (one block is
+    // capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE). A tiny forced block size splits this small
+    // model the same way: the image, depth and ids must be bit-identical to one block, for both
+    // piece encodings, transparent (every piece along the ray is read) and opaque.
+    const int w = 96, h = 72;
+    const StyledLines lines = straightTubes(0.4f);
+    const Camera cam = obliqueCamera();
+    for (int q : {32, 0}) {
+        for (bool transparent : {true, false}) {
+            SCOPED_TRACE("q=" + std::to_string(q) + (transparent ? " transparent" : " opaque"));
+            VrcBuildOptions o;
+            o.resolution = 24;
+            o.quantization = q;
+            o.lod = false;
+            o.dilate = true;
+            const VrcModel model = buildVrcModel(lines, o);
+            const Scene scene = vrcScene(w, h, transparent, q, false);
+            const std::unique_ptr<gl::VrcRenderer> one = gl::VrcRenderer::create(scene, lines, model);
+            // The smallest power-of-two block that fits the model in kMaxPieceBlocks blocks: 5..8
+            // blocks, the last one partly filled.
+            const std::size_t perBlock = std::size_t(1)
+                                         << int(std::ceil(std::log2(double(model.pieceCount()) / gl::VrcRenderer::kMaxPieceBlocks)));
+            ASSERT_GE(perBlock, 16u);
+            const std::unique_ptr<gl::VrcRenderer> split =
+                gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece());
+            EXPECT_EQ(one->describe()["piece_blocks"], 1);
+            const std::size_t blocks = (model.pieceCount() + perBlock - 1) / perBlock;
+            EXPECT_EQ(split->describe()["piece_blocks"], blocks);
+            EXPECT_GE(blocks, 5u);
+            const FrameImages a = render(*one, scene, cam), b = render(*split, scene, cam);
+            std::size_t covered = 0;
+            for (std::size_t i = 0; i < a.id.size(); ++i) covered += a.id[i] != kBackgroundId;
+            EXPECT_GT(covered, std::size_t(w * h / 10));
+            EXPECT_EQ(a.rgba, b.rgba);
+            EXPECT_EQ(a.id, b.id);
+            EXPECT_EQ(std::memcmp(a.depth.data(), b.depth.data(), a.depth.size() * sizeof(float)), 0);
+        }
+    }
+}
+
+TEST_F(GlTest, vrc_model_needing_more_storage_blocks_than_bindings_is_an_input_error) {
+    const StyledLines lines = straightTubes(0.4f);
+    VrcBuildOptions o;
+    o.resolution = 24;
+    o.dilate = true;
+    const VrcModel model = buildVrcModel(lines, o);
+    const Scene scene = vrcScene(32, 24, true, o.quantization, false);
+    const std::size_t perBlock = 16;
+    ASSERT_GT(model.pieceCount(), perBlock * gl::VrcRenderer::kMaxPieceBlocks);
+    EXPECT_THROW(gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece()), InputError);
 }
 
 TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
