@@ -35,7 +35,12 @@ class FragmentOcclusion {
 public:
     // `lists` sorted front to back (FragmentLists::sortByDepth); only lists of two or more
     // fragments are kept (a single fragment occludes nothing and is occluded by nothing).
-    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount);
+    // `blockParts`: how many distinct parts a block of lists may touch (see multiply()); tests
+    // pass small values to get many blocks.
+    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockParts = kBlockParts);
+
+    // 4096 parts: a block's four local arrays (128 KB) and its fragments stay in L2.
+    static constexpr std::size_t kBlockParts = 4096;
 
     std::size_t partCount() const { return m_n; }
     // Fragments kept (in lists of at least two) and the pairs Algorithm 1 would visit.
@@ -43,20 +48,33 @@ public:
     std::uint64_t pairCount() const { return m_pairs; }
 
     // hx = H x and htx = H^T y in one pass over the fragments (either output may be null; its
-    // input is then not read). Parallel over lists (oneTBB); the scattered sums go to per-chunk
-    // buffers that are added afterwards (no atomics).
+    // input is then not read). The lists are kept in Z order over the image and cut into blocks
+    // that touch at most blockParts distinct parts, with fragments holding 16-bit block-local part
+    // ids: per block the inputs are gathered into local arrays, the lists are walked there (in
+    // cache), and the local sums are scattered back once. Parallel over runs of blocks (oneTBB);
+    // the scattered sums go to per-chunk buffers that are added afterwards (no atomics).
     void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y,
                   Eigen::VectorXd* htx) const;
 
 private:
     struct Fragment {
-        std::uint32_t part;  // floor(w)
-        float frac;          // w - floor(w)
+        std::uint16_t front;  // block-local id of floor(w)
+        std::uint16_t back;   // block-local id of floor(w) + 1 (= front when frac = 0)
+        float frac;           // w - floor(w)
     };
+    struct Block {
+        std::size_t listBegin, listEnd;      // lists [listBegin, listEnd)
+        std::size_t globalBegin, globalEnd;  // m_globals[globalBegin + k] = part of local id k
+    };
+    static std::uint32_t roundId(const Fragment& f);
+
     std::size_t m_n = 0;
-    std::vector<Fragment> m_fragments;        // lists of >= 2 fragments, front to back
+    std::vector<Fragment> m_fragments;        // lists of >= 2 fragments, front to back, Z order
     std::vector<std::uint64_t> m_listStart;   // list k = [m_listStart[k], m_listStart[k + 1])
-    std::vector<std::size_t> m_chunks;        // list ranges of about equal fragments
+    std::vector<Block> m_blocks;
+    std::vector<std::uint32_t> m_globals;     // per block, its parts in ascending order
+    std::size_t m_blockParts = 0;             // the largest block's part count
+    std::vector<std::size_t> m_chunks;        // block ranges of about equal fragments
     Eigen::VectorXd m_inverseCount;           // 1 / part j's fragment count, 0 for parts never seen
     Eigen::VectorXd m_self;                   // d: S's diagonal (pairs of a part with itself)
     std::uint64_t m_pairs = 0;

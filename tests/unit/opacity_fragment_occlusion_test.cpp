@@ -79,6 +79,31 @@ TEST(OpacityFragmentOcclusion, products_equal_the_reference_matrix_without_clamp
     }
 }
 
+TEST(OpacityFragmentOcclusion, small_blocks_give_the_reference_products) {
+    // The lists are cut into blocks of at most blockParts distinct parts with block-local ids;
+    // tiny blocks give hundreds of them, and the deep lists (every 331st pixel, up to 6 x 14
+    // fragments with twins) touch more parts than a block holds, so they become blocks of their
+    // own. Also with an unknown image width (no Z order over the image).
+    const int lines = 60, m = 6, n = lines * m;
+    for (int width : {40, 0}) {
+        FragmentLists lists = randomLists(40, 30, lines, m, 14, 21);
+        lists.width = width;
+        const Eigen::MatrixXd h(occlusionMatrixReference(lists, n, false));
+        std::mt19937 rng(9);
+        const Eigen::VectorXd x = randomVector(n, rng), y = randomVector(n, rng);
+        const Eigen::VectorXd refHx = h * x, refHty = h.transpose() * y;
+        for (std::size_t blockParts : {std::size_t(2), std::size_t(16), std::size_t(64), std::size_t(65536)}) {
+            const FragmentOcclusion op(lists, n, blockParts);
+            Eigen::VectorXd hx, hty;
+            op.multiply(&x, &hx, &y, &hty);
+            EXPECT_LE((hx - refHx).lpNorm<Eigen::Infinity>(), 1e-12 * refHx.lpNorm<Eigen::Infinity>())
+                << "width " << width << ", blockParts " << blockParts;
+            EXPECT_LE((hty - refHty).lpNorm<Eigen::Infinity>(), 1e-12 * refHty.lpNorm<Eigen::Infinity>())
+                << "width " << width << ", blockParts " << blockParts;
+        }
+    }
+}
+
 TEST(OpacityFragmentOcclusion, equals_the_clamped_fast_path_where_no_entry_reaches_one) {
     // Shallow lists without twins: no h_ij reaches 1, so the clamp of the assembled path changes
     // nothing and the two products agree with the tiled fast path too.
