@@ -30,10 +30,8 @@ std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y) {
 
 }  // namespace
 
-FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockParts)
+FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots)
     : m_n(partCount) {
-    TC_CHECK(blockParts >= 2 && blockParts <= 65536);
-    m_blockParts = 0;
     // Part counts over all fragments (singletons included: they are part of j's pixels).
     const std::vector<double> counts = partFragmentCounts(lists, partCount);
     m_inverseCount.resize(Eigen::Index(partCount));
@@ -59,15 +57,17 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     }
     const std::uint64_t fragmentTotal = m_listStart.back();
 
-    // Blocks: runs of consecutive lists whose fragments touch at most blockParts distinct parts
-    // (floor(w) and floor(w) + 1 of every fragment). A product gathers a block's inputs into
-    // arrays over its local part ids, walks its lists there (in L1/L2 instead of scattered over
-    // n-long vectors: the cache misses that made the 128k product 8x the 32k one for 3.7x the
-    // fragments), and scatters the local sums back once per block. Formed greedily in a few
-    // independent ranges of lists, in parallel; local ids are 16 bits. Measured at 128k parts
-    // (docs/performance.md M7 session 5): 33.5 M fragments, 1036 blocks of 4096 parts, 4.1 M
-    // gathered entries per pass; 2048 parts per block gives 9.5 M, 1024 parts 29 M (a 32 x 32 px
-    // region of this dense view already sees ~1000 parts), float local arrays gained nothing.
+    // Blocks: runs of consecutive lists whose fragments touch at most blockSlots / kGroupSlots
+    // groups of kGroup consecutive parts. A product gathers a block's inputs into a local array
+    // (kGroupSlots = kGroup + 1 slots per group: its parts and the next group's first, so that
+    // floor(w) + 1 of any fragment is the slot after floor(w)), walks its lists there (in L1/L2
+    // instead of scattered over n-long vectors: the cache misses that made the 128k product 8x
+    // the 32k one for 3.7x the fragments), and scatters the local sums back once per block (a part
+    // in two groups' slots gets both sums). The inner loops are the ones over global ids (one
+    // 32-bit id and the fraction per fragment, no branches). Formed greedily in a few independent
+    // ranges of lists, in parallel. Measured at 128k parts: docs/performance.md M7 session 5
+    // (33.5 M fragments, a 32 x 32 px region of that view already sees ~1000 parts).
+    const std::size_t groupCap = std::max<std::size_t>(1, blockSlots / kGroupSlots);
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const std::size_t ranges = fragmentTotal < 50000 ? 1 : 8 * threads;
     std::vector<std::size_t> rangeStart(1, 0);
@@ -81,76 +81,63 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     m_fragments.resize(fragmentTotal);
     struct RangeBlocks {
         std::vector<Block> blocks;
-        std::vector<std::uint32_t> globals;
+        std::vector<std::uint32_t> groups;
     };
     std::vector<RangeBlocks> perRange(rangeStart.size() - 1);
-    struct Marks {
-        std::vector<std::uint32_t> local;  // part -> local id + 1 in the current block, 0 if not in it
-    };
-    tbb::enumerable_thread_specific<Marks> marks([&] { return Marks{std::vector<std::uint32_t>(partCount + 1, 0)}; });
+    const std::size_t groupCount = partCount / kGroup + 1;
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> marks(
+        [&] { return std::vector<std::uint32_t>(groupCount, 0); });  // group -> local index + 1, 0: not in the block
     tbb::parallel_for(std::size_t(0), perRange.size(), [&](std::size_t r) {
-        std::vector<std::uint32_t>& local = marks.local().local;
+        std::vector<std::uint32_t>& local = marks.local();
         RangeBlocks& out = perRange[r];
-        std::vector<std::uint32_t> globals;  // the current block's parts, by local id
-        std::vector<std::uint16_t> toSorted;
+        std::vector<std::uint32_t> groups;  // the open block's groups, by local index
+        std::vector<std::uint32_t> toSorted;
         auto closeBlock = [&](std::size_t firstList, std::size_t endList) {
-            // Local ids in ascending global order, so the gather and scatter walk memory forwards.
-            std::vector<std::uint32_t> sorted = globals;
+            // Groups in ascending order, so the gather and scatter walk memory forwards.
+            std::vector<std::uint32_t> sorted = groups;
             std::sort(sorted.begin(), sorted.end());
-            toSorted.resize(globals.size());
+            toSorted.resize(groups.size());
             for (std::size_t k = 0; k < sorted.size(); ++k) local[sorted[k]] = std::uint32_t(k) + 1;
-            for (std::size_t k = 0; k < globals.size(); ++k) toSorted[k] = std::uint16_t(local[globals[k]] - 1);
+            for (std::size_t k = 0; k < groups.size(); ++k) toSorted[k] = local[groups[k]] - 1;
             for (std::uint64_t f = m_listStart[firstList]; f < m_listStart[endList]; ++f) {
-                m_fragments[f].front = toSorted[m_fragments[f].front];
-                m_fragments[f].back = toSorted[m_fragments[f].back];
+                const std::uint32_t slot = m_fragments[f].part;
+                m_fragments[f].part = toSorted[slot / kGroupSlots] * kGroupSlots + slot % kGroupSlots;
             }
             for (std::uint32_t g : sorted) local[g] = 0;
-            out.blocks.push_back({firstList, endList, out.globals.size(), out.globals.size() + sorted.size()});
-            out.globals.insert(out.globals.end(), sorted.begin(), sorted.end());
-            globals.clear();
+            out.blocks.push_back({firstList, endList, out.groups.size(), out.groups.size() + sorted.size()});
+            out.groups.insert(out.groups.end(), sorted.begin(), sorted.end());
+            groups.clear();
         };
         std::size_t blockFirst = rangeStart[r];
         for (std::size_t l = rangeStart[r]; l < rangeStart[r + 1]; ++l) {
             const std::size_t p = order[l].second;
             const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
             const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
-            // Distinct parts this list would add. A list that alone touches more than blockParts
-            // parts (over blockParts / 2 fragments) becomes a block of its own, up to the 16-bit
-            // limit of the local ids.
+            // Groups this list would add (a list touching more than groupCap groups becomes a
+            // block of its own).
             std::size_t added = 0;
             for (std::size_t k = 0; k < length; ++k) {
-                const std::uint32_t j = f[k].part;
-                added += local[j] == 0;
-                if (local[j] == 0) local[j] = ~0u;
-                if (f[k].frac > 0 && local[j + 1] == 0) {
-                    local[j + 1] = ~0u;
+                std::uint32_t& mark = local[f[k].part / kGroup];
+                if (mark == 0) {
+                    mark = ~0u;
                     ++added;
                 }
             }
-            for (std::size_t k = 0; k < length; ++k) {  // undo the probe marks
-                const std::uint32_t j = f[k].part;
-                if (local[j] == ~0u) local[j] = 0;
-                if (local[j + 1] == ~0u) local[j + 1] = 0;
-            }
-            if (globals.size() + added > blockParts && l > blockFirst) {
+            for (std::size_t k = 0; k < length; ++k)
+                if (local[f[k].part / kGroup] == ~0u) local[f[k].part / kGroup] = 0;
+            if (groups.size() + added > groupCap && l > blockFirst) {
                 closeBlock(blockFirst, l);
                 blockFirst = l;
             }
-            TC_CHECK_OP(added, <=, std::size_t(65536));
             Fragment* dst = m_fragments.data() + m_listStart[l];
-            auto localId = [&](std::uint32_t j) {
-                if (local[j] == 0) {
-                    globals.push_back(j);
-                    local[j] = std::uint32_t(globals.size());
-                }
-                return std::uint16_t(local[j] - 1);
-            };
             for (std::size_t k = 0; k < length; ++k) {
-                const std::uint32_t j = f[k].part;
-                const std::uint16_t front = localId(j);
-                // frac = 0 (a polyline's last part): no weight to j + 1, which may not exist.
-                const std::uint16_t back = f[k].frac > 0 ? localId(j + 1) : front;
-                dst[k] = {front, back, f[k].frac};
+                const std::uint32_t j = f[k].part, g = j / kGroup;
+                if (local[g] == 0) {
+                    groups.push_back(g);
+                    local[g] = std::uint32_t(groups.size());
+                }
+                // The slot in insertion order; closeBlock renumbers it to the sorted order.
+                dst[k] = {(local[g] - 1) * kGroupSlots + j % kGroup, f[k].frac};
             }
         }
         if (rangeStart[r + 1] > blockFirst) closeBlock(blockFirst, rangeStart[r + 1]);
@@ -158,13 +145,13 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     // Concatenate the ranges' blocks; chunks for the product are runs of blocks of about equal
     // fragments, a few per thread so one slowed thread does not hold the pass up.
     for (RangeBlocks& rb : perRange) {
-        const std::size_t base = m_globals.size();
+        const std::size_t base = m_groups.size();
         for (Block b : rb.blocks) {
-            b.globalBegin += base;
-            b.globalEnd += base;
+            b.groupBegin += base;
+            b.groupEnd += base;
             m_blocks.push_back(b);
         }
-        m_globals.insert(m_globals.end(), rb.globals.begin(), rb.globals.end());
+        m_groups.insert(m_groups.end(), rb.groups.begin(), rb.groups.end());
     }
     const std::size_t chunks = fragmentTotal < 50000 ? 1 : 2 * threads;
     m_chunks.assign(1, 0);
@@ -175,42 +162,35 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
         if (b > m_chunks.back() && b < m_blocks.size()) m_chunks.push_back(b);
     }
     m_chunks.push_back(m_blocks.size());
-    for (const Block& b : m_blocks) m_blockParts = std::max(m_blockParts, b.globalEnd - b.globalBegin);
+    m_blockSlots = 0;
+    for (const Block& b : m_blocks) m_blockSlots = std::max(m_blockSlots, (b.groupEnd - b.groupBegin) * kGroupSlots);
 
     // d_i: for each B, the A in front of it whose front part is the part B's weight goes to.
-    // A per-thread count of front parts seen in the current list (reset after each list), in the
-    // blocks' local ids.
+    // A per-thread count of front parts seen in the current list (reset after each list), over
+    // global ids (a part can have two slots in a block).
     struct Scratch {
         std::vector<std::uint32_t> seen;
         Eigen::VectorXd self;
     };
     tbb::enumerable_thread_specific<Scratch> scratch(
-        [&] { return Scratch{std::vector<std::uint32_t>(m_blockParts, 0), Eigen::VectorXd::Zero(Eigen::Index(partCount))}; });
-    tbb::parallel_for(std::size_t(0), m_blocks.size(), [&](std::size_t bi) {
+        [&] { return Scratch{std::vector<std::uint32_t>(partCount + 1, 0), Eigen::VectorXd::Zero(Eigen::Index(partCount + 1))}; });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, listCount, 1024), [&](const auto& range) {
         Scratch& s = scratch.local();
-        const Block& block = m_blocks[bi];
-        const std::uint32_t* global = m_globals.data() + block.globalBegin;
-        for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
-            const Fragment* f = m_fragments.data() + m_listStart[l];
-            const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
+        for (std::size_t l = range.begin(); l != range.end(); ++l) {
+            const std::size_t p = order[l].second;
+            const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
+            const std::size_t length = std::size_t(lists.offsets[p + 1] - lists.offsets[p]);
             for (std::size_t b = 0; b < length; ++b) {
-                const std::uint16_t j0 = f[b].front, j1 = f[b].back;
-                if (s.seen[j0]) s.self[global[j0]] += double(s.seen[j0]) * (1.0 - double(f[b].frac));
-                if (f[b].frac > 0 && s.seen[j1]) s.self[global[j1]] += double(s.seen[j1]) * double(f[b].frac);
-                ++s.seen[f[b].frac >= 0.5f ? j1 : j0];
+                const std::uint32_t j = f[b].part;
+                if (s.seen[j]) s.self[j] += double(s.seen[j]) * (1.0 - double(f[b].frac));
+                if (f[b].frac > 0 && s.seen[j + 1]) s.self[j + 1] += double(s.seen[j + 1]) * double(f[b].frac);
+                ++s.seen[f[b].frac >= 0.5f ? j + 1 : j];
             }
-            for (std::size_t b = 0; b < length; ++b) s.seen[f[b].frac >= 0.5f ? f[b].back : f[b].front] = 0;
+            for (std::size_t b = 0; b < length; ++b) s.seen[f[b].frac >= 0.5f ? f[b].part + 1 : f[b].part] = 0;
         }
     });
     m_self = Eigen::VectorXd::Zero(Eigen::Index(partCount));
-    for (const Scratch& s : scratch) m_self += s.self;
-}
-
-// The local id of round(w), without a branch (a mispredicted branch per fragment costs more than
-// the arithmetic on these short, unpredictable lists).
-inline std::uint32_t FragmentOcclusion::roundId(const Fragment& f) {
-    const std::uint32_t mask = 0u - std::uint32_t(f.frac >= 0.5f);
-    return std::uint32_t(f.front) ^ ((std::uint32_t(f.front) ^ std::uint32_t(f.back)) & mask);
+    for (const Scratch& s : scratch) m_self += s.self.head(Eigen::Index(partCount));
 }
 
 void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y,
@@ -218,73 +198,87 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     const Eigen::Index n = Eigen::Index(m_n);
     if (hx) TC_CHECK(x && x->size() == n);
     if (htx) TC_CHECK(y && y->size() == n);
-    // H x = S (N x) - d . (N x): the suffix sums see N x.
-    Eigen::VectorXd xs;
-    if (hx) xs = m_inverseCount.cwiseProduct(*x);
-    const double* xv = hx ? xs.data() : nullptr;
-    const double* yv = htx ? y->data() : nullptr;
+    // H x = S (N x) - d . (N x): the suffix sums see N x. Inputs and outputs are padded with
+    // zeros to whole groups plus the next group's first part (the last group's extra slot).
+    const Eigen::Index padded = Eigen::Index((m_n / kGroup + 1) * kGroup + 1);
+    Eigen::VectorXd xs, ys;
+    if (hx) {
+        xs.setZero(padded);
+        xs.head(n) = m_inverseCount.cwiseProduct(*x);
+    }
+    if (htx) {
+        ys.setZero(padded);
+        ys.head(n) = *y;
+    }
     const std::size_t chunks = m_chunks.size() - 1;
     // Per-chunk outputs: S N x scatters into the front parts, S^T y into the parts behind.
     std::vector<Eigen::VectorXd> outH(hx ? chunks : 0), outT(htx ? chunks : 0);
     struct Local {
-        std::vector<double> x, y, h, t;
+        std::vector<double> in, out;
     };
-    tbb::enumerable_thread_specific<Local> locals([&] {
-        return Local{std::vector<double>(m_blockParts), std::vector<double>(m_blockParts),
-                     std::vector<double>(m_blockParts), std::vector<double>(m_blockParts)};
-    });
+    tbb::enumerable_thread_specific<Local> locals(
+        [&] { return Local{std::vector<double>(m_blockSlots), std::vector<double>(m_blockSlots)}; });
     const auto body = [&](std::size_t c) {
         Local& local = locals.local();
+        const Fragment* fragments = m_fragments.data();
+        const std::uint64_t* start = m_listStart.data();
+        double* li = local.in.data();
+        double* lo = local.out.data();
+        const auto gather = [&](const Block& block, const double* v) {
+            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
+                const double* src = v + std::size_t(m_groups[g]) * kGroup;
+                double* dst = li + (g - block.groupBegin) * kGroupSlots;
+                for (std::uint32_t s = 0; s < kGroupSlots; ++s) dst[s] = src[s];
+            }
+            std::fill(lo, lo + (block.groupEnd - block.groupBegin) * kGroupSlots, 0.0);
+        };
+        const auto scatter = [&](const Block& block, double* v) {
+            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
+                double* dst = v + std::size_t(m_groups[g]) * kGroup;
+                const double* src = lo + (g - block.groupBegin) * kGroupSlots;
+                for (std::uint32_t s = 0; s < kGroupSlots; ++s) dst[s] += src[s];
+            }
+        };
         double* oh = nullptr;
         double* ot = nullptr;
         if (hx) {
-            outH[c].setZero(n);
+            outH[c].setZero(padded);
             oh = outH[c].data();
         }
         if (htx) {
-            outT[c].setZero(n);
+            outT[c].setZero(padded);
             ot = outT[c].data();
         }
-        const Fragment* fragments = m_fragments.data();
-        const std::uint64_t* start = m_listStart.data();
-        double* lx = local.x.data();
-        double* ly = local.y.data();
-        double* lh = local.h.data();
-        double* lt = local.t.data();
         for (std::size_t bi = m_chunks[c]; bi < m_chunks[c + 1]; ++bi) {
             const Block& block = m_blocks[bi];
-            const std::uint32_t* global = m_globals.data() + block.globalBegin;
-            const std::size_t parts = block.globalEnd - block.globalBegin;
             if (htx) {
-                for (std::size_t k = 0; k < parts; ++k) ly[k] = yv[global[k]];
-                std::fill(lt, lt + parts, 0.0);
+                gather(block, ys.data());
                 for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
                     // Front to back: P = sum of y over the front parts of the fragments in front.
                     double prefix = 0;
                     for (std::uint64_t b = start[l]; b < start[l + 1]; ++b) {
-                        const Fragment f = fragments[b];
-                        const double w1 = double(f.frac);
-                        lt[f.front] += (1.0 - w1) * prefix;
-                        lt[f.back] += w1 * prefix;
-                        prefix += ly[roundId(f)];
+                        const std::uint32_t j = fragments[b].part;
+                        const double w1 = double(fragments[b].frac);
+                        lo[j] += (1.0 - w1) * prefix;
+                        lo[j + 1] += w1 * prefix;
+                        prefix += li[j + (w1 >= 0.5)];
                     }
                 }
-                for (std::size_t k = 0; k < parts; ++k) ot[global[k]] += lt[k];
+                scatter(block, ot);
             }
             if (hx) {
-                for (std::size_t k = 0; k < parts; ++k) lx[k] = xv[global[k]];
-                std::fill(lh, lh + parts, 0.0);
+                gather(block, xs.data());
                 for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
                     // Back to front: T = sum of the weighted N x over the fragments behind.
                     double suffix = 0;
                     for (std::uint64_t a = start[l + 1]; a-- > start[l];) {
-                        const Fragment f = fragments[a];
-                        const double w1 = double(f.frac);
-                        lh[roundId(f)] += suffix;
-                        suffix += (1.0 - w1) * lx[f.front] + w1 * lx[f.back];
+                        const std::uint32_t j = fragments[a].part;
+                        const double w1 = double(fragments[a].frac);
+                        lo[j + (w1 >= 0.5)] += suffix;
+                        suffix += (1.0 - w1) * li[j] + w1 * li[j + 1];
                     }
                 }
-                for (std::size_t k = 0; k < parts; ++k) oh[global[k]] += lh[k];
+                scatter(block, oh);
             }
         }
     };
@@ -293,14 +287,12 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     else
         tbb::parallel_for(std::size_t(0), chunks, body);
     if (hx) {
-        *hx = std::move(outH[0]);
-        for (std::size_t c = 1; c < chunks; ++c) *hx += outH[c];
-        *hx -= m_self.cwiseProduct(xs);
+        for (std::size_t c = 1; c < chunks; ++c) outH[0] += outH[c];
+        *hx = outH[0].head(n) - m_self.cwiseProduct(xs.head(n));
     }
     if (htx) {
-        *htx = std::move(outT[0]);
-        for (std::size_t c = 1; c < chunks; ++c) *htx += outT[c];
-        *htx = m_inverseCount.cwiseProduct(*htx - m_self.cwiseProduct(*y));
+        for (std::size_t c = 1; c < chunks; ++c) outT[0] += outT[c];
+        *htx = m_inverseCount.cwiseProduct(outT[0].head(n) - m_self.cwiseProduct(*y));
     }
 }
 

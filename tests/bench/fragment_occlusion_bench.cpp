@@ -2,7 +2,7 @@
 // on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of
 // M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
 //
-//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-parts 4096]
+//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096]
 //
 // Prints the set-up time, H products (both outputs), Q products and cold solves (tolerance 1e-4,
 // from a = 1), each as wall and process CPU time (all threads).
@@ -24,11 +24,11 @@ int main(int argc, char** argv) {
         return 2;
     }
     int reps = 10, solves = 1;
-    std::size_t blockParts = tc::FragmentOcclusion::kBlockParts;
+    std::size_t blockSlots = tc::FragmentOcclusion::kBlockSlots;
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--solves")) solves = std::atoi(argv[i + 1]);
-        if (!std::strcmp(argv[i], "--block-parts")) blockParts = std::size_t(std::atoi(argv[i + 1]));
+        if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
     }
     using tc::bench::Clock;
     using tc::bench::msSince;
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
         const std::size_t n = sys.parts.partCount();
         auto t0 = Clock::now();
         std::clock_t c0 = std::clock();
-        auto occlusion = std::make_shared<const tc::FragmentOcclusion>(sys.lists, n, blockParts);
+        auto occlusion = std::make_shared<const tc::FragmentOcclusion>(sys.lists, n, blockSlots);
         std::printf("%zu parts, %zu fragments in lists of >= 2, %llu pairs\n", n, occlusion->fragmentCount(),
                     (unsigned long long)occlusion->pairCount());
         std::printf("set-up: %.1f ms wall, %.1f ms CPU\n", msSince(t0), cpuMs(c0));
