@@ -60,13 +60,13 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     // Blocks: runs of consecutive lists whose fragments touch at most blockSlots / kGroupSlots
     // groups of kGroup consecutive parts. A product gathers a block's inputs into a local array
     // (kGroupSlots = kGroup + 1 slots per group: its parts and the next group's first, so that
-    // floor(w) + 1 of any fragment is the slot after floor(w)), walks its lists there (in L1/L2
-    // instead of scattered over n-long vectors: the cache misses that made the 128k product 8x
+    // floor(w) + 1 of any fragment is the slot after floor(w)), walks its lists there (in L2
+    // instead of scattered over n-long vectors, 1 MB each at 128k parts, where a product cost 8x
     // the 32k one for 3.7x the fragments), and scatters the local sums back once per block (a part
     // in two groups' slots gets both sums). The inner loops are the ones over global ids (one
     // 32-bit id and the fraction per fragment, no branches). Formed greedily in a few independent
-    // ranges of lists, in parallel. Measured at 128k parts: docs/performance.md M7 session 5
-    // (33.5 M fragments, a 32 x 32 px region of that view already sees ~1000 parts).
+    // ranges of lists, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k
+    // no measurable change (docs/performance.md M7 session 5).
     const std::size_t groupCap = std::max<std::size_t>(1, blockSlots / kGroupSlots);
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const std::size_t ranges = fragmentTotal < 50000 ? 1 : 8 * threads;
@@ -172,8 +172,10 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
         std::vector<std::uint32_t> seen;
         Eigen::VectorXd self;
     };
-    tbb::enumerable_thread_specific<Scratch> scratch(
-        [&] { return Scratch{std::vector<std::uint32_t>(partCount + 1, 0), Eigen::VectorXd::Zero(Eigen::Index(partCount + 1))}; });
+    tbb::enumerable_thread_specific<Scratch> scratch([&] {
+        return Scratch{std::vector<std::uint32_t>(partCount + 1, 0),
+                       Eigen::VectorXd::Zero(Eigen::Index(partCount + 1))};
+    });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, listCount, 1024), [&](const auto& range) {
         Scratch& s = scratch.local();
         for (std::size_t l = range.begin(); l != range.end(); ++l) {
@@ -216,8 +218,9 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     struct Local {
         std::vector<double> in, out;
     };
-    tbb::enumerable_thread_specific<Local> locals(
-        [&] { return Local{std::vector<double>(m_blockSlots), std::vector<double>(m_blockSlots)}; });
+    tbb::enumerable_thread_specific<Local> locals([&] {
+        return Local{std::vector<double>(m_blockSlots), std::vector<double>(m_blockSlots)};
+    });
     const auto body = [&](std::size_t c) {
         Local& local = locals.local();
         const Fragment* fragments = m_fragments.data();

@@ -56,10 +56,9 @@ public:
     // that touch at most blockSlots / kGroupSlots groups of parts, with fragments holding
     // block-local slot ids: per block the inputs are gathered into a local array, the lists are
     // walked there (in cache), and the local sums are scattered back once. Parallel over runs of
-    // blocks (oneTBB);
-    // the scattered sums go to per-chunk buffers that are added afterwards (no atomics).
-    void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y,
-                  Eigen::VectorXd* htx) const;
+    // blocks (oneTBB); the scattered sums go to per-chunk buffers that are added afterwards (no
+    // atomics).
+    void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y, Eigen::VectorXd* htx) const;
 
 private:
     struct Fragment {
@@ -71,14 +70,14 @@ private:
         std::size_t groupBegin, groupEnd;  // m_groups[groupBegin + k]: the group of slots [9k, 9k + 9)
     };
     std::size_t m_n = 0;
-    std::vector<Fragment> m_fragments;        // lists of >= 2 fragments, front to back, Z order
-    std::vector<std::uint64_t> m_listStart;   // list k = [m_listStart[k], m_listStart[k + 1])
+    std::vector<Fragment> m_fragments;       // lists of >= 2 fragments, front to back, Z order
+    std::vector<std::uint64_t> m_listStart;  // list k = [m_listStart[k], m_listStart[k + 1])
     std::vector<Block> m_blocks;
-    std::vector<std::uint32_t> m_groups;      // per block, its groups (part / kGroup) ascending
-    std::size_t m_blockSlots = 0;             // the largest block's slot count
-    std::vector<std::size_t> m_chunks;        // block ranges of about equal fragments
-    Eigen::VectorXd m_inverseCount;           // 1 / part j's fragment count, 0 for parts never seen
-    Eigen::VectorXd m_self;                   // d: S's diagonal (pairs of a part with itself)
+    std::vector<std::uint32_t> m_groups;  // per block, its groups (part / kGroup) ascending
+    std::size_t m_blockSlots = 0;         // the largest block's slot count
+    std::vector<std::size_t> m_chunks;    // block ranges of about equal fragments
+    Eigen::VectorXd m_inverseCount;       // 1 / part j's fragment count, 0 for parts never seen
+    Eigen::VectorXd m_self;               // d: S's diagonal (pairs of a part with itself)
     std::uint64_t m_pairs = 0;
 };
 

@@ -74,10 +74,11 @@ int main(int argc, char** argv) {
             t0 = Clock::now();
             c0 = std::clock();
             const tc::QpResult r = tc::solveBoundedQp(energy, energy.linearTerm(), lo, ones, ones, opt);
-            std::printf("cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
-                        "sum a %.6f\n",
-                        msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
-                        r.x.sum());
+            std::printf(
+                "cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
+                "sum a %.6f\n",
+                msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
+                r.x.sum());
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());

@@ -27,7 +27,6 @@
 #include <vector>
 
 #include "core/animation.h"
-#include "opacity_system_file.h"
 #include "core/fragment_occlusion.h"
 #include "core/generators.h"
 #include "core/opacity_optimization.h"
@@ -37,6 +36,7 @@
 #include "gl/gpu_timer.h"
 #include "gl/opacity_renderer.h"
 #include "gl/shader_library.h"
+#include "opacity_system_file.h"
 
 namespace {
 

@@ -25,7 +25,8 @@ std::vector<T> readVector(std::FILE* f) {
     std::uint64_t size = 0;
     if (std::fread(&size, sizeof size, 1, f) != 1) throw std::runtime_error("opacity system file: truncated");
     std::vector<T> v(size);
-    if (size && std::fread(v.data(), sizeof(T), size, f) != size) throw std::runtime_error("opacity system file: truncated");
+    if (size && std::fread(v.data(), sizeof(T), size, f) != size)
+        throw std::runtime_error("opacity system file: truncated");
     return v;
 }
 }  // namespace detail
