@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -11,58 +12,176 @@
 
 namespace tc {
 
-FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t partCount) : m_n(partCount) {
+namespace {
+
+// Interleaves the bits of x and y (Morton / Z order): consecutive codes stay in compact squares.
+std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y) {
+    auto spread = [](std::uint64_t v) {
+        v &= 0xFFFFFFFFu;
+        v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+        v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+        v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+        v = (v | (v << 2)) & 0x3333333333333333ull;
+        v = (v | (v << 1)) & 0x5555555555555555ull;
+        return v;
+    };
+    return spread(x) | (spread(y) << 1);
+}
+
+}  // namespace
+
+FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots)
+    : m_n(partCount) {
     // Part counts over all fragments (singletons included: they are part of j's pixels).
     const std::vector<double> counts = partFragmentCounts(lists, partCount);
     m_inverseCount.resize(Eigen::Index(partCount));
     for (std::size_t j = 0; j < partCount; ++j) m_inverseCount[Eigen::Index(j)] = counts[j] > 0 ? 1.0 / counts[j] : 0.0;
 
-    // The lists that matter, compacted (starts serially, copies in parallel).
-    std::vector<std::size_t> pixelOf;
-    m_listStart.assign(1, 0);
+    // The lists that matter (two or more fragments), in Z order over the image: neighbouring
+    // pixels see nearly the same parts, so a run of lists in this order touches few distinct parts.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> order;
+    const std::size_t width = lists.width > 0 ? std::size_t(lists.width) : lists.pixelCount();
     for (std::size_t p = 0; p < lists.pixelCount(); ++p) {
         const std::uint64_t length = lists.offsets[p + 1] - lists.offsets[p];
         if (length < 2) continue;
-        pixelOf.push_back(p);
-        m_listStart.push_back(m_listStart.back() + length);
         m_pairs += length * (length - 1) / 2;
+        order.emplace_back(mortonCode(std::uint32_t(p % width), std::uint32_t(p / width)), std::uint32_t(p));
     }
-    const std::size_t listCount = pixelOf.size();
-    m_fragments.resize(m_listStart.back());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, listCount, 4096), [&](const auto& range) {
-        for (std::size_t l = range.begin(); l != range.end(); ++l) {
-            const LineFragmentW* f = lists.fragments.data() + lists.offsets[pixelOf[l]];
-            Fragment* out = m_fragments.data() + m_listStart[l];
-            for (std::uint64_t k = 0; k < m_listStart[l + 1] - m_listStart[l]; ++k) out[k] = {f[k].part, f[k].frac};
-        }
-    });
+    tbb::parallel_sort(order.begin(), order.end());
+    const std::size_t listCount = order.size();
+    m_listStart.resize(listCount + 1);
+    m_listStart[0] = 0;
+    for (std::size_t l = 0; l < listCount; ++l) {
+        const std::size_t p = order[l].second;
+        m_listStart[l + 1] = m_listStart[l] + (lists.offsets[p + 1] - lists.offsets[p]);
+    }
+    const std::uint64_t fragmentTotal = m_listStart.back();
 
-    // List ranges of about equal fragments; a few per thread so one slowed thread does not hold
-    // the pass up.
+    // Blocks: runs of consecutive lists whose fragments touch at most blockSlots / kGroupSlots
+    // groups of kGroup consecutive parts. A product gathers a block's inputs into a local array
+    // (kGroupSlots = kGroup + 1 slots per group: its parts and the next group's first, so that
+    // floor(w) + 1 of any fragment is the slot after floor(w)), walks its lists there (in L2
+    // instead of scattered over n-long vectors, 1 MB each at 128k parts, where a product cost 8x
+    // the 32k one for 3.7x the fragments), and scatters the local sums back once per block (a part
+    // in two groups' slots gets both sums). The inner loops are the ones over global ids (one
+    // 32-bit id and the fraction per fragment, no branches). Formed greedily in a few independent
+    // ranges of lists, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k
+    // no measurable change (docs/performance.md M7 session 5).
+    const std::size_t groupCap = std::max<std::size_t>(1, blockSlots / kGroupSlots);
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const std::size_t chunks = m_fragments.size() < 50000 ? 1 : 2 * threads;
+    const std::size_t ranges = fragmentTotal < 50000 ? 1 : 8 * threads;
+    std::vector<std::size_t> rangeStart(1, 0);
+    for (std::size_t r = 1; r < ranges; ++r) {
+        const std::uint64_t target = fragmentTotal * r / ranges;
+        const std::size_t list =
+            std::size_t(std::lower_bound(m_listStart.begin(), m_listStart.end(), target) - m_listStart.begin());
+        if (list > rangeStart.back() && list < listCount) rangeStart.push_back(list);
+    }
+    rangeStart.push_back(listCount);
+    m_fragments.resize(fragmentTotal);
+    struct RangeBlocks {
+        std::vector<Block> blocks;
+        std::vector<std::uint32_t> groups;
+    };
+    std::vector<RangeBlocks> perRange(rangeStart.size() - 1);
+    const std::size_t groupCount = partCount / kGroup + 1;
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> marks(
+        [&] { return std::vector<std::uint32_t>(groupCount, 0); });  // group -> local index + 1, 0: not in the block
+    tbb::parallel_for(std::size_t(0), perRange.size(), [&](std::size_t r) {
+        std::vector<std::uint32_t>& local = marks.local();
+        RangeBlocks& out = perRange[r];
+        std::vector<std::uint32_t> groups;  // the open block's groups, by local index
+        std::vector<std::uint32_t> toSorted;
+        auto closeBlock = [&](std::size_t firstList, std::size_t endList) {
+            // Groups in ascending order, so the gather and scatter walk memory forwards.
+            std::vector<std::uint32_t> sorted = groups;
+            std::sort(sorted.begin(), sorted.end());
+            toSorted.resize(groups.size());
+            for (std::size_t k = 0; k < sorted.size(); ++k) local[sorted[k]] = std::uint32_t(k) + 1;
+            for (std::size_t k = 0; k < groups.size(); ++k) toSorted[k] = local[groups[k]] - 1;
+            for (std::uint64_t f = m_listStart[firstList]; f < m_listStart[endList]; ++f) {
+                const std::uint32_t slot = m_fragments[f].part;
+                m_fragments[f].part = toSorted[slot / kGroupSlots] * kGroupSlots + slot % kGroupSlots;
+            }
+            for (std::uint32_t g : sorted) local[g] = 0;
+            out.blocks.push_back({firstList, endList, out.groups.size(), out.groups.size() + sorted.size()});
+            out.groups.insert(out.groups.end(), sorted.begin(), sorted.end());
+            groups.clear();
+        };
+        std::size_t blockFirst = rangeStart[r];
+        for (std::size_t l = rangeStart[r]; l < rangeStart[r + 1]; ++l) {
+            const std::size_t p = order[l].second;
+            const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
+            const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
+            // Groups this list would add (a list touching more than groupCap groups becomes a
+            // block of its own).
+            std::size_t added = 0;
+            for (std::size_t k = 0; k < length; ++k) {
+                std::uint32_t& mark = local[f[k].part / kGroup];
+                if (mark == 0) {
+                    mark = ~0u;
+                    ++added;
+                }
+            }
+            for (std::size_t k = 0; k < length; ++k)
+                if (local[f[k].part / kGroup] == ~0u) local[f[k].part / kGroup] = 0;
+            if (groups.size() + added > groupCap && l > blockFirst) {
+                closeBlock(blockFirst, l);
+                blockFirst = l;
+            }
+            Fragment* dst = m_fragments.data() + m_listStart[l];
+            for (std::size_t k = 0; k < length; ++k) {
+                const std::uint32_t j = f[k].part, g = j / kGroup;
+                if (local[g] == 0) {
+                    groups.push_back(g);
+                    local[g] = std::uint32_t(groups.size());
+                }
+                // The slot in insertion order; closeBlock renumbers it to the sorted order.
+                dst[k] = {(local[g] - 1) * kGroupSlots + j % kGroup, f[k].frac};
+            }
+        }
+        if (rangeStart[r + 1] > blockFirst) closeBlock(blockFirst, rangeStart[r + 1]);
+    });
+    // Concatenate the ranges' blocks; chunks for the product are runs of blocks of about equal
+    // fragments, a few per thread so one slowed thread does not hold the pass up.
+    for (RangeBlocks& rb : perRange) {
+        const std::size_t base = m_groups.size();
+        for (Block b : rb.blocks) {
+            b.groupBegin += base;
+            b.groupEnd += base;
+            m_blocks.push_back(b);
+        }
+        m_groups.insert(m_groups.end(), rb.groups.begin(), rb.groups.end());
+    }
+    const std::size_t chunks = fragmentTotal < 50000 ? 1 : 2 * threads;
     m_chunks.assign(1, 0);
     for (std::size_t c = 1; c < chunks; ++c) {
-        const std::uint64_t target = std::uint64_t(m_fragments.size()) * c / chunks;
-        const std::size_t list = std::size_t(std::lower_bound(m_listStart.begin(), m_listStart.end(), target) -
-                                             m_listStart.begin());
-        if (list > m_chunks.back() && list < listCount) m_chunks.push_back(list);
+        const std::uint64_t target = fragmentTotal * c / chunks;
+        std::size_t b = m_chunks.back();
+        while (b < m_blocks.size() && m_listStart[m_blocks[b].listBegin] < target) ++b;
+        if (b > m_chunks.back() && b < m_blocks.size()) m_chunks.push_back(b);
     }
-    m_chunks.push_back(listCount);
+    m_chunks.push_back(m_blocks.size());
+    m_blockSlots = 0;
+    for (const Block& b : m_blocks) m_blockSlots = std::max(m_blockSlots, (b.groupEnd - b.groupBegin) * kGroupSlots);
 
     // d_i: for each B, the A in front of it whose front part is the part B's weight goes to.
-    // A per-thread count of front parts seen in the current list (reset after each list).
+    // A per-thread count of front parts seen in the current list (reset after each list), over
+    // global ids (a part can have two slots in a block).
     struct Scratch {
         std::vector<std::uint32_t> seen;
         Eigen::VectorXd self;
     };
-    tbb::enumerable_thread_specific<Scratch> scratch(
-        [&] { return Scratch{std::vector<std::uint32_t>(partCount, 0), Eigen::VectorXd::Zero(Eigen::Index(partCount))}; });
-    tbb::parallel_for(std::size_t(0), m_chunks.size() - 1, [&](std::size_t c) {
+    tbb::enumerable_thread_specific<Scratch> scratch([&] {
+        return Scratch{std::vector<std::uint32_t>(partCount + 1, 0),
+                       Eigen::VectorXd::Zero(Eigen::Index(partCount + 1))};
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, listCount, 1024), [&](const auto& range) {
         Scratch& s = scratch.local();
-        for (std::size_t l = m_chunks[c]; l < m_chunks[c + 1]; ++l) {
-            const Fragment* f = m_fragments.data() + m_listStart[l];
-            const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
+        for (std::size_t l = range.begin(); l != range.end(); ++l) {
+            const std::size_t p = order[l].second;
+            const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
+            const std::size_t length = std::size_t(lists.offsets[p + 1] - lists.offsets[p]);
             for (std::size_t b = 0; b < length; ++b) {
                 const std::uint32_t j = f[b].part;
                 if (s.seen[j]) s.self[j] += double(s.seen[j]) * (1.0 - double(f[b].frac));
@@ -73,7 +192,7 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
         }
     });
     m_self = Eigen::VectorXd::Zero(Eigen::Index(partCount));
-    for (const Scratch& s : scratch) m_self += s.self;
+    for (const Scratch& s : scratch) m_self += s.self.head(Eigen::Index(partCount));
 }
 
 void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y,
@@ -81,56 +200,88 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     const Eigen::Index n = Eigen::Index(m_n);
     if (hx) TC_CHECK(x && x->size() == n);
     if (htx) TC_CHECK(y && y->size() == n);
-    // H x = S (N x) - d . (N x): the suffix sums see N x. The inputs and the per-chunk outputs get
-    // one padding entry at n, so the weight frac(w) to part floor(w) + 1 is added without a branch
-    // (frac = 0 at a polyline's last part, where floor(w) + 1 may be n): the branches cost more
-    // than the arithmetic on these short, unpredictable lists.
+    // H x = S (N x) - d . (N x): the suffix sums see N x. Inputs and outputs are padded with
+    // zeros to whole groups plus the next group's first part (the last group's extra slot).
+    const Eigen::Index padded = Eigen::Index((m_n / kGroup + 1) * kGroup + 1);
     Eigen::VectorXd xs, ys;
     if (hx) {
-        xs.resize(n + 1);
+        xs.setZero(padded);
         xs.head(n) = m_inverseCount.cwiseProduct(*x);
-        xs[n] = 0;
     }
     if (htx) {
-        ys.resize(n + 1);
+        ys.setZero(padded);
         ys.head(n) = *y;
-        ys[n] = 0;
     }
     const std::size_t chunks = m_chunks.size() - 1;
     // Per-chunk outputs: S N x scatters into the front parts, S^T y into the parts behind.
     std::vector<Eigen::VectorXd> outH(hx ? chunks : 0), outT(htx ? chunks : 0);
+    struct Local {
+        std::vector<double> in, out;
+    };
+    tbb::enumerable_thread_specific<Local> locals([&] {
+        return Local{std::vector<double>(m_blockSlots), std::vector<double>(m_blockSlots)};
+    });
     const auto body = [&](std::size_t c) {
+        Local& local = locals.local();
         const Fragment* fragments = m_fragments.data();
         const std::uint64_t* start = m_listStart.data();
-        if (htx) {
-            outT[c].setZero(n + 1);
-            double* ot = outT[c].data();
-            const double* yv = ys.data();
-            for (std::size_t l = m_chunks[c]; l < m_chunks[c + 1]; ++l) {
-                // Front to back: P = sum of y over the front parts of the fragments in front.
-                double prefix = 0;
-                for (std::uint64_t b = start[l]; b < start[l + 1]; ++b) {
-                    const std::uint32_t j = fragments[b].part;
-                    const double w1 = double(fragments[b].frac);
-                    ot[j] += (1.0 - w1) * prefix;
-                    ot[j + 1] += w1 * prefix;
-                    prefix += yv[j + (w1 >= 0.5)];
-                }
+        double* li = local.in.data();
+        double* lo = local.out.data();
+        const auto gather = [&](const Block& block, const double* v) {
+            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
+                const double* src = v + std::size_t(m_groups[g]) * kGroup;
+                double* dst = li + (g - block.groupBegin) * kGroupSlots;
+                for (std::uint32_t s = 0; s < kGroupSlots; ++s) dst[s] = src[s];
             }
-        }
+            std::fill(lo, lo + (block.groupEnd - block.groupBegin) * kGroupSlots, 0.0);
+        };
+        const auto scatter = [&](const Block& block, double* v) {
+            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
+                double* dst = v + std::size_t(m_groups[g]) * kGroup;
+                const double* src = lo + (g - block.groupBegin) * kGroupSlots;
+                for (std::uint32_t s = 0; s < kGroupSlots; ++s) dst[s] += src[s];
+            }
+        };
+        double* oh = nullptr;
+        double* ot = nullptr;
         if (hx) {
-            outH[c].setZero(n + 1);
-            double* oh = outH[c].data();
-            const double* xv = xs.data();
-            for (std::size_t l = m_chunks[c]; l < m_chunks[c + 1]; ++l) {
-                // Back to front: T = sum of the weighted N x over the fragments behind.
-                double suffix = 0;
-                for (std::uint64_t a = start[l + 1]; a-- > start[l];) {
-                    const std::uint32_t j = fragments[a].part;
-                    const double w1 = double(fragments[a].frac);
-                    oh[j + (w1 >= 0.5)] += suffix;
-                    suffix += (1.0 - w1) * xv[j] + w1 * xv[j + 1];
+            outH[c].setZero(padded);
+            oh = outH[c].data();
+        }
+        if (htx) {
+            outT[c].setZero(padded);
+            ot = outT[c].data();
+        }
+        for (std::size_t bi = m_chunks[c]; bi < m_chunks[c + 1]; ++bi) {
+            const Block& block = m_blocks[bi];
+            if (htx) {
+                gather(block, ys.data());
+                for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
+                    // Front to back: P = sum of y over the front parts of the fragments in front.
+                    double prefix = 0;
+                    for (std::uint64_t b = start[l]; b < start[l + 1]; ++b) {
+                        const std::uint32_t j = fragments[b].part;
+                        const double w1 = double(fragments[b].frac);
+                        lo[j] += (1.0 - w1) * prefix;
+                        lo[j + 1] += w1 * prefix;
+                        prefix += li[j + (w1 >= 0.5)];
+                    }
                 }
+                scatter(block, ot);
+            }
+            if (hx) {
+                gather(block, xs.data());
+                for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
+                    // Back to front: T = sum of the weighted N x over the fragments behind.
+                    double suffix = 0;
+                    for (std::uint64_t a = start[l + 1]; a-- > start[l];) {
+                        const std::uint32_t j = fragments[a].part;
+                        const double w1 = double(fragments[a].frac);
+                        lo[j + (w1 >= 0.5)] += suffix;
+                        suffix += (1.0 - w1) * li[j] + w1 * li[j + 1];
+                    }
+                }
+                scatter(block, oh);
             }
         }
     };
@@ -139,14 +290,12 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     else
         tbb::parallel_for(std::size_t(0), chunks, body);
     if (hx) {
-        *hx = outH[0].head(n);
-        for (std::size_t c = 1; c < chunks; ++c) *hx += outH[c].head(n);
-        *hx -= m_self.cwiseProduct(xs.head(n));
+        for (std::size_t c = 1; c < chunks; ++c) outH[0] += outH[c];
+        *hx = outH[0].head(n) - m_self.cwiseProduct(xs.head(n));
     }
     if (htx) {
-        *htx = outT[0].head(n);
-        for (std::size_t c = 1; c < chunks; ++c) *htx += outT[c].head(n);
-        *htx = m_inverseCount.cwiseProduct(*htx - m_self.cwiseProduct(ys.head(n)));
+        for (std::size_t c = 1; c < chunks; ++c) outT[0] += outT[c];
+        *htx = m_inverseCount.cwiseProduct(outT[0].head(n) - m_self.cwiseProduct(*y));
     }
 }
 

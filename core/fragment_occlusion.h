@@ -35,7 +35,16 @@ class FragmentOcclusion {
 public:
     // `lists` sorted front to back (FragmentLists::sortByDepth); only lists of two or more
     // fragments are kept (a single fragment occludes nothing and is occluded by nothing).
-    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount);
+    // `blockSlots`: the local array size a block of lists may use (see multiply()); tests pass
+    // small values to get many blocks.
+    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots = kBlockSlots);
+
+    // Parts are gathered in groups of kGroup consecutive ids (a polyline's parts are consecutive),
+    // each with kGroupSlots = kGroup + 1 local slots. 16384 slots (1820 groups): a block's two
+    // local arrays (256 KB) and its fragments stay in L2 (2 MB per core here); at 128k parts 4096
+    // slots made blocks so small that the gathers cost more than they saved (docs/performance.md).
+    static constexpr std::uint32_t kGroup = 8, kGroupSlots = kGroup + 1;
+    static constexpr std::size_t kBlockSlots = 16384;
 
     std::size_t partCount() const { return m_n; }
     // Fragments kept (in lists of at least two) and the pairs Algorithm 1 would visit.
@@ -43,22 +52,32 @@ public:
     std::uint64_t pairCount() const { return m_pairs; }
 
     // hx = H x and htx = H^T y in one pass over the fragments (either output may be null; its
-    // input is then not read). Parallel over lists (oneTBB); the scattered sums go to per-chunk
-    // buffers that are added afterwards (no atomics).
-    void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y,
-                  Eigen::VectorXd* htx) const;
+    // input is then not read). The lists are kept in Z order over the image and cut into blocks
+    // that touch at most blockSlots / kGroupSlots groups of parts, with fragments holding
+    // block-local slot ids: per block the inputs are gathered into a local array, the lists are
+    // walked there (in cache), and the local sums are scattered back once. Parallel over runs of
+    // blocks (oneTBB); the scattered sums go to per-chunk buffers that are added afterwards (no
+    // atomics).
+    void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y, Eigen::VectorXd* htx) const;
 
 private:
     struct Fragment {
-        std::uint32_t part;  // floor(w)
+        std::uint32_t part;  // block-local slot of floor(w); floor(w) + 1 is the next slot
         float frac;          // w - floor(w)
     };
+    struct Block {
+        std::size_t listBegin, listEnd;    // lists [listBegin, listEnd)
+        std::size_t groupBegin, groupEnd;  // m_groups[groupBegin + k]: the group of slots [9k, 9k + 9)
+    };
     std::size_t m_n = 0;
-    std::vector<Fragment> m_fragments;        // lists of >= 2 fragments, front to back
-    std::vector<std::uint64_t> m_listStart;   // list k = [m_listStart[k], m_listStart[k + 1])
-    std::vector<std::size_t> m_chunks;        // list ranges of about equal fragments
-    Eigen::VectorXd m_inverseCount;           // 1 / part j's fragment count, 0 for parts never seen
-    Eigen::VectorXd m_self;                   // d: S's diagonal (pairs of a part with itself)
+    std::vector<Fragment> m_fragments;       // lists of >= 2 fragments, front to back, Z order
+    std::vector<std::uint64_t> m_listStart;  // list k = [m_listStart[k], m_listStart[k + 1])
+    std::vector<Block> m_blocks;
+    std::vector<std::uint32_t> m_groups;  // per block, its groups (part / kGroup) ascending
+    std::size_t m_blockSlots = 0;         // the largest block's slot count
+    std::vector<std::size_t> m_chunks;    // block ranges of about equal fragments
+    Eigen::VectorXd m_inverseCount;       // 1 / part j's fragment count, 0 for parts never seen
+    Eigen::VectorXd m_self;               // d: S's diagonal (pairs of a part with itself)
     std::uint64_t m_pairs = 0;
 };
 

@@ -10,6 +10,8 @@
 //                          [--scaled-gradient 0|1]   (QpSolverOptions::scaledGradientStep of the timed solves)
 //                          [--frames F] [--step-deg D]  (F - 1 more frames of an orbit about z, D degrees apart:
 //                                                        the renderer's own warm start from the previous frame)
+//                          [--save-system FILE]  (frame 0's sorted lists, importance and parts of the last size,
+//                                                 for tubecast_fragment_occlusion_bench: products without GL)
 //
 // --occlusion both: the frame runs with H assembled, then the same lists give the fragment-list
 // operator (core/fragment_occlusion.h), and both are timed on the same system (A/B in one run);
@@ -34,6 +36,7 @@
 #include "gl/gpu_timer.h"
 #include "gl/opacity_renderer.h"
 #include "gl/shader_library.h"
+#include "opacity_system_file.h"
 
 namespace {
 
@@ -64,6 +67,7 @@ int main(int argc, char** argv) {
     double squareEstimate = tc::OpacityEnergy::kSquareEstimate;
     int scaledGradient = -1;  // -1: the solver's default
     int frames = 1;
+    std::string saveSystem;
     float stepDeg = 2.0f;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--parts"))
@@ -89,6 +93,8 @@ int main(int argc, char** argv) {
             scaledGradient = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--square-estimate"))
             squareEstimate = std::atof(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--save-system"))
+            saveSystem = argv[i + 1];
         else if (!std::strcmp(argv[i], "--size"))
             std::sscanf(argv[i + 1], "%dx%d", &width, &height);
     }
@@ -175,6 +181,7 @@ int main(int argc, char** argv) {
             std::size_t atOne = 0;
             auto sink = [&](const tc::gl::OpacitySystem& sys) {
                 if (sys.frame > 0) return;  // later frames: the renderer's own timings only
+                if (!saveSystem.empty()) tc::bench::saveOpacitySystem(saveSystem, *sys.lists, *sys.parts, *sys.importance);
                 const tc::OpacityEnergy& e = *sys.energy;
                 const Eigen::Index size = e.size();
                 const Eigen::VectorXd lo = Eigen::VectorXd::Zero(size), hi = Eigen::VectorXd::Ones(size);

@@ -79,6 +79,32 @@ TEST(OpacityFragmentOcclusion, products_equal_the_reference_matrix_without_clamp
     }
 }
 
+TEST(OpacityFragmentOcclusion, small_blocks_give_the_reference_products) {
+    // The lists are cut into blocks of at most blockSlots local slots (groups of 8 parts plus the
+    // next group's first) with block-local ids; tiny blocks give hundreds of them, the groups here
+    // straddle polylines (6 parts each), and lists touching more groups than a block holds
+    // become blocks of their own (one slot: every list). Also with an unknown image width (no Z
+    // order over the image).
+    const int lines = 60, m = 6, n = lines * m;
+    for (int width : {40, 0}) {
+        FragmentLists lists = randomLists(40, 30, lines, m, 14, 21);
+        lists.width = width;
+        const Eigen::MatrixXd h(occlusionMatrixReference(lists, n, false));
+        std::mt19937 rng(9);
+        const Eigen::VectorXd x = randomVector(n, rng), y = randomVector(n, rng);
+        const Eigen::VectorXd refHx = h * x, refHty = h.transpose() * y;
+        for (std::size_t blockSlots : {std::size_t(1), std::size_t(18), std::size_t(64), std::size_t(65536)}) {
+            const FragmentOcclusion op(lists, n, blockSlots);
+            Eigen::VectorXd hx, hty;
+            op.multiply(&x, &hx, &y, &hty);
+            EXPECT_LE((hx - refHx).lpNorm<Eigen::Infinity>(), 1e-12 * refHx.lpNorm<Eigen::Infinity>())
+                << "width " << width << ", blockSlots " << blockSlots;
+            EXPECT_LE((hty - refHty).lpNorm<Eigen::Infinity>(), 1e-12 * refHty.lpNorm<Eigen::Infinity>())
+                << "width " << width << ", blockSlots " << blockSlots;
+        }
+    }
+}
+
 TEST(OpacityFragmentOcclusion, equals_the_clamped_fast_path_where_no_entry_reaches_one) {
     // Shallow lists without twins: no h_ij reaches 1, so the clamp of the assembled path changes
     // nothing and the two products agree with the tiled fast path too.

@@ -1,0 +1,88 @@
+// Products with H from the fragment lists (core/fragment_occlusion.h) and with Q, and cold solves,
+// on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of
+// M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
+//
+//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096]
+//
+// Prints the set-up time, H products (both outputs), Q products and cold solves (tolerance 1e-4,
+// from a = 1), each as wall and process CPU time (all threads).
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <memory>
+
+#include "bench_util.h"
+#include "core/fragment_occlusion.h"
+#include "core/opacity_optimization.h"
+#include "opacity_system_file.h"
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s FILE [--reps R] [--solves S]\n", argv[0]);
+        return 2;
+    }
+    int reps = 10, solves = 1;
+    std::size_t blockSlots = tc::FragmentOcclusion::kBlockSlots;
+    for (int i = 2; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--solves")) solves = std::atoi(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
+    }
+    using tc::bench::Clock;
+    using tc::bench::msSince;
+    auto cpuMs = [](std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; };
+    try {
+        const tc::bench::OpacitySystemFile sys = tc::bench::loadOpacitySystem(argv[1]);
+        const std::size_t n = sys.parts.partCount();
+        auto t0 = Clock::now();
+        std::clock_t c0 = std::clock();
+        auto occlusion = std::make_shared<const tc::FragmentOcclusion>(sys.lists, n, blockSlots);
+        std::printf("%zu parts, %zu fragments in lists of >= 2, %llu pairs\n", n, occlusion->fragmentCount(),
+                    (unsigned long long)occlusion->pairCount());
+        std::printf("set-up: %.1f ms wall, %.1f ms CPU\n", msSince(t0), cpuMs(c0));
+        const tc::OpacityEnergy energy(occlusion, sys.importance, sys.parts, tc::OpacityWeights{});
+        const Eigen::VectorXd ones = Eigen::VectorXd::Ones(Eigen::Index(n));
+        Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(Eigen::Index(n), 0.1, 1.0), hx, hty, y;
+        occlusion->multiply(&x, &hx, &x, &hty);  // warm-up
+        // Per call: the mean, and the least CPU time of one call (the machine is shared).
+        t0 = Clock::now();
+        c0 = std::clock();
+        double least = 1e300;
+        for (int r = 0; r < reps; ++r) {
+            const std::clock_t c1 = std::clock();
+            occlusion->multiply(&x, &hx, &x, &hty);
+            least = std::min(least, cpuMs(c1));
+        }
+        std::printf("H x and H^T y: %.2f ms wall, %.2f ms CPU per call (least %.2f); checksums %.9e %.9e\n",
+                    msSince(t0) / reps, cpuMs(c0) / reps, least, hx.sum(), hty.sum());
+        t0 = Clock::now();
+        c0 = std::clock();
+        least = 1e300;
+        for (int r = 0; r < reps; ++r) {
+            const std::clock_t c1 = std::clock();
+            energy.multiply(x, y);
+            least = std::min(least, cpuMs(c1));
+        }
+        std::printf("Q x: %.2f ms wall, %.2f ms CPU per product (least %.2f); checksum %.9e\n", msSince(t0) / reps,
+                    cpuMs(c0) / reps, least, y.sum());
+        tc::QpSolverOptions opt;
+        opt.tolerance = 1e-4;
+        const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n));
+        for (int s = 0; s < solves; ++s) {
+            t0 = Clock::now();
+            c0 = std::clock();
+            const tc::QpResult r = tc::solveBoundedQp(energy, energy.linearTerm(), lo, ones, ones, opt);
+            std::printf(
+                "cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
+                "sum a %.6f\n",
+                msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
+                r.x.sum());
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
