@@ -422,7 +422,9 @@ TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
             const VrcModel gpu = gl::buildVrcModelGpu(lines, b);
             ASSERT_EQ(gpu.pieceCount(), cpu.pieceCount()) << "q=" << q;
             ASSERT_GT(cpu.pieceCount(), 100u);
-            if (b.dilate) EXPECT_GT(cpu.copies, 0u);
+            if (b.dilate) {
+                EXPECT_GT(cpu.copies, 0u);
+            }
             EXPECT_EQ(gpu.copies, cpu.copies);
             EXPECT_EQ(gpu.size, cpu.size);
             EXPECT_EQ(gpu.pieceVoxel, cpu.pieceVoxel) << "q=" << q;
