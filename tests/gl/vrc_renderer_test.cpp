@@ -268,6 +268,19 @@ TEST_F(GlTest, vrc_quantized_model_renders_close_to_exact_and_early_termination_
     EXPECT_EQ(moreAlpha, 0u);
 }
 
+// Summed red channel, over the middle rows, of the pixels within 0.06 (a tube radius) of world x
+// = xWorld in an orthographic view along -z centred on x = 0 (the shadow tests' vertical tubes).
+float redOfTubeAt(const FrameImages& f, float orthoHeight, float xWorld) {
+    const int w = f.width, h = f.height;
+    float sum = 0;
+    for (int y = h / 4; y < 3 * h / 4; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float px = (float(x) + 0.5f - 0.5f * float(w)) / float(h) * orthoHeight;
+            if (std::abs(px - xWorld) <= 0.06f) sum += f.rgba[4 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
+        }
+    return sum;
+}
+
 TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_only) {
     // Two parallel tubes side by side seen from +z, the light from +x (camera right): the left tube
     // lies in the right one's shadow; the right one has nothing toward the light.
@@ -287,16 +300,7 @@ TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_
     scene.render.vrc.shadows = true;
     scene.render.vrc.shadowApertureDeg = 10;
     const FrameImages shadowed = render(scene, lines, cam);
-    // Summed red channel over each tube's pixels in the middle rows.
-    auto brightest = [&](const FrameImages& f, float xWorld) {
-        float sum = 0;
-        for (int y = h / 4; y < 3 * h / 4; ++y)
-            for (int x = 0; x < w; ++x) {
-                const float px = (float(x) + 0.5f - 0.5f * w) / float(h) * cam.orthoHeight;
-                if (std::abs(px - xWorld) <= 0.06f) sum += f.rgba[4 * (std::size_t(y) * w + x)];
-            }
-        return sum;
-    };
+    auto brightest = [&](const FrameImages& f, float xWorld) { return redOfTubeAt(f, cam.orthoHeight, xWorld); };
     const float leftLit = brightest(lit, -0.15f), leftShadowed = brightest(shadowed, -0.15f);
     const float rightLit = brightest(lit, 0.15f), rightShadowed = brightest(shadowed, 0.15f);
     std::printf("vrc soft shadows: left tube %.4f -> %.4f, right tube %.4f -> %.4f\n", leftLit, leftShadowed, rightLit,
@@ -330,15 +334,7 @@ TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind
     scene.render.vrc.shadowMode = VrcSpec::ShadowMode::Hard;
     scene.render.vrc.shadowLevel = 1;
     const FrameImages shadowed = render(scene, lines, cam);
-    auto sum = [&](const FrameImages& f, float xWorld) {
-        float total = 0;
-        for (int y = h / 4; y < 3 * h / 4; ++y)
-            for (int x = 0; x < w; ++x) {
-                const float px = (float(x) + 0.5f - 0.5f * w) / float(h) * cam.orthoHeight;
-                if (std::abs(px - xWorld) <= 0.06f) total += f.rgba[4 * (std::size_t(y) * w + x)];
-            }
-        return total;
-    };
+    auto sum = [&](const FrameImages& f, float xWorld) { return redOfTubeAt(f, cam.orthoHeight, xWorld); };
     const float leftLit = sum(lit, -0.15f), leftShadowed = sum(shadowed, -0.15f);
     const float rightLit = sum(lit, 0.15f), rightShadowed = sum(shadowed, 0.15f);
     std::printf("vrc hard shadows: left tube %.4f -> %.4f, right tube %.4f -> %.4f\n", leftLit, leftShadowed, rightLit,
