@@ -138,4 +138,16 @@ inline void storePixel(FrameImages& out, std::size_t i, const glm::vec4& rgba, f
     out.id[i] = id;
 }
 
+// Every pixel of `tile` as background: FrameImages::allocate's clear values, AO 1 (when `out`
+// has an AO buffer). For the tiles forEachTile passes `outside`.
+inline void storeBackground(FrameImages& out, const Tile& tile, int width) {
+    for (int row = 0; row < tile.h; ++row)
+        for (int col = 0; col < tile.w; ++col) {
+            const std::size_t pixel = std::size_t(tile.y0 + row) * std::size_t(width) + std::size_t(tile.x0 + col);
+            storePixel(out, pixel, glm::vec4(0.0f), std::numeric_limits<float>::infinity(), glm::vec3(0.0f),
+                       kBackgroundId);
+            if (!out.ao.empty()) out.ao[pixel] = 1.0f;
+        }
+}
+
 }  // namespace tc::rt

@@ -138,15 +138,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
 
     const SceneBounds bounds = sceneBounds(m_bvh->scene);
     forEachTile(camera, window, width, height, [&](const Tile& tile) {
-        if (tile.outside) {
-            for (int row = 0; row < tile.h; ++row)
-                for (int col = 0; col < tile.w; ++col) {
-                    const std::size_t pixel = std::size_t(tile.y0 + row) * std::size_t(width) + std::size_t(tile.x0 + col);
-                    storePixel(out, pixel, glm::vec4(0.0f), kInf, glm::vec3(0.0f), kBackgroundId);
-                    if (!out.ao.empty()) out.ao[pixel] = 1.0f;
-                }
-            return;
-        }
+        if (tile.outside) return storeBackground(out, tile, width);
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
         if (!m_transparent) traceFirstHits(m_bvh->scene, m_traversal, tile, firstHits);

@@ -87,16 +87,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
     forEachTile(camera, window, width, height, [&](const Tile& tile) {
-        if (tile.outside) {
-            const PixelContext background{};
-            for (int row = 0; row < tile.h; ++row)
-                for (int col = 0; col < tile.w; ++col) {
-                    const std::size_t pixel = std::size_t(tile.y0 + row) * std::size_t(width) + std::size_t(tile.x0 + col);
-                    storePixel(out, pixel, background.rgba, background.depth, background.normal, background.id);
-                    if (ao) ao[pixel] = background.ao;
-                }
-            return;
-        }
+        if (tile.outside) return storeBackground(out, tile, width);
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
         if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
