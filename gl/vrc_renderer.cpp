@@ -22,6 +22,7 @@ namespace {
 constexpr GLuint kHeaderBinding = 0;
 constexpr GLuint kPieceBinding = 1;      // block 0 of the piece array
 constexpr GLuint kPieceBlockBinding = 4;  // blocks 1.. at 4, 5, ... (shaders/vrc_raycast.comp)
+constexpr GLuint kPieceTextureUnit = 10;  // texture buffers over the blocks at units 10.. (after the AO volume at 8)
 constexpr GLuint kShadowLineBinding = 2;
 constexpr GLuint kBrickBinding = 3;
 constexpr int kBrick = 4;  // kBrick of shaders/vrc_raycast.comp
@@ -270,6 +271,18 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
                 r->m_pieceBlocks.push_back(makeBuffer(n * bytesPerPiece, bytes + first * bytesPerPiece));
             }
         }
+        // Quantized pieces are read through texture buffers (shaders/vrc_raycast.comp,
+        // VRC_PIECE_TEXTURES): llvmpipe gathers a texel fetch with vector code, while a storage
+        // buffer read at per-lane addresses is a loop over the lanes.
+        GLint maxTexels = 0;
+        glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+        if (model.quantization > 0 && perBlock <= std::size_t(maxTexels)) {
+            for (const Buffer& block : r->m_pieceBlocks) {
+                Texture t = Texture::create(GL_TEXTURE_BUFFER);
+                glTextureBuffer(t.id(), GL_RGBA32UI, block.id());
+                r->m_pieceTextures.push_back(std::move(t));
+            }
+        }
     }
     glFinish();
     r->m_uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -283,6 +296,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     defines.push_back("BRICK_SKIP");
     defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(r->m_pieceBlocks.size()));
     defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(r->m_blockShift));
+    if (!r->m_pieceTextures.empty()) defines.push_back("VRC_PIECE_TEXTURES");
     if (r->m_spec.neighbors) defines.push_back("NEIGHBORS");
     const AoSpec& ao = scene.render.ao;
     r->m_aoEnabled = ao.enabled;
@@ -373,6 +387,8 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& 
     for (std::size_t b = 0; b < m_pieceBlocks.size(); ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b == 0 ? kPieceBinding : kPieceBlockBinding + GLuint(b - 1),
                          m_pieceBlocks[b].id());
+    for (std::size_t b = 0; b < m_pieceTextures.size(); ++b)
+        glBindTextureUnit(kPieceTextureUnit + GLuint(b), m_pieceTextures[b].id());
     glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(1, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(2, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);

@@ -84,6 +84,8 @@ private:
 
     Buffer m_header;
     std::vector<Buffer> m_pieceBlocks;  // the piece array in blocks of 2^m_blockShift pieces
+    // Quantized pieces: a texture buffer (GL_RGBA32UI) over each block, read with texelFetch.
+    std::vector<Texture> m_pieceTextures;
     int m_blockShift = 0;
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};
