@@ -3,6 +3,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "core/error.h"
@@ -22,7 +23,7 @@ namespace {
 constexpr GLuint kHeaderBinding = 0;
 constexpr GLuint kPieceBinding = 1;      // block 0 of the piece array
 constexpr GLuint kPieceBlockBinding = 4;  // blocks 1.. at 4, 5, ... (shaders/vrc_raycast.comp)
-constexpr GLuint kPieceTextureUnit = 10;  // texture buffers over the blocks at units 10.. (after the AO volume at 8)
+constexpr GLuint kPieceTextureUnit = 10;  // texture buffer over the quantized pieces (the AO volume is at 8)
 constexpr GLuint kShadowLineBinding = 2;
 constexpr GLuint kBrickBinding = 3;
 constexpr int kBrick = 4;  // kBrick of shaders/vrc_raycast.comp
@@ -261,27 +262,31 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
         while ((std::size_t(1) << r->m_blockShift) < perBlock) ++r->m_blockShift;
         const auto* bytes = model.quantization > 0 ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
                                                    : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
-        for (std::size_t b = 0; b < blocks; ++b) {
-            const std::size_t first = b * perBlock, n = std::min(perBlock, pieces - std::min(pieces, first));
-            // An empty model still binds one valid (one-piece, zero) buffer.
-            if (n == 0) {
-                const std::vector<unsigned char> zero(bytesPerPiece, 0);
-                r->m_pieceBlocks.push_back(makeBuffer(zero.size(), zero.data()));
-            } else {
-                r->m_pieceBlocks.push_back(makeBuffer(n * bytesPerPiece, bytes + first * bytesPerPiece));
-            }
+        // One buffer; the blocks are ranges of it (their offsets, multiples of 2^shift pieces, are
+        // aligned). An empty model still binds one valid (one-piece, zero) buffer.
+        r->m_pieceBlockCount = blocks;
+        r->m_piecesInBuffer = std::max<std::size_t>(1, pieces);
+        if (pieces == 0) {
+            const std::vector<unsigned char> zero(bytesPerPiece, 0);
+            r->m_pieceBuffer = makeBuffer(zero.size(), zero.data());
+        } else {
+            r->m_pieceBuffer = makeBuffer(pieces * bytesPerPiece, bytes);
         }
-        // Quantized pieces are read through texture buffers (shaders/vrc_raycast.comp,
-        // VRC_PIECE_TEXTURES): llvmpipe gathers a texel fetch with vector code, while a storage
-        // buffer read at per-lane addresses is a loop over the lanes.
+        GLint alignment = 0;
+        glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
+        if (blocks > 1 && (perBlock * bytesPerPiece) % std::size_t(std::max(alignment, 1)) != 0)
+            throw std::logic_error("VrcRenderer: piece block of " + std::to_string(perBlock * bytesPerPiece) +
+                                   " bytes is not a multiple of GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT " +
+                                   std::to_string(alignment));
+        // Quantized pieces are read through a texture buffer over the whole array (one piece per
+        // RGBA32UI texel; shaders/vrc_raycast.comp, VRC_PIECE_TEXTURE): llvmpipe gathers a texel
+        // fetch with vector code, while a storage buffer read at per-lane addresses is a loop over
+        // the lanes, and the blocks needed one read per block.
         GLint maxTexels = 0;
         glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-        if (model.quantization > 0 && perBlock <= std::size_t(maxTexels)) {
-            for (const Buffer& block : r->m_pieceBlocks) {
-                Texture t = Texture::create(GL_TEXTURE_BUFFER);
-                glTextureBuffer(t.id(), GL_RGBA32UI, block.id());
-                r->m_pieceTextures.push_back(std::move(t));
-            }
+        if (model.quantization > 0 && r->m_piecesInBuffer <= std::size_t(maxTexels)) {
+            r->m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
+            glTextureBuffer(r->m_pieceTexture.id(), GL_RGBA32UI, r->m_pieceBuffer.id());
         }
     }
     glFinish();
@@ -294,9 +299,9 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     }
     if (r->m_transparent) defines.push_back("TRANSPARENT");
     defines.push_back("BRICK_SKIP");
-    defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(r->m_pieceBlocks.size()));
+    defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(r->m_pieceBlockCount));
     defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(r->m_blockShift));
-    if (!r->m_pieceTextures.empty()) defines.push_back("VRC_PIECE_TEXTURES");
+    if (r->m_pieceTexture.id() != 0) defines.push_back("VRC_PIECE_TEXTURE");
     if (r->m_spec.neighbors) defines.push_back("NEIGHBORS");
     const AoSpec& ao = scene.render.ao;
     r->m_aoEnabled = ao.enabled;
@@ -384,11 +389,16 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& 
     glUseProgram(p);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBrickBinding, m_bricks.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeaderBinding, m_header.id());
-    for (std::size_t b = 0; b < m_pieceBlocks.size(); ++b)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b == 0 ? kPieceBinding : kPieceBlockBinding + GLuint(b - 1),
-                         m_pieceBlocks[b].id());
-    for (std::size_t b = 0; b < m_pieceTextures.size(); ++b)
-        glBindTextureUnit(kPieceTextureUnit + GLuint(b), m_pieceTextures[b].id());
+    {
+        const std::size_t perBlock = std::size_t(1) << m_blockShift, bytesPerPiece = m_bytesPerPiece;
+        for (std::size_t b = 0; b < m_pieceBlockCount; ++b) {
+            const std::size_t first = std::min(b * perBlock, m_piecesInBuffer - 1);
+            const std::size_t n = std::max<std::size_t>(1, std::min(perBlock, m_piecesInBuffer - first));
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b == 0 ? kPieceBinding : kPieceBlockBinding + GLuint(b - 1),
+                              m_pieceBuffer.id(), GLintptr(first * bytesPerPiece), GLsizeiptr(n * bytesPerPiece));
+        }
+    }
+    if (m_pieceTexture.id() != 0) glBindTextureUnit(kPieceTextureUnit, m_pieceTexture.id());
     glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(1, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(2, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
@@ -435,7 +445,8 @@ nlohmann::json VrcRenderer::describe() const {
             {"pieces", m_pieces},
             {"copies", m_copies},
             {"copies_did_not_fit", m_copiesDidNotFit},
-            {"piece_blocks", m_pieceBlocks.size()},
+            {"piece_blocks", m_pieceBlockCount},
+            {"piece_texture", m_pieceTexture.id() != 0},
             {"segments", m_segments},
             {"bytes_per_piece", m_bytesPerPiece},
             {"model_mb", double(m_modelBytes) / mb},

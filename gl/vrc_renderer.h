@@ -83,9 +83,11 @@ private:
     double m_representativeMs = 0;
 
     Buffer m_header;
-    std::vector<Buffer> m_pieceBlocks;  // the piece array in blocks of 2^m_blockShift pieces
-    // Quantized pieces: a texture buffer (GL_RGBA32UI) over each block, read with texelFetch.
-    std::vector<Texture> m_pieceTextures;
+    // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift
+    // pieces; quantized pieces are read through m_pieceTexture (GL_RGBA32UI over the whole buffer).
+    Buffer m_pieceBuffer;
+    std::size_t m_pieceBlockCount = 0, m_piecesInBuffer = 0;
+    Texture m_pieceTexture;
     int m_blockShift = 0;
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};

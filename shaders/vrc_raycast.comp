@@ -12,8 +12,8 @@
 // same density volume, growing footprint = mip level), HARD_SHADOWS (a ray toward the light against
 // the representative lines of one LoD level), VRC_Q (the quantization, with QUANTIZED), BRICK_SKIP
 // (empty space skipping over bricks of 4^3 voxels), VRC_PIECE_BLOCKS and VRC_BLOCK_SHIFT (the
-// piece array's storage blocks, below), VRC_PIECE_TEXTURES (quantized pieces read through texture
-// buffers over the same blocks).
+// piece array's storage blocks, below), VRC_PIECE_TEXTURE (quantized pieces read through one texture
+// buffer over the whole array instead).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -78,79 +78,58 @@ layout(std430, binding = 10) readonly buffer VrcPieces7 { VRC_PIECE_T vrcPieces7
 #error "at most 8 piece blocks (VrcRenderer::kMaxPieceBlocks)"
 #endif
 
-#ifdef VRC_PIECE_TEXTURES
-// The same blocks as texture buffers (GL_RGBA32UI, units 10.., gl/vrc_renderer.cpp): llvmpipe
+#ifdef VRC_PIECE_TEXTURE
+// The whole piece array as one texture buffer (GL_RGBA32UI, unit 10, gl/vrc_renderer.cpp): llvmpipe
 // gathers a texel fetch with vector code, while a storage buffer read at per-lane addresses is a
-// loop over the lanes with a branch per lane and component. With the candidate masks of testVoxel
-// the piece reads are a large part of the ray cast (~8-10 % less CPU on brain_2m; before them
-// the difference was lost in the intersector's cost, docs/performance.md, M8, sessions 5 and 6).
-layout(binding = 10) uniform usamplerBuffer vrcPieceTex0;
-#define VRC_READ(k, j) texelFetch(vrcPieceTex##k, int(j))
-#if VRC_PIECE_BLOCKS > 1
-layout(binding = 11) uniform usamplerBuffer vrcPieceTex1;
-#endif
-#if VRC_PIECE_BLOCKS > 2
-layout(binding = 12) uniform usamplerBuffer vrcPieceTex2;
-#endif
-#if VRC_PIECE_BLOCKS > 3
-layout(binding = 13) uniform usamplerBuffer vrcPieceTex3;
-#endif
-#if VRC_PIECE_BLOCKS > 4
-layout(binding = 14) uniform usamplerBuffer vrcPieceTex4;
-#endif
-#if VRC_PIECE_BLOCKS > 5
-layout(binding = 15) uniform usamplerBuffer vrcPieceTex5;
-#endif
-#if VRC_PIECE_BLOCKS > 6
-layout(binding = 16) uniform usamplerBuffer vrcPieceTex6;
-#endif
-#if VRC_PIECE_BLOCKS > 7
-layout(binding = 17) uniform usamplerBuffer vrcPieceTex7;
-#endif
-#else
-#define VRC_READ(k, j) vrcPieces##k[j]
+// loop over the lanes with a branch per lane and component, and the blocks need one read per
+// block (both sides of an if run on llvmpipe). With the candidate masks of testVoxel the piece
+// reads are a large part of the ray cast (docs/performance.md, M8, session 6; in session 5,
+// before the masks, texture buffers made no measurable difference).
+layout(binding = 10) uniform usamplerBuffer vrcPieceTex;
 #endif
 
 VRC_PIECE_T vrcFetchPiece(uint i) {
-#if VRC_PIECE_BLOCKS == 1
-    return VRC_READ(0, i);
+#ifdef VRC_PIECE_TEXTURE
+    return texelFetch(vrcPieceTex, int(i));
+#elif VRC_PIECE_BLOCKS == 1
+    return vrcPieces0[i];
 #else
     // Blocks are slabs of voxels in z order, so the lanes of a workgroup nearly always agree.
     uint block = i >> uint(VRC_BLOCK_SHIFT), j = i & ((1u << uint(VRC_BLOCK_SHIFT)) - 1u);
-    if (block == 0u) return VRC_READ(0, j);
+    if (block == 0u) return vrcPieces0[j];
 #if VRC_PIECE_BLOCKS > 2
-    if (block == 1u) return VRC_READ(1, j);
+    if (block == 1u) return vrcPieces1[j];
 #endif
 #if VRC_PIECE_BLOCKS > 3
-    if (block == 2u) return VRC_READ(2, j);
+    if (block == 2u) return vrcPieces2[j];
 #endif
 #if VRC_PIECE_BLOCKS > 4
-    if (block == 3u) return VRC_READ(3, j);
+    if (block == 3u) return vrcPieces3[j];
 #endif
 #if VRC_PIECE_BLOCKS > 5
-    if (block == 4u) return VRC_READ(4, j);
+    if (block == 4u) return vrcPieces4[j];
 #endif
 #if VRC_PIECE_BLOCKS > 6
-    if (block == 5u) return VRC_READ(5, j);
+    if (block == 5u) return vrcPieces5[j];
 #endif
 #if VRC_PIECE_BLOCKS > 7
-    if (block == 6u) return VRC_READ(6, j);
+    if (block == 6u) return vrcPieces6[j];
 #endif
     // The last block.
 #if VRC_PIECE_BLOCKS == 2
-    return VRC_READ(1, j);
+    return vrcPieces1[j];
 #elif VRC_PIECE_BLOCKS == 3
-    return VRC_READ(2, j);
+    return vrcPieces2[j];
 #elif VRC_PIECE_BLOCKS == 4
-    return VRC_READ(3, j);
+    return vrcPieces3[j];
 #elif VRC_PIECE_BLOCKS == 5
-    return VRC_READ(4, j);
+    return vrcPieces4[j];
 #elif VRC_PIECE_BLOCKS == 6
-    return VRC_READ(5, j);
+    return vrcPieces5[j];
 #elif VRC_PIECE_BLOCKS == 7
-    return VRC_READ(6, j);
+    return vrcPieces6[j];
 #else
-    return VRC_READ(7, j);
+    return vrcPieces7[j];
 #endif
 #endif
 }
