@@ -173,7 +173,9 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
         std::vector<SortEntry> entries;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             entries.clear();
-            walk(heads[p], [&](std::uint32_t n) { entries.push_back({std::uint64_t(depthKey(depth[n])) << 32 | part[n], n}); });
+            walk(heads[p], [&](std::uint32_t n) {
+                entries.push_back({std::uint64_t(depthKey(depth[n])) << 32 | part[n], n});
+            });
             std::sort(entries.begin(), entries.end());
             std::uint64_t i = lists.offsets[p];
             for (const SortEntry& e : entries) {
@@ -290,6 +292,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     t0 = std::chrono::steady_clock::now();
     timer.begin("solve");
     if (!energy) energy.emplace(h, m_importance, m_parts, weights, m_spec.dropBelow);
+    m_stats.energyMs = msSince(t0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
     if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
     QpSolverOptions options;

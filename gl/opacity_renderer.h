@@ -58,8 +58,9 @@ public:
         std::size_t hNonZeros = 0;    // 0 when H came from the fragment lists
         bool fromFragments = false;   // products with H from the lists (render.opacity.occlusion)
         std::uint64_t pairs = 0;      // pairs Algorithm 1 visits (sum over pixels of L(L-1)/2)
-        QpResult solve;  // iterations, products, residual (solve.x: the solution)
+        QpResult solve;               // iterations, products, residual (solve.x: the solution)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
+        double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)
     };
     using SystemSink = std::function<void(const OpacitySystem&)>;
 

@@ -2,7 +2,10 @@
 // on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of
 // M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
 //
-//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096]
+//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096] [--assembled 1]
+//
+// --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead; prints the energy's
+// set-up from H (what the renderer's solve stage pays per frame), Q products and cold solves.
 //
 // Prints the set-up time, H products (both outputs), Q products and cold solves (tolerance 1e-4,
 // from a = 1), each as wall and process CPU time (all threads).
@@ -15,6 +18,7 @@
 
 #include "bench_util.h"
 #include "core/fragment_occlusion.h"
+#include "core/occlusion_matrix.h"
 #include "core/opacity_optimization.h"
 #include "opacity_system_file.h"
 
@@ -24,11 +28,13 @@ int main(int argc, char** argv) {
         return 2;
     }
     int reps = 10, solves = 1;
+    bool assembled = false;
     std::size_t blockSlots = tc::FragmentOcclusion::kBlockSlots;
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--solves")) solves = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
+        if (!std::strcmp(argv[i], "--assembled")) assembled = std::atoi(argv[i + 1]) != 0;
     }
     using tc::bench::Clock;
     using tc::bench::msSince;
@@ -38,6 +44,55 @@ int main(int argc, char** argv) {
         const std::size_t n = sys.parts.partCount();
         auto t0 = Clock::now();
         std::clock_t c0 = std::clock();
+        if (assembled) {
+            const tc::SparseMatrixD h = tc::occlusionMatrix(sys.lists, n);
+            std::printf("%zu parts, H assembled: %lld non-zeros in %.1f ms wall, %.1f ms CPU\n", n,
+                        (long long)h.nonZeros(), msSince(t0), cpuMs(c0));
+            std::unique_ptr<tc::OpacityEnergy> energy;
+            double least = 1e300;
+            t0 = Clock::now();
+            c0 = std::clock();
+            for (int r = 0; r < reps; ++r) {
+                energy.reset();
+                const auto t1 = Clock::now();
+                energy = std::make_unique<tc::OpacityEnergy>(h, sys.importance, sys.parts, tc::OpacityWeights{});
+                least = std::min(least, msSince(t1));
+            }
+            double dsum = 0;
+            for (Eigen::Index i = 0; i < energy->diagonal().size(); ++i)
+                dsum += energy->diagonal()[i] * double(i % 7 + 1);
+            std::printf(
+                "energy set-up from H: %.2f ms wall, %.2f ms CPU per call (least wall %.2f); diagonal checksum %.17g\n",
+                msSince(t0) / reps, cpuMs(c0) / reps, least, dsum);
+            const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(Eigen::Index(n), 0.1, 1.0);
+            Eigen::VectorXd y;
+            energy->multiply(x, y);  // warm-up
+            least = 1e300;
+            t0 = Clock::now();
+            c0 = std::clock();
+            for (int r = 0; r < reps; ++r) {
+                const auto t1 = Clock::now();
+                energy->multiply(x, y);
+                least = std::min(least, msSince(t1));
+            }
+            std::printf("Q x: %.2f ms wall, %.2f ms CPU per product (least wall %.2f); checksum %.17g\n",
+                        msSince(t0) / reps, cpuMs(c0) / reps, least, y.sum());
+            tc::QpSolverOptions opt;
+            opt.tolerance = 1e-4;
+            const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)),
+                                  ones = Eigen::VectorXd::Ones(Eigen::Index(n));
+            for (int s = 0; s < solves; ++s) {
+                t0 = Clock::now();
+                c0 = std::clock();
+                const tc::QpResult r = tc::solveBoundedQp(*energy, energy->linearTerm(), lo, ones, ones, opt);
+                std::printf(
+                    "cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
+                    "sum a %.17g\n",
+                    msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
+                    r.x.sum());
+            }
+            return 0;
+        }
         auto occlusion = std::make_shared<const tc::FragmentOcclusion>(sys.lists, n, blockSlots);
         std::printf("%zu parts, %zu fragments in lists of >= 2, %llu pairs\n", n, occlusion->fragmentCount(),
                     (unsigned long long)occlusion->pairCount());

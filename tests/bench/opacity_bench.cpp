@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
             context.info().renderer.c_str(), width, height, points);
         std::printf(
             "| parts | occlusion | fragments | pairs | H nnz | lists ms | readback+sort ms | h ms | solve ms (it, "
-            "products, residual) | resolve ms | frame opt ms (lists+sort+h+solve) | ms/product (CPU ms) | cold solves/s "
+            "products, residual) | resolve ms | frame opt ms (lists+sort+h+solve) | ms/product (CPU ms) | cold "
+            "solves/s "
             "(products, cg) | warm solves/s (it, products) |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (int n : parts) {
@@ -171,17 +172,45 @@ int main(int argc, char** argv) {
                              "residual %.2e (true %.2e); warm: it %d, cg %d, search products %d, residual %.2e "
                              "(true %.2e)\n",
                              label, out.productMs, out.productCpuMs, out.cold.iterations, out.cold.cgIterations,
-                             out.cold.searchProducts, out.cold.residual, tc::projectedGradientNorm(gc, out.cold.x, lo, hi),
-                             out.warm.iterations, out.warm.cgIterations, out.warm.searchProducts, out.warm.residual,
+                             out.cold.searchProducts, out.cold.residual,
+                             tc::projectedGradientNorm(gc, out.cold.x, lo, hi), out.warm.iterations,
+                             out.warm.cgIterations, out.warm.searchProducts, out.warm.residual,
                              tc::projectedGradientNorm(gw, out.warm.x, lo, hi));
                 return out;
             };
             Rates primary, frag;
             double fragBuildMs = 0, fragMaxDiff = 0;
             std::size_t atOne = 0;
+            Eigen::VectorXd previous;
             auto sink = [&](const tc::gl::OpacitySystem& sys) {
-                if (sys.frame > 0) return;  // later frames: the renderer's own timings only
-                if (!saveSystem.empty()) tc::bench::saveOpacitySystem(saveSystem, *sys.lists, *sys.parts, *sys.importance);
+                if (sys.frame > 0) {
+                    const tc::OpacityEnergy& e = *sys.energy;
+                    const Eigen::VectorXd lo = Eigen::VectorXd::Zero(e.size()), hi = Eigen::VectorXd::Ones(e.size());
+                    tc::QpSolverOptions opt;
+                    opt.tolerance = 1e-4;
+                    for (int r = 0; r < 3; ++r) {
+                        auto t0 = Clock::now();
+                        const std::clock_t cpu0 = std::clock();
+                        tc::QpResult again = tc::solveBoundedQp(e, e.linearTerm(), lo, hi, previous, opt);
+                        std::fprintf(stderr, "  frame %d re-solve: %.1f ms wall %.1f ms cpu (%d products)\n", sys.frame,
+                                     msSince(t0), 1000.0 * double(std::clock() - cpu0) / CLOCKS_PER_SEC,
+                                     again.products);
+                    }
+                    previous = *sys.solution;
+                    return;
+                }
+                previous = *sys.solution;
+                {
+                    // Checksums for A/B runs that must give the same numbers.
+                    double sd = 0, sa = 0;
+                    const Eigen::VectorXd diag = sys.energy->diagonal();
+                    for (Eigen::Index i = 0; i < diag.size(); ++i) sd += diag[i] * double(i % 7 + 1);
+                    for (Eigen::Index i = 0; i < sys.solution->size(); ++i)
+                        sa += (*sys.solution)[i] * double(i % 7 + 1);
+                    std::fprintf(stderr, "  frame 0 checksums: diagonal %.17g, solution %.17g\n", sd, sa);
+                }
+                if (!saveSystem.empty())
+                    tc::bench::saveOpacitySystem(saveSystem, *sys.lists, *sys.parts, *sys.importance);
                 const tc::OpacityEnergy& e = *sys.energy;
                 const Eigen::Index size = e.size();
                 const Eigen::VectorXd lo = Eigen::VectorXd::Zero(size), hi = Eigen::VectorXd::Ones(size);
@@ -246,13 +275,14 @@ int main(int argc, char** argv) {
             const auto& s = renderer->lastStats();
             auto row = [&](const char* mode, double hMs, double solveMs, const Rates& r, const char* extra) {
                 std::printf(
-                    "| %zu | %s%s | %llu%s | %llu | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f | %.2f "
+                    "| %zu | %s%s | %llu%s | %llu | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f | "
+                    "%.2f "
                     "(%.2f) | %.1f (%d, %d) | %.1f (%d, %d) |\n",
                     s.parts, mode, extra, (unsigned long long)s.fragments, s.overflow ? " (overflow)" : "",
-                    (unsigned long long)s.pairs, s.hNonZeros, s.listsMs, s.readbackMs, hMs, solveMs,
-                    s.solve.iterations, s.solve.products, s.solve.residual, s.resolveMs,
-                    s.listsMs + s.readbackMs + hMs + solveMs, r.productMs, r.productCpuMs, r.coldRate,
-                    r.cold.products, r.cold.cgIterations, r.warmRate, r.warm.iterations, r.warm.products);
+                    (unsigned long long)s.pairs, s.hNonZeros, s.listsMs, s.readbackMs, hMs, solveMs, s.solve.iterations,
+                    s.solve.products, s.solve.residual, s.resolveMs, s.listsMs + s.readbackMs + hMs + solveMs,
+                    r.productMs, r.productCpuMs, r.coldRate, r.cold.products, r.cold.cgIterations, r.warmRate,
+                    r.warm.iterations, r.warm.products);
             };
             row(s.fromFragments ? "fragments" : "assembled", s.assemblyMs, s.solveMs, primary, "");
             if (occlusion == "both") {
@@ -278,14 +308,15 @@ int main(int argc, char** argv) {
                 renderer->render(tc::gl::FrameSetup{f, tc::cameraAtFrame(orbit, cam, f), width, height}, images, t);
                 t.collect();
                 const auto& sf = renderer->lastStats();
+                std::fprintf(stderr, "  frame %d: solve stage %.1f ms, of which energy set-up %.1f ms\n", f, sf.solveMs,
+                             sf.energyMs);
                 frameRows += "| " + std::to_string(sf.parts) + " | " + std::to_string(f) + " | " +
                              (sf.fromFragments ? "fragments" : "assembled") + " | " + std::to_string(sf.fragments) +
                              (sf.overflow ? " (overflow)" : "");
                 char line[400];
-                std::snprintf(line, sizeof line,
-                              " | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f |\n", sf.listsMs,
-                              sf.readbackMs, sf.assemblyMs, sf.solveMs, sf.solve.iterations, sf.solve.products,
-                              sf.solve.residual, sf.resolveMs,
+                std::snprintf(line, sizeof line, " | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f |\n",
+                              sf.listsMs, sf.readbackMs, sf.assemblyMs, sf.solveMs, sf.solve.iterations,
+                              sf.solve.products, sf.solve.residual, sf.resolveMs,
                               sf.listsMs + sf.readbackMs + sf.assemblyMs + sf.solveMs);
                 frameRows += line;
             }
