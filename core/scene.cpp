@@ -341,6 +341,8 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     op.maxIterations = o.getInt("max_iterations", op.maxIterations, 1, 1000000);
     op.dropBelow = o.getFloat("drop_below", op.dropBelow, 0.0f, 1.0f);
     op.dumpDir = o.getString("dump_dir", op.dumpDir);
+    op.occlusionScale = o.getFloat("occlusion_scale", op.occlusionScale, 0.0f, 1.0f);
+    if (!(op.occlusionScale > 0.0f)) o.fail("occlusion_scale", "expected a number in (0, 1]");
     {
         const std::string kind = o.getEnum("occlusion", "auto", {"auto", "assembled", "fragments"});
         op.occlusion = kind == "assembled"   ? OpacityOptimizationSpec::Occlusion::Assembled

@@ -164,6 +164,9 @@ struct OpacityOptimizationSpec {
     // How products with H are formed: H assembled (Algorithm 1's pairs), or straight from the
     // fragment lists by prefix sums (core/fragment_occlusion.h); auto picks by the pair count.
     enum class Occlusion { Auto, Assembled, Fragments } occlusion = Occlusion::Auto;
+    // h_ij from the lists of every (1/scale)-th pixel in x and y (core/occlusion_matrix.h,
+    // subsampleLists); the image is still resolved at full size from all lists.
+    float occlusionScale = 1;
     std::string dumpDir;      // debug: write Q, c, g, bounds and the solution of each frame here
 };
 
