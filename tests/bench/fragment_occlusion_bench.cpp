@@ -2,7 +2,8 @@
 // on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of
 // M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
 //
-//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096] [--assembled 1]
+//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096 (0: automatic)] [--assembled 1]
+//                                     [--scale S]   (the lists subsampled as render.opacity.occlusion_scale S)
 //
 // --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead; prints the energy's
 // set-up from H (what the renderer's solve stage pays per frame), Q products and cold solves.
@@ -29,18 +30,26 @@ int main(int argc, char** argv) {
     }
     int reps = 10, solves = 1;
     bool assembled = false;
-    std::size_t blockSlots = tc::FragmentOcclusion::kBlockSlots;
+    double scale = 1;            // render.opacity.occlusion_scale: the lists subsampled first
+    std::size_t blockSlots = 0;  // the constructor's choice
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--solves")) solves = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
         if (!std::strcmp(argv[i], "--assembled")) assembled = std::atoi(argv[i + 1]) != 0;
+        if (!std::strcmp(argv[i], "--scale")) scale = std::atof(argv[i + 1]);
     }
     using tc::bench::Clock;
     using tc::bench::msSince;
     auto cpuMs = [](std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; };
     try {
-        const tc::bench::OpacitySystemFile sys = tc::bench::loadOpacitySystem(argv[1]);
+        tc::bench::OpacitySystemFile sys = tc::bench::loadOpacitySystem(argv[1]);
+        if (scale < 1) {
+            const int height = int(sys.lists.pixelCount() / std::size_t(sys.lists.width));
+            sys.lists = tc::subsampleLists(sys.lists, height, scale);
+            std::printf("lists subsampled at scale %g: %dx%d px, %zu fragments\n", scale, sys.lists.width,
+                        int(sys.lists.pixelCount() / std::size_t(sys.lists.width)), sys.lists.fragments.size());
+        }
         const std::size_t n = sys.parts.partCount();
         auto t0 = Clock::now();
         std::clock_t c0 = std::clock();
