@@ -4,6 +4,8 @@
 //
 //   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096 (0: automatic)] [--assembled 1]
 //                                     [--scale S]   (the lists subsampled as render.opacity.occlusion_scale S)
+//                                     [--coarse C]  (also: a solve warm started from the solution of the lists
+//                                                    subsampled at C, both timed together)
 //
 // --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead; prints the energy's
 // set-up from H (what the renderer's solve stage pays per frame), Q products and cold solves.
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
     int reps = 10, solves = 1;
     bool assembled = false;
     double scale = 1;            // render.opacity.occlusion_scale: the lists subsampled first
+    double coarse = 0;           // > 0: also a solve started from the solution at this subsampling scale
     std::size_t blockSlots = 0;  // the constructor's choice
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
@@ -38,6 +41,7 @@ int main(int argc, char** argv) {
         if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
         if (!std::strcmp(argv[i], "--assembled")) assembled = std::atoi(argv[i + 1]) != 0;
         if (!std::strcmp(argv[i], "--scale")) scale = std::atof(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--coarse")) coarse = std::atof(argv[i + 1]);
     }
     using tc::bench::Clock;
     using tc::bench::msSince;
@@ -143,6 +147,25 @@ int main(int argc, char** argv) {
                 "sum a %.6f\n",
                 msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
                 r.x.sum());
+        }
+        if (coarse > 0) {
+            // A cold solve in two steps: the system of the lists subsampled at `coarse` solved
+            // from a = 1, then this one warm started from its solution (same tolerance).
+            t0 = Clock::now();
+            c0 = std::clock();
+            const int height = int(sys.lists.pixelCount() / std::size_t(sys.lists.width));
+            const tc::FragmentLists small = tc::subsampleLists(sys.lists, height, coarse);
+            const tc::OpacityEnergy ec(std::make_shared<const tc::FragmentOcclusion>(small, n), sys.importance,
+                                       sys.parts, tc::OpacityWeights{});
+            const double setupMs = msSince(t0);
+            const tc::QpResult rc = tc::solveBoundedQp(ec, ec.linearTerm(), lo, ones, ones, opt);
+            const double coarseMs = msSince(t0);
+            const tc::QpResult r = tc::solveBoundedQp(energy, energy.linearTerm(), lo, ones, rc.x, opt);
+            std::printf(
+                "two-level solve (coarse %g): %.1f ms wall, %.1f ms CPU (coarse set-up %.1f ms, coarse solve until "
+                "%.1f ms: products %d); fine: it %d, cg %d, products %d (search %d), residual %.2e, sum a %.6f\n",
+                coarse, msSince(t0), cpuMs(c0), setupMs, coarseMs, rc.products, r.iterations, r.cgIterations,
+                r.products, r.searchProducts, r.residual, r.x.sum());
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
