@@ -310,6 +310,18 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     QpSolverOptions options;
     options.tolerance = m_spec.tolerance;
     options.maxIterations = m_spec.maxIterations;
+    if (m_spec.coarseScale > 0.0f) {
+        // render.opacity.coarse_scale: first the system of the lists subsampled at that scale
+        // (products ~coarse^2 of the full ones), from the previous solution, then the real one
+        // from its solution. The real solve stops at the same tolerance on the same energy; the
+        // coarse one only moves its starting point (docs/performance.md M7, session 6: at 8k-128k
+        // the fine solve took 13-22 products instead of 24-39 when the coarse lists had 320 px).
+        const FragmentLists coarseLists = subsampleLists(lists, setup.height, double(m_spec.coarseScale));
+        const OpacityEnergy coarse(std::make_shared<const FragmentOcclusion>(coarseLists, n), m_importance, m_parts,
+                                   weights);
+        m_stats.coarse = solveBoundedQp(coarse, coarse.linearTerm(), lo, hi, m_solution, options);
+        m_solution = m_stats.coarse.x;
+    }
     m_stats.solve = solveBoundedQp(*energy, energy->linearTerm(), lo, hi, m_solution, options);
     m_solution = m_stats.solve.x;
     if (m_displayed.size() != Eigen::Index(n))
@@ -400,6 +412,7 @@ nlohmann::json OpacityRenderer::describe() const {
                                                                                           : "auto"},
         {"drop_below", m_spec.dropBelow},
         {"occlusion_scale", m_spec.occlusionScale},
+        {"coarse_scale", m_spec.coarseScale},
         {"resolve", "CPU (the sorted lists blended front to back)"},
         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_spec.importance == OpacityOptimizationSpec::Importance::Attribute)

@@ -63,6 +63,7 @@ public:
         int occlusionWidth = 0, occlusionHeight = 0;
         std::size_t occlusionFragments = 0;
         QpResult solve;  // iterations, products, residual (solve.x: the solution)
+        QpResult coarse;  // the solve of render.opacity.coarse_scale's lists (0 products: off)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
         double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)
     };

@@ -12,6 +12,7 @@
 //                                                        the renderer's own warm start from the previous frame)
 //                          [--occlusion-scale 1,0.5,0.25]  (render.opacity.occlusion_scale per frame 0;
 //                                                 with --frames 1, each compared with the first scale)
+//                          [--coarse-scale C]  (render.opacity.coarse_scale of every frame)
 //                          [--save-system FILE]  (frame 0's sorted lists, importance and parts of the last size,
 //                                                 for tubecast_fragment_occlusion_bench: products without GL)
 //
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
     int frames = 1;
     std::string saveSystem;
     std::vector<float> scales{1.0f};
+    float coarseScale = 0;  // render.opacity.coarse_scale
     std::string scaleRows;
     float stepDeg = 2.0f;
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -97,6 +99,8 @@ int main(int argc, char** argv) {
             scaledGradient = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--square-estimate"))
             squareEstimate = std::atof(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--coarse-scale"))
+            coarseScale = float(std::atof(argv[i + 1]));
         else if (!std::strcmp(argv[i], "--occlusion-scale")) {
             scales.clear();
             for (const char* p = argv[i + 1]; *p;) {
@@ -197,6 +201,7 @@ int main(int argc, char** argv) {
             for (std::size_t si = 0; si < scales.size(); ++si) {
                 const float scale = scales[si];
                 scene.render.opacity.occlusionScale = scale;
+                scene.render.opacity.coarseScale = coarseScale;
                 Rates primary, frag;
                 double fragBuildMs = 0, fragMaxDiff = 0;
                 std::size_t atOne = 0;
@@ -277,6 +282,10 @@ int main(int argc, char** argv) {
                     std::fprintf(stderr, "  %zu parts, stage %s: gpu %.1f ms, cpu %.1f ms\n", std::size_t(n),
                                  st.stage.c_str(), st.gpuMs, st.cpuMs);
                 const auto& s = renderer->lastStats();
+                if (coarseScale > 0)
+                    std::fprintf(stderr,
+                                 "  frame 0: coarse solve %d products, then %d products (solve stage %.1f ms)\n",
+                                 s.coarse.products, s.solve.products, s.solveMs);
                 auto row = [&](const char* mode, double hMs, double solveMs, const Rates& r, const char* extra) {
                     std::printf(
                         "| %zu | %s%s | %llu%s | %llu | %zu | %.0f | %.0f | %.0f | %.1f (%d, %d, %.1e) | %.0f | %.0f | "
@@ -312,8 +321,10 @@ int main(int argc, char** argv) {
                     renderer->render(tc::gl::FrameSetup{f, tc::cameraAtFrame(orbit, cam, f), width, height}, images, t);
                     t.collect();
                     const auto& sf = renderer->lastStats();
-                    std::fprintf(stderr, "  frame %d: solve stage %.1f ms, of which energy set-up %.1f ms\n", f,
-                                 sf.solveMs, sf.energyMs);
+                    std::fprintf(stderr,
+                                 "  frame %d: solve stage %.1f ms, of which energy set-up %.1f ms; coarse solve: %d "
+                                 "products; solve: %d products\n",
+                                 f, sf.solveMs, sf.energyMs, sf.coarse.products, sf.solve.products);
                     frameRows += "| " + std::to_string(sf.parts) + " | " + std::to_string(f) + " | " +
                                  (sf.fromFragments ? "fragments" : "assembled") + " | " + std::to_string(sf.fragments) +
                                  (sf.overflow ? " (overflow)" : "");

@@ -203,6 +203,31 @@ TEST_F(GlTest, opacity_optimization_at_half_occlusion_resolution_stays_near_the_
     EXPECT_LE(diff, 0.01f);
 }
 
+TEST_F(GlTest, opacity_optimization_with_a_coarse_start_reaches_the_same_minimiser) {
+    // render.opacity.coarse_scale only changes where the solve starts (the minimiser of the
+    // system of the lists subsampled at 0.25); the solve of the full system then stops at the same
+    // tolerance (1e-8 here), so the opacities agree to about that, in both frames.
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(400.0f);
+    const int size = 256;
+    scene.image.width = scene.image.height = size;
+    auto plain = gl::OpacityRenderer::create(scene, lines);
+    scene.render.opacity.coarseScale = 0.25f;
+    auto twoLevel = gl::OpacityRenderer::create(scene, lines);
+    Camera turned = topCamera();
+    turned.eye = {0.3f, 0.0f, 3.0f};
+    for (const Camera& cam : {topCamera(), turned}) {
+        Frame a = renderOnce(*plain, 0, cam, size);
+        Frame b = renderOnce(*twoLevel, 0, cam, size);
+        EXPECT_EQ(a.stats.coarse.products, 0);
+        EXPECT_GT(b.stats.coarse.products, 0);
+        ASSERT_TRUE(b.stats.coarse.converged);
+        ASSERT_TRUE(b.stats.solve.converged);
+        EXPECT_LT(a.opacity.minCoeff(), 0.5);
+        EXPECT_LE((a.opacity - b.opacity).lpNorm<Eigen::Infinity>(), 1e-6);
+    }
+}
+
 TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_failing) {
     // 220 x 220 px: target + heads take 968,000 of the 1 MB budget, leaving 4,028 nodes.
     std::vector<TestPolyline> many;
