@@ -312,10 +312,11 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     options.maxIterations = m_spec.maxIterations;
     if (m_spec.coarseScale > 0.0f) {
         // render.opacity.coarse_scale: first the system of the lists subsampled at that scale
-        // (products ~coarse^2 of the full ones), from the previous solution, then the real one
+        // (much cheaper products), from the previous solution, then the real one
         // from its solution. The real solve stops at the same tolerance on the same energy; the
         // coarse one only moves its starting point (docs/performance.md M7, session 6: at 8k-128k
-        // the fine solve took 13-22 products instead of 24-39 when the coarse lists had 320 px).
+        // the cold solve took 15-22 products instead of 24-39 after coarse lists of 320 px; warm
+        // frames at 8k did not gain).
         const FragmentLists coarseLists = subsampleLists(lists, setup.height, double(m_spec.coarseScale));
         const OpacityEnergy coarse(std::make_shared<const FragmentOcclusion>(coarseLists, n), m_importance, m_parts,
                                    weights);
