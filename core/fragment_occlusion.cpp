@@ -31,7 +31,7 @@ std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y) {
 }  // namespace
 
 FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots)
-    : m_n(partCount) {
+    : m_n(partCount), m_locals(std::make_unique<tbb::enumerable_thread_specific<LocalArrays>>()) {
     // Part counts over all fragments (singletons included: they are part of j's pixels).
     const std::vector<double> counts = partFragmentCounts(lists, partCount);
     m_inverseCount.resize(Eigen::Index(partCount));
@@ -67,7 +67,6 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     // 32-bit id and the fraction per fragment, no branches). Formed greedily in a few independent
     // ranges of lists, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k
     // no measurable change (docs/performance.md M7 session 5).
-    const std::size_t groupCap = std::max<std::size_t>(1, blockSlots / kGroupSlots);
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const std::size_t ranges = fragmentTotal < 50000 ? 1 : 8 * threads;
     std::vector<std::size_t> rangeStart(1, 0);
@@ -82,66 +81,94 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     struct RangeBlocks {
         std::vector<Block> blocks;
         std::vector<std::uint32_t> groups;
+        std::size_t groupCount = 0;  // gathered groups (also when the blocks are only counted)
     };
     std::vector<RangeBlocks> perRange(rangeStart.size() - 1);
     const std::size_t groupCount = partCount / kGroup + 1;
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> marks(
         [&] { return std::vector<std::uint32_t>(groupCount, 0); });  // group -> local index + 1, 0: not in the block
-    tbb::parallel_for(std::size_t(0), perRange.size(), [&](std::size_t r) {
-        std::vector<std::uint32_t>& local = marks.local();
-        RangeBlocks& out = perRange[r];
-        std::vector<std::uint32_t> groups;  // the open block's groups, by local index
-        std::vector<std::uint32_t> toSorted;
-        auto closeBlock = [&](std::size_t firstList, std::size_t endList) {
-            // Groups in ascending order, so the gather and scatter walk memory forwards.
-            std::vector<std::uint32_t> sorted = groups;
-            std::sort(sorted.begin(), sorted.end());
-            toSorted.resize(groups.size());
-            for (std::size_t k = 0; k < sorted.size(); ++k) local[sorted[k]] = std::uint32_t(k) + 1;
-            for (std::size_t k = 0; k < groups.size(); ++k) toSorted[k] = local[groups[k]] - 1;
-            for (std::uint64_t f = m_listStart[firstList]; f < m_listStart[endList]; ++f) {
-                const std::uint32_t slot = m_fragments[f].part;
-                m_fragments[f].part = toSorted[slot / kGroupSlots] * kGroupSlots + slot % kGroupSlots;
-            }
-            for (std::uint32_t g : sorted) local[g] = 0;
-            out.blocks.push_back({firstList, endList, out.groups.size(), out.groups.size() + sorted.size()});
-            out.groups.insert(out.groups.end(), sorted.begin(), sorted.end());
-            groups.clear();
-        };
-        std::size_t blockFirst = rangeStart[r];
-        for (std::size_t l = rangeStart[r]; l < rangeStart[r + 1]; ++l) {
-            const std::size_t p = order[l].second;
-            const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
-            const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
-            // Groups this list would add (a list touching more than groupCap groups becomes a
-            // block of its own).
-            std::size_t added = 0;
-            for (std::size_t k = 0; k < length; ++k) {
-                std::uint32_t& mark = local[f[k].part / kGroup];
-                if (mark == 0) {
-                    mark = ~0u;
-                    ++added;
+    // Forms the blocks of at most groupCap groups; with write == false only counts the groups the
+    // blocks would gather (the same greedy cut, no fragment written).
+    auto formBlocks = [&](std::size_t groupCap, bool write) {
+        tbb::parallel_for(std::size_t(0), perRange.size(), [&](std::size_t r) {
+            std::vector<std::uint32_t>& local = marks.local();
+            RangeBlocks& out = perRange[r];
+            out = {};
+            std::vector<std::uint32_t> groups;  // the open block's groups, by local index
+            std::vector<std::uint32_t> toSorted;
+            auto closeBlock = [&](std::size_t firstList, std::size_t endList) {
+                out.groupCount += groups.size();
+                if (!write) {
+                    for (std::uint32_t g : groups) local[g] = 0;
+                    groups.clear();
+                    return;
+                }
+                // Groups in ascending order, so the gather and scatter walk memory forwards.
+                std::vector<std::uint32_t> sorted = groups;
+                std::sort(sorted.begin(), sorted.end());
+                toSorted.resize(groups.size());
+                for (std::size_t k = 0; k < sorted.size(); ++k) local[sorted[k]] = std::uint32_t(k) + 1;
+                for (std::size_t k = 0; k < groups.size(); ++k) toSorted[k] = local[groups[k]] - 1;
+                for (std::uint64_t f = m_listStart[firstList]; f < m_listStart[endList]; ++f) {
+                    const std::uint32_t slot = m_fragments[f].part;
+                    m_fragments[f].part = toSorted[slot / kGroupSlots] * kGroupSlots + slot % kGroupSlots;
+                }
+                for (std::uint32_t g : sorted) local[g] = 0;
+                out.blocks.push_back({firstList, endList, out.groups.size(), out.groups.size() + sorted.size()});
+                out.groups.insert(out.groups.end(), sorted.begin(), sorted.end());
+                groups.clear();
+            };
+            std::size_t blockFirst = rangeStart[r];
+            for (std::size_t l = rangeStart[r]; l < rangeStart[r + 1]; ++l) {
+                const std::size_t p = order[l].second;
+                const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
+                const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
+                // Groups this list would add (a list touching more than groupCap groups becomes a
+                // block of its own).
+                std::size_t added = 0;
+                for (std::size_t k = 0; k < length; ++k) {
+                    std::uint32_t& mark = local[f[k].part / kGroup];
+                    if (mark == 0) {
+                        mark = ~0u;
+                        ++added;
+                    }
+                }
+                for (std::size_t k = 0; k < length; ++k)
+                    if (local[f[k].part / kGroup] == ~0u) local[f[k].part / kGroup] = 0;
+                if (groups.size() + added > groupCap && l > blockFirst) {
+                    closeBlock(blockFirst, l);
+                    blockFirst = l;
+                }
+                Fragment* dst = m_fragments.data() + m_listStart[l];
+                for (std::size_t k = 0; k < length; ++k) {
+                    const std::uint32_t j = f[k].part, g = j / kGroup;
+                    if (local[g] == 0) {
+                        groups.push_back(g);
+                        local[g] = std::uint32_t(groups.size());
+                    }
+                    // The slot in insertion order; closeBlock renumbers it to the sorted order.
+                    if (write) dst[k] = {(local[g] - 1) * kGroupSlots + j % kGroup, f[k].frac};
                 }
             }
-            for (std::size_t k = 0; k < length; ++k)
-                if (local[f[k].part / kGroup] == ~0u) local[f[k].part / kGroup] = 0;
-            if (groups.size() + added > groupCap && l > blockFirst) {
-                closeBlock(blockFirst, l);
-                blockFirst = l;
-            }
-            Fragment* dst = m_fragments.data() + m_listStart[l];
-            for (std::size_t k = 0; k < length; ++k) {
-                const std::uint32_t j = f[k].part, g = j / kGroup;
-                if (local[g] == 0) {
-                    groups.push_back(g);
-                    local[g] = std::uint32_t(groups.size());
-                }
-                // The slot in insertion order; closeBlock renumbers it to the sorted order.
-                dst[k] = {(local[g] - 1) * kGroupSlots + j % kGroup, f[k].frac};
-            }
-        }
-        if (rangeStart[r + 1] > blockFirst) closeBlock(blockFirst, rangeStart[r + 1]);
-    });
+            if (rangeStart[r + 1] > blockFirst) closeBlock(blockFirst, rangeStart[r + 1]);
+        });
+        std::size_t gathered = 0;
+        for (const RangeBlocks& rb : perRange) gathered += rb.groupCount;
+        return gathered;
+    };
+    // blockSlots 0 (the default): start at kBlockSlots and grow the blocks 4x while their gathers
+    // and scatters (kGroupSlots per gathered group) exceed a quarter of the fragments walked. Deep
+    // lists of many distinct parts fill a block after a few lists: at 128k parts with the lists
+    // subsampled to a quarter of the width and height (render.opacity.occlusion_scale 0.25),
+    // 16384-slot blocks gathered 8.9 M slots for 2.1 M fragments and a product cost 3.5x that
+    // of whole-range blocks (docs/performance.md M7 session 6). At 8k parts nothing changes (0.1
+    // M slots for 2.2 M fragments).
+    std::size_t slots = blockSlots ? blockSlots : kBlockSlots;
+    if (!blockSlots)
+        while (slots / kGroupSlots < groupCount &&
+               4 * formBlocks(std::max<std::size_t>(1, slots / kGroupSlots), false) * kGroupSlots > fragmentTotal)
+            slots *= 4;
+    formBlocks(std::max<std::size_t>(1, slots / kGroupSlots), true);
     // Concatenate the ranges' blocks; chunks for the product are runs of blocks of about equal
     // fragments, a few per thread so one slowed thread does not hold the pass up.
     for (RangeBlocks& rb : perRange) {
@@ -215,14 +242,12 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     const std::size_t chunks = m_chunks.size() - 1;
     // Per-chunk outputs: S N x scatters into the front parts, S^T y into the parts behind.
     std::vector<Eigen::VectorXd> outH(hx ? chunks : 0), outT(htx ? chunks : 0);
-    struct Local {
-        std::vector<double> in, out;
-    };
-    tbb::enumerable_thread_specific<Local> locals([&] {
-        return Local{std::vector<double>(m_blockSlots), std::vector<double>(m_blockSlots)};
-    });
     const auto body = [&](std::size_t c) {
-        Local& local = locals.local();
+        LocalArrays& local = m_locals->local();
+        if (local.in.size() < m_blockSlots) {
+            local.in.resize(m_blockSlots);
+            local.out.resize(m_blockSlots);
+        }
         const Fragment* fragments = m_fragments.data();
         const std::uint64_t* start = m_listStart.data();
         double* li = local.in.data();

@@ -23,8 +23,11 @@
 // most of part j's: the joints of its segments); occlusionMatrixReference(lists, n, false) is the
 // same matrix assembled. What it cannot give cheaply is a sum of squared entries (diag(Q)): see
 // OpacityEnergy's constructor for the estimate the preconditioner uses. No OpenGL.
+#include <tbb/enumerable_thread_specific.h>
+
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/occlusion_matrix.h"
@@ -37,12 +40,15 @@ public:
     // fragments are kept (a single fragment occludes nothing and is occluded by nothing).
     // `blockSlots`: the local array size a block of lists may use (see multiply()); tests pass
     // small values to get many blocks.
-    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots = kBlockSlots);
+    // 0 (the default) chooses: kBlockSlots, grown while the blocks' gathers exceed a quarter of
+    // the fragments (deep lists of many distinct parts, see the constructor).
+    FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots = 0);
 
     // Parts are gathered in groups of kGroup consecutive ids (a polyline's parts are consecutive),
-    // each with kGroupSlots = kGroup + 1 local slots. 16384 slots (1820 groups): a block's two
-    // local arrays (256 KB) and its fragments stay in L2 (2 MB per core here); at 128k parts 4096
-    // slots made blocks so small that the gathers cost more than they saved (docs/performance.md).
+    // each with kGroupSlots = kGroup + 1 local slots. 16384 slots (1820 groups; the automatic
+    // choice starts there): a block's two local arrays (256 KB) and its fragments stay in L2 (2 MB
+    // per core here); at 128k parts 4096 slots made blocks so small that the gathers cost more
+    // than they saved (docs/performance.md).
     static constexpr std::uint32_t kGroup = 8, kGroupSlots = kGroup + 1;
     static constexpr std::size_t kBlockSlots = 16384;
 
@@ -79,6 +85,13 @@ private:
     Eigen::VectorXd m_inverseCount;       // 1 / part j's fragment count, 0 for parts never seen
     Eigen::VectorXd m_self;               // d: S's diagonal (pairs of a part with itself)
     std::uint64_t m_pairs = 0;
+    // Each thread's block-local input and output arrays, kept from product to product: with large
+    // blocks (deep lists, see the constructor) they are megabytes, and allocating and zeroing them
+    // per product cost more than the walk at 128k parts with subsampled lists.
+    struct LocalArrays {
+        std::vector<double> in, out;
+    };
+    std::unique_ptr<tbb::enumerable_thread_specific<LocalArrays>> m_locals;
 };
 
 }  // namespace tc

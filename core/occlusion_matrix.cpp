@@ -55,6 +55,34 @@ void FragmentLists::sortByDepth() {
     });
 }
 
+FragmentLists subsampleLists(const FragmentLists& lists, int height, double scale) {
+    TC_CHECK(lists.width > 0);
+    TC_CHECK(scale > 0 && scale <= 1);
+    const int width = lists.width;
+    TC_CHECK_OP(std::size_t(width) * std::size_t(height), ==, lists.pixelCount());
+    const int w = std::max(1, int(std::floor(double(width) * scale)));
+    const int h = std::max(1, int(std::floor(double(height) * scale)));
+    auto source = [&](int x, int size) { return std::min(size - 1, int(std::floor((double(x) + 0.5) / scale))); };
+    FragmentLists out;
+    out.width = w;
+    out.offsets.assign(std::size_t(w) * std::size_t(h) + 1, 0);
+    std::vector<std::size_t> from(std::size_t(w) * std::size_t(h));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            from[p] = std::size_t(source(y, height)) * std::size_t(width) + std::size_t(source(x, width));
+            out.offsets[p + 1] = out.offsets[p] + (lists.offsets[from[p] + 1] - lists.offsets[from[p]]);
+        }
+    out.fragments.resize(out.offsets.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, from.size(), 4096), [&](const auto& range) {
+        for (std::size_t p = range.begin(); p != range.end(); ++p)
+            std::copy(lists.fragments.begin() + std::ptrdiff_t(lists.offsets[from[p]]),
+                      lists.fragments.begin() + std::ptrdiff_t(lists.offsets[from[p] + 1]),
+                      out.fragments.begin() + std::ptrdiff_t(out.offsets[p]));
+    });
+    return out;
+}
+
 std::vector<double> partFragmentCounts(const FragmentLists& lists, std::size_t partCount) {
     std::vector<double> counts(partCount, 0.0);
     for (const LineFragmentW& f : lists.fragments) {

@@ -32,6 +32,14 @@ struct FragmentLists {
     void sortByDepth();
 };
 
+// The lists a render at `scale` of the width and height would sample (render.opacity.
+// occlusion_scale): pixel (X, Y) of the small image, X < max(1, floor(width * scale)), takes the
+// list of the full-size pixel that contains its centre, floor((X + 0.5) / scale) (same for Y).
+// Rasterizing at the small size samples the same tubes at those centres (shifted by less than a
+// full-size pixel), so this is that render without a second list pass. `lists.width` must be set;
+// `height` is the full image's. Scale 1 returns a copy. Copies the fragments (sorted order kept).
+FragmentLists subsampleLists(const FragmentLists& lists, int height, double scale);
+
 // Part j's fragment count: sum over fragments of 1 - frac to floor(w) and frac to floor(w) + 1.
 std::vector<double> partFragmentCounts(const FragmentLists& lists, std::size_t partCount);
 

@@ -185,28 +185,82 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
     TC_CHECK_OP(h.rows(), ==, m_n);
     TC_CHECK_OP(h.cols(), ==, m_n);
     setScales(g);
-    // H in single precision, zeros and entries below dropBelow left out.
+    // H in single precision, zeros and entries below dropBelow left out. Every loop of this
+    // set-up is parallel and sums in the order of the serial loops it replaced (so the energy and
+    // its diagonal are bit-identical to them): it ran once per frame inside the renderer's solve
+    // stage and was 20-35 ms of an 8k-part warm frame's ~110-150 ms (docs/performance.md M7,
+    // session 6).
+    const std::int64_t sourceNonZeros = h.nonZeros();
+    const bool parallel = sourceNonZeros >= 20000;
+    auto forRows = [&](auto&& body) {
+        if (parallel)
+            tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, m_n, 256), [&](const auto& r) {
+                for (Eigen::Index i = r.begin(); i != r.end(); ++i) body(i);
+            });
+        else
+            for (Eigen::Index i = 0; i < m_n; ++i) body(i);
+    };
+    // One pass converts the rows in place of the source's layout and sums diag(W W^T)'s row sums;
+    // rows only move (a serial compaction) when something was left out.
+    SparseMatrixD compressedCopy;
+    const SparseMatrixD* source = &h;
+    if (!h.isCompressed()) {
+        compressedCopy = h;
+        compressedCopy.makeCompressed();
+        source = &compressedCopy;
+    }
+    const auto* sourceOuter = source->outerIndexPtr();
+    const auto* sourceInner = source->innerIndexPtr();
+    const double* sourceValue = source->valuePtr();
     m_h.resize(m_n, m_n);
-    m_h.reserve(h.nonZeros());
-    for (Eigen::Index i = 0; i < m_n; ++i) {
-        m_h.startVec(i);
-        for (SparseMatrixD::InnerIterator it(h, i); it; ++it) {
-            if (it.value() == 0) continue;
-            if (it.value() < dropBelow) {
-                ++m_dropped;
+    m_h.resizeNonZeros(Eigen::Index(sourceNonZeros));  // compressed, not yet written
+    int* outer = m_h.outerIndexPtr();
+    int* innerOut = m_h.innerIndexPtr();
+    float* valueOut = m_h.valuePtr();
+    std::vector<int> kept(std::size_t(m_n), 0);
+    std::vector<std::size_t> droppedPerRow(std::size_t(m_n), 0);
+    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2.
+    Eigen::VectorXd rowSum = Eigen::VectorXd::Zero(m_n), colSum = Eigen::VectorXd::Zero(m_n);
+    // The new arrays are first touched by the threads that fill them.
+    forRows([&](Eigen::Index i) {
+        auto k = sourceOuter[i];
+        const auto begin = k;
+        std::size_t dropped = 0;
+        double sum = 0;
+        for (auto e = sourceOuter[i]; e < sourceOuter[i + 1]; ++e) {
+            const double v = sourceValue[e];
+            if (v == 0) continue;
+            if (v < dropBelow) {
+                ++dropped;
                 continue;
             }
-            m_h.insertBack(i, it.index()) = float(it.value());
+            const float f = float(v);
+            innerOut[k] = int(sourceInner[e]);
+            valueOut[k++] = f;
+            sum += double(f) * double(f) * m_colScale2[sourceInner[e]];
         }
+        rowSum[i] = sum;
+        kept[std::size_t(i)] = int(k - begin);
+        droppedPerRow[std::size_t(i)] = dropped;
+    });
+    int total = 0;
+    for (Eigen::Index i = 0; i < m_n; ++i) {
+        const int from = int(sourceOuter[i]), count = kept[std::size_t(i)];
+        if (from != total) {
+            std::copy(innerOut + from, innerOut + from + count, innerOut + total);
+            std::copy(valueOut + from, valueOut + from + count, valueOut + total);
+        }
+        outer[i] = total;
+        total += count;
+        m_dropped += droppedPerRow[std::size_t(i)];
     }
-    m_h.finalize();
-    m_h.makeCompressed();
+    outer[m_n] = total;
+    m_h.resizeNonZeros(total);
 
     // Row ranges of about equal work; a few per thread so a thread slowed by other processes
     // does not hold the pass up.
     const int threads = tbb::this_task_arena::max_concurrency();
     const int chunks = m_h.nonZeros() < 20000 ? 1 : std::max(1, 2 * threads);
-    const int* outer = m_h.outerIndexPtr();
     m_rowChunks.assign(1, 0);
     for (int c = 1; c < chunks; ++c) {
         const std::int64_t target = std::int64_t(m_h.nonZeros()) * c / chunks;
@@ -215,14 +269,29 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
     }
     m_rowChunks.push_back(int(m_n));
 
-    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2.
-    Eigen::VectorXd rowSum = Eigen::VectorXd::Zero(m_n), colSum = Eigen::VectorXd::Zero(m_n);
-    for (Eigen::Index i = 0; i < m_n; ++i)
-        for (SparseMatrixF::InnerIterator it(m_h, i); it; ++it) {
-            const double v2 = double(it.value()) * double(it.value());
-            rowSum[i] += v2 * m_colScale2[it.index()];
-            colSum[it.index()] += v2 * m_colScale2[i];
+    // The column sums in parallel over column ranges, each walking the rows in order (its part of
+    // each row found by binary search: columns are sorted), so every column still sums its rows
+    // in ascending order.
+    const int* inner = m_h.innerIndexPtr();
+    const float* value = m_h.valuePtr();
+    auto columnRange = [&](int c0, int c1) {
+        for (Eigen::Index i = 0; i < m_n; ++i) {
+            const int* first = inner + outer[i];
+            const int* last = inner + outer[i + 1];
+            if (c0 > 0) first = std::lower_bound(first, last, c0);
+            const double scale = m_colScale2[i];
+            for (const int* k = first; k != last && *k < c1; ++k) {
+                const double v = double(value[k - inner]);
+                colSum[*k] += v * v * scale;
+            }
         }
+    };
+    const int columnRanges = parallel ? std::max(1, 2 * threads) : 1;
+    if (columnRanges == 1)
+        columnRange(0, int(m_n));
+    else
+        tbb::parallel_for(0, columnRanges,
+                          [&](int c) { columnRange(int(m_n * c / columnRanges), int(m_n * (c + 1) / columnRanges)); });
     setDiagonal(rowSum, colSum, parts);
 }
 

@@ -341,6 +341,15 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     op.maxIterations = o.getInt("max_iterations", op.maxIterations, 1, 1000000);
     op.dropBelow = o.getFloat("drop_below", op.dropBelow, 0.0f, 1.0f);
     op.dumpDir = o.getString("dump_dir", op.dumpDir);
+    op.occlusionScale = o.getFloat("occlusion_scale", op.occlusionScale, 0.0f, 1.0f);
+    if (!(op.occlusionScale > 0.0f)) o.fail("occlusion_scale", "expected a number in (0, 1]");
+    op.coarseScale = o.getFloat("coarse_scale", op.coarseScale, 0.0f, 1.0f);
+    if (op.coarseScale > 0.0f && !(op.coarseScale < op.occlusionScale)) {
+        std::ostringstream m;
+        m << "expected 0 (off) or a number below render.opacity.occlusion_scale (" << op.occlusionScale << "), got "
+          << op.coarseScale;
+        o.fail("coarse_scale", m.str());
+    }
     {
         const std::string kind = o.getEnum("occlusion", "auto", {"auto", "assembled", "fragments"});
         op.occlusion = kind == "assembled"   ? OpacityOptimizationSpec::Occlusion::Assembled

@@ -164,6 +164,12 @@ struct OpacityOptimizationSpec {
     // How products with H are formed: H assembled (Algorithm 1's pairs), or straight from the
     // fragment lists by prefix sums (core/fragment_occlusion.h); auto picks by the pair count.
     enum class Occlusion { Auto, Assembled, Fragments } occlusion = Occlusion::Auto;
+    // h_ij from the lists of every (1/scale)-th pixel in x and y (core/occlusion_matrix.h,
+    // subsampleLists); the image is still resolved at full size from all lists.
+    float occlusionScale = 1;
+    // > 0: each frame's solve starts from the solution of the system of the lists subsampled at
+    // this scale (< occlusionScale), itself started from the previous frame's solution. 0: off.
+    float coarseScale = 0;
     std::string dumpDir;      // debug: write Q, c, g, bounds and the solution of each frame here
 };
 

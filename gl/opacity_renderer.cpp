@@ -173,7 +173,9 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
         std::vector<SortEntry> entries;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             entries.clear();
-            walk(heads[p], [&](std::uint32_t n) { entries.push_back({std::uint64_t(depthKey(depth[n])) << 32 | part[n], n}); });
+            walk(heads[p], [&](std::uint32_t n) {
+                entries.push_back({std::uint64_t(depthKey(depth[n])) << 32 | part[n], n});
+            });
             std::sort(entries.begin(), entries.end());
             std::uint64_t i = lists.offsets[p];
             for (const SortEntry& e : entries) {
@@ -253,36 +255,48 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
         readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity), colors);
     timer.end();
     m_stats.readbackMs = msSince(t0);
+    // render.opacity.occlusion_scale < 1: H from the lists of a subsample of the pixels, as if
+    // rasterized at that fraction of the width and height (core/occlusion_matrix.h,
+    // subsampleLists). The resolve below still blends all full-size lists: it needs them sorted
+    // anyway, so a second, smaller list pass would only add a GL pass and a read-back.
+    t0 = std::chrono::steady_clock::now();
+    timer.begin("h_assembly");
+    FragmentLists scaledLists;
+    const bool scaled = m_spec.occlusionScale < 1.0f;
+    if (scaled) scaledLists = subsampleLists(lists, setup.height, double(m_spec.occlusionScale));
+    const FragmentLists& occlusionLists = scaled ? scaledLists : lists;
+    m_stats.occlusionWidth = scaled ? scaledLists.width : setup.width;
+    m_stats.occlusionHeight = scaled ? int(scaledLists.pixelCount() / std::size_t(scaledLists.width)) : setup.height;
+    m_stats.occlusionFragments = occlusionLists.fragments.size();
+    std::uint64_t pairs = 0;
+    for (std::size_t p = 0; p < occlusionLists.pixelCount(); ++p) {
+        const std::uint64_t length = occlusionLists.offsets[p + 1] - occlusionLists.offsets[p];
+        pairs += length > 1 ? length * (length - 1) / 2 : 0;
+    }
+    m_stats.pairs = pairs;
     // Assembled H costs Algorithm 1's pairs once plus ~its non-zeros per product; from the lists
     // a product costs the fragments. Auto assembles while the pairs are at most
     // kAssembleBelowPairsPerFragment per fragment: at 8k parts (9.8 per fragment) assembling took
     // 13x the list operator's set-up and saved 15 ms of CPU per product, ~0.35 s per solve
     // (docs/performance.md M7); at 2k parts (2.4) the two are about even.
-    std::uint64_t pairs = 0;
-    for (std::size_t p = 0; p < lists.pixelCount(); ++p) {
-        const std::uint64_t length = lists.offsets[p + 1] - lists.offsets[p];
-        pairs += length > 1 ? length * (length - 1) / 2 : 0;
-    }
-    m_stats.pairs = pairs;
     constexpr double kAssembleBelowPairsPerFragment = 4;
     using Occlusion = OpacityOptimizationSpec::Occlusion;
     const bool fromFragments =
         m_spec.occlusion == Occlusion::Fragments ||
         (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
-         double(pairs) > kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, lists.fragments.size())));
+         double(pairs) >
+             kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
     m_stats.fromFragments = fromFragments;
     const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
-    t0 = std::chrono::steady_clock::now();
-    timer.begin("h_assembly");
     SparseMatrixD h;
     std::optional<OpacityEnergy> energy;
     if (fromFragments) {
-        energy.emplace(std::make_shared<const FragmentOcclusion>(lists, n), m_importance, m_parts, weights);
+        energy.emplace(std::make_shared<const FragmentOcclusion>(occlusionLists, n), m_importance, m_parts, weights);
     } else {
-        h = occlusionMatrix(lists, n);
+        h = occlusionMatrix(occlusionLists, n);
         m_stats.hNonZeros = std::size_t(h.nonZeros());
     }
-    timer.setItems(fromFragments ? lists.fragments.size() : m_stats.hNonZeros);
+    timer.setItems(fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
     timer.end();
     m_stats.assemblyMs = msSince(t0);
 
@@ -290,11 +304,25 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     t0 = std::chrono::steady_clock::now();
     timer.begin("solve");
     if (!energy) energy.emplace(h, m_importance, m_parts, weights, m_spec.dropBelow);
+    m_stats.energyMs = msSince(t0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
     if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
     QpSolverOptions options;
     options.tolerance = m_spec.tolerance;
     options.maxIterations = m_spec.maxIterations;
+    if (m_spec.coarseScale > 0.0f) {
+        // render.opacity.coarse_scale: first the system of the lists subsampled at that scale
+        // (much cheaper products), from the previous solution, then the real one
+        // from its solution. The real solve stops at the same tolerance on the same energy; the
+        // coarse one only moves its starting point (docs/performance.md M7, session 6: at 8k-128k
+        // the cold solve took 15-22 products instead of 24-39 after coarse lists of 320 px; warm
+        // frames at 8k did not gain).
+        const FragmentLists coarseLists = subsampleLists(lists, setup.height, double(m_spec.coarseScale));
+        const OpacityEnergy coarse(std::make_shared<const FragmentOcclusion>(coarseLists, n), m_importance, m_parts,
+                                   weights);
+        m_stats.coarse = solveBoundedQp(coarse, coarse.linearTerm(), lo, hi, m_solution, options);
+        m_solution = m_stats.coarse.x;
+    }
     m_stats.solve = solveBoundedQp(*energy, energy->linearTerm(), lo, hi, m_solution, options);
     m_solution = m_stats.solve.x;
     if (m_displayed.size() != Eigen::Index(n))
@@ -309,8 +337,8 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
                   << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
                   << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
     if (m_sink)
-        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &h, &lists, &m_parts, &m_importance, &m_solution,
-                &m_displayed, &m_stats.solve});
+        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &h, &occlusionLists, &m_parts, &m_importance,
+                &m_solution, &m_displayed, &m_stats.solve});
 
     // 4. Resolve: blend each sorted list front to back with the displayed opacities, on the CPU.
     // The lists are in memory and sorted already; a full-screen GL pass walking them was what
@@ -384,6 +412,8 @@ nlohmann::json OpacityRenderer::describe() const {
                       : m_spec.occlusion == OpacityOptimizationSpec::Occlusion::Fragments ? "fragments"
                                                                                           : "auto"},
         {"drop_below", m_spec.dropBelow},
+        {"occlusion_scale", m_spec.occlusionScale},
+        {"coarse_scale", m_spec.coarseScale},
         {"resolve", "CPU (the sorted lists blended front to back)"},
         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_spec.importance == OpacityOptimizationSpec::Importance::Attribute)

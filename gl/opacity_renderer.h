@@ -7,7 +7,8 @@
 // transparent_fragment.glsl) go into per-pixel linked lists (A-buffer: global atomic counter,
 // per-pixel heads; shaders/opacity_build.frag) with depth, colour and the blending parameter w;
 // (2) "lists_sort" + "h_assembly": the lists are read back and sorted per pixel on the CPU
-// (oneTBB), and Algorithm 1 builds h_ij from them (core/occlusion_matrix.h), or, with
+// (oneTBB), and Algorithm 1 builds h_ij from them (or from every (1/s)-th pixel's list in x and y
+// with render.opacity.occlusion_scale s < 1) (core/occlusion_matrix.h), or, with
 // render.opacity.occlusion "fragments", products with H are formed from the lists by prefix sums
 // and H is never built (core/fragment_occlusion.h); (3) "solve": the
 // bounded QP, warm started from the previous frame's solution (h_ij below
@@ -58,8 +59,13 @@ public:
         std::size_t hNonZeros = 0;    // 0 when H came from the fragment lists
         bool fromFragments = false;   // products with H from the lists (render.opacity.occlusion)
         std::uint64_t pairs = 0;      // pairs Algorithm 1 visits (sum over pixels of L(L-1)/2)
+        // The lists H came from (render.opacity.occlusion_scale): their image size and fragments.
+        int occlusionWidth = 0, occlusionHeight = 0;
+        std::size_t occlusionFragments = 0;
         QpResult solve;  // iterations, products, residual (solve.x: the solution)
+        QpResult coarse;  // the solve of render.opacity.coarse_scale's lists (0 products: off)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
+        double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)
     };
     using SystemSink = std::function<void(const OpacitySystem&)>;
 

@@ -2,7 +2,13 @@
 // on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of
 // M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
 //
-//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096]
+//   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096 (0: automatic)] [--assembled 1]
+//                                     [--scale S]   (the lists subsampled as render.opacity.occlusion_scale S)
+//                                     [--coarse C]  (also: a solve warm started from the solution of the lists
+//                                                    subsampled at C, both timed together)
+//
+// --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead; prints the energy's
+// set-up from H (what the renderer's solve stage pays per frame), Q products and cold solves.
 //
 // Prints the set-up time, H products (both outputs), Q products and cold solves (tolerance 1e-4,
 // from a = 1), each as wall and process CPU time (all threads).
@@ -15,6 +21,7 @@
 
 #include "bench_util.h"
 #include "core/fragment_occlusion.h"
+#include "core/occlusion_matrix.h"
 #include "core/opacity_optimization.h"
 #include "opacity_system_file.h"
 
@@ -24,20 +31,81 @@ int main(int argc, char** argv) {
         return 2;
     }
     int reps = 10, solves = 1;
-    std::size_t blockSlots = tc::FragmentOcclusion::kBlockSlots;
+    bool assembled = false;
+    double scale = 1;            // render.opacity.occlusion_scale: the lists subsampled first
+    double coarse = 0;           // > 0: also a solve started from the solution at this subsampling scale
+    std::size_t blockSlots = 0;  // the constructor's choice
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--solves")) solves = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
+        if (!std::strcmp(argv[i], "--assembled")) assembled = std::atoi(argv[i + 1]) != 0;
+        if (!std::strcmp(argv[i], "--scale")) scale = std::atof(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--coarse")) coarse = std::atof(argv[i + 1]);
     }
     using tc::bench::Clock;
     using tc::bench::msSince;
     auto cpuMs = [](std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; };
     try {
-        const tc::bench::OpacitySystemFile sys = tc::bench::loadOpacitySystem(argv[1]);
+        tc::bench::OpacitySystemFile sys = tc::bench::loadOpacitySystem(argv[1]);
+        if (scale < 1) {
+            const int height = int(sys.lists.pixelCount() / std::size_t(sys.lists.width));
+            sys.lists = tc::subsampleLists(sys.lists, height, scale);
+            std::printf("lists subsampled at scale %g: %dx%d px, %zu fragments\n", scale, sys.lists.width,
+                        int(sys.lists.pixelCount() / std::size_t(sys.lists.width)), sys.lists.fragments.size());
+        }
         const std::size_t n = sys.parts.partCount();
         auto t0 = Clock::now();
         std::clock_t c0 = std::clock();
+        if (assembled) {
+            const tc::SparseMatrixD h = tc::occlusionMatrix(sys.lists, n);
+            std::printf("%zu parts, H assembled: %lld non-zeros in %.1f ms wall, %.1f ms CPU\n", n,
+                        (long long)h.nonZeros(), msSince(t0), cpuMs(c0));
+            std::unique_ptr<tc::OpacityEnergy> energy;
+            double least = 1e300;
+            t0 = Clock::now();
+            c0 = std::clock();
+            for (int r = 0; r < reps; ++r) {
+                energy.reset();
+                const auto t1 = Clock::now();
+                energy = std::make_unique<tc::OpacityEnergy>(h, sys.importance, sys.parts, tc::OpacityWeights{});
+                least = std::min(least, msSince(t1));
+            }
+            double dsum = 0;
+            for (Eigen::Index i = 0; i < energy->diagonal().size(); ++i)
+                dsum += energy->diagonal()[i] * double(i % 7 + 1);
+            std::printf(
+                "energy set-up from H: %.2f ms wall, %.2f ms CPU per call (least wall %.2f); diagonal checksum %.17g\n",
+                msSince(t0) / reps, cpuMs(c0) / reps, least, dsum);
+            const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(Eigen::Index(n), 0.1, 1.0);
+            Eigen::VectorXd y;
+            energy->multiply(x, y);  // warm-up
+            least = 1e300;
+            t0 = Clock::now();
+            c0 = std::clock();
+            for (int r = 0; r < reps; ++r) {
+                const auto t1 = Clock::now();
+                energy->multiply(x, y);
+                least = std::min(least, msSince(t1));
+            }
+            std::printf("Q x: %.2f ms wall, %.2f ms CPU per product (least wall %.2f); checksum %.17g\n",
+                        msSince(t0) / reps, cpuMs(c0) / reps, least, y.sum());
+            tc::QpSolverOptions opt;
+            opt.tolerance = 1e-4;
+            const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)),
+                                  ones = Eigen::VectorXd::Ones(Eigen::Index(n));
+            for (int s = 0; s < solves; ++s) {
+                t0 = Clock::now();
+                c0 = std::clock();
+                const tc::QpResult r = tc::solveBoundedQp(*energy, energy->linearTerm(), lo, ones, ones, opt);
+                std::printf(
+                    "cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
+                    "sum a %.17g\n",
+                    msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
+                    r.x.sum());
+            }
+            return 0;
+        }
         auto occlusion = std::make_shared<const tc::FragmentOcclusion>(sys.lists, n, blockSlots);
         std::printf("%zu parts, %zu fragments in lists of >= 2, %llu pairs\n", n, occlusion->fragmentCount(),
                     (unsigned long long)occlusion->pairCount());
@@ -79,6 +147,25 @@ int main(int argc, char** argv) {
                 "sum a %.6f\n",
                 msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
                 r.x.sum());
+        }
+        if (coarse > 0) {
+            // A cold solve in two steps: the system of the lists subsampled at `coarse` solved
+            // from a = 1, then this one warm started from its solution (same tolerance).
+            t0 = Clock::now();
+            c0 = std::clock();
+            const int height = int(sys.lists.pixelCount() / std::size_t(sys.lists.width));
+            const tc::FragmentLists small = tc::subsampleLists(sys.lists, height, coarse);
+            const tc::OpacityEnergy ec(std::make_shared<const tc::FragmentOcclusion>(small, n), sys.importance,
+                                       sys.parts, tc::OpacityWeights{});
+            const double setupMs = msSince(t0);
+            const tc::QpResult rc = tc::solveBoundedQp(ec, ec.linearTerm(), lo, ones, ones, opt);
+            const double coarseMs = msSince(t0);
+            const tc::QpResult r = tc::solveBoundedQp(energy, energy.linearTerm(), lo, ones, rc.x, opt);
+            std::printf(
+                "two-level solve (coarse %g): %.1f ms wall, %.1f ms CPU (coarse set-up %.1f ms, coarse solve until "
+                "%.1f ms: products %d); fine: it %d, cg %d, products %d (search %d), residual %.2e, sum a %.6f\n",
+                coarse, msSince(t0), cpuMs(c0), setupMs, coarseMs, rc.products, r.iterations, r.cgIterations,
+                r.products, r.searchProducts, r.residual, r.x.sum());
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());

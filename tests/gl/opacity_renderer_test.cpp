@@ -60,10 +60,10 @@ struct Frame {
     Eigen::VectorXd opacity;
 };
 
-Frame renderOnce(gl::OpacityRenderer& r, int frame = 0, const Camera& cam = topCamera()) {
+Frame renderOnce(gl::OpacityRenderer& r, int frame = 0, const Camera& cam = topCamera(), int size = kSize) {
     Frame f;
     gl::StageTimer timer;
-    r.render(gl::FrameSetup{frame, cam, kSize, kSize}, f.images, timer);
+    r.render(gl::FrameSetup{frame, cam, size, size}, f.images, timer);
     timer.collect();
     f.stats = r.lastStats();
     f.opacity = r.displayedOpacities();
@@ -168,6 +168,64 @@ TEST_F(GlTest, opacity_optimization_from_the_fragment_lists_matches_the_assemble
     for (std::size_t k = 0; k < a.images.rgba.size(); ++k)
         diff = std::max(diff, std::abs(a.images.rgba[k] - b.images.rgba[k]));
     EXPECT_LE(diff, 1e-4f);
+}
+
+TEST_F(GlTest, opacity_optimization_at_half_occlusion_resolution_stays_near_the_full_resolution_opacities) {
+    // render.opacity.occlusion_scale 0.5: h_ij from every second pixel's list in x and y
+    // (normalised by the part fragment counts of the same pixels, so resolution-independent up to
+    // sampling); the image is still resolved at full size from all lists. At 256 x 256 px the
+    // tubes are ~20 px wide and the two agree to 4e-5 (0.08 at 128 px and 0.16 at 64 px, where a
+    // crossing is only a few pixels of the half-size sampling).
+    const int size = 256;
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(400.0f);
+    scene.image.width = scene.image.height = size;
+    auto fullRenderer = gl::OpacityRenderer::create(scene, lines);
+    Frame full = renderOnce(*fullRenderer, 0, topCamera(), size);
+    scene.render.opacity.occlusionScale = 0.5f;
+    auto halfRenderer = gl::OpacityRenderer::create(scene, lines);
+    Frame half = renderOnce(*halfRenderer, 0, topCamera(), size);
+    EXPECT_EQ(full.stats.occlusionWidth, size);
+    EXPECT_EQ(full.stats.occlusionHeight, size);
+    EXPECT_EQ(half.stats.occlusionWidth, size / 2);
+    EXPECT_EQ(half.stats.occlusionHeight, size / 2);
+    // A quarter of the pixels, so about a quarter of the fragments.
+    EXPECT_NEAR(double(half.stats.occlusionFragments), double(full.stats.occlusionFragments) / 4,
+                0.1 * double(full.stats.occlusionFragments) / 4);
+    EXPECT_EQ(half.stats.fragments, full.stats.fragments);  // the lists themselves are full size
+    ASSERT_TRUE(half.stats.solve.converged);
+    EXPECT_LT(full.opacity.minCoeff(), 0.5);  // the occluder really is faded
+    EXPECT_LE((full.opacity - half.opacity).lpNorm<Eigen::Infinity>(), 0.01);
+    EXPECT_EQ(half.images.width, size);
+    float diff = 0;
+    for (std::size_t k = 0; k < full.images.rgba.size(); ++k)
+        diff = std::max(diff, std::abs(full.images.rgba[k] - half.images.rgba[k]));
+    EXPECT_LE(diff, 0.01f);
+}
+
+TEST_F(GlTest, opacity_optimization_with_a_coarse_start_reaches_the_same_minimiser) {
+    // render.opacity.coarse_scale only changes where the solve starts (the minimiser of the
+    // system of the lists subsampled at 0.25); the solve of the full system then stops at the same
+    // tolerance (1e-8 here), so the opacities agree to about that, in both frames.
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(400.0f);
+    const int size = 256;
+    scene.image.width = scene.image.height = size;
+    auto plain = gl::OpacityRenderer::create(scene, lines);
+    scene.render.opacity.coarseScale = 0.25f;
+    auto twoLevel = gl::OpacityRenderer::create(scene, lines);
+    Camera turned = topCamera();
+    turned.eye = {0.3f, 0.0f, 3.0f};
+    for (const Camera& cam : {topCamera(), turned}) {
+        Frame a = renderOnce(*plain, 0, cam, size);
+        Frame b = renderOnce(*twoLevel, 0, cam, size);
+        EXPECT_EQ(a.stats.coarse.products, 0);
+        EXPECT_GT(b.stats.coarse.products, 0);
+        ASSERT_TRUE(b.stats.coarse.converged);
+        ASSERT_TRUE(b.stats.solve.converged);
+        EXPECT_LT(a.opacity.minCoeff(), 0.5);
+        EXPECT_LE((a.opacity - b.opacity).lpNorm<Eigen::Infinity>(), 1e-6);
+    }
 }
 
 TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_failing) {

@@ -354,6 +354,24 @@ TEST(OpacityScene, keys_parse_with_defaults_and_located_errors) {
               std::string::npos);
     EXPECT_NE(renderError(R"({"opacity": {"occlusion": "lists"}})").find("render.opacity.occlusion"),
               std::string::npos);
+    EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {}})").render.opacity.occlusionScale, 1.0f);
+    EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {"occlusion_scale": 0.25}})").render.opacity.occlusionScale, 0.25f);
+    EXPECT_NE(renderError(R"({"opacity": {"occlusion_scale": 0}})")
+                  .find("scene.json: render.opacity.occlusion_scale: expected a number in (0, 1]"),
+              std::string::npos);
+    EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {}})").render.opacity.coarseScale, 0.0f);
+    EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {"coarse_scale": 0.25}})").render.opacity.coarseScale, 0.25f);
+    EXPECT_NE(renderError(R"({"opacity": {"occlusion_scale": 0.5, "coarse_scale": 0.5}})")
+                  .find("scene.json: render.opacity.coarse_scale: expected 0 (off) or a number below "
+                        "render.opacity.occlusion_scale (0.5), got 0.5"),
+              std::string::npos);
+    EXPECT_NE(renderError(R"({"opacity": {"coarse_scale": -1}})").find("render.opacity.coarse_scale"),
+              std::string::npos);
+    for (const char* bad : {R"({"opacity": {"occlusion_scale": 1.5}})", R"({"opacity": {"occlusion_scale": -0.5}})",
+                            R"({"opacity": {"occlusion_scale": "half"}})"})
+        EXPECT_NE(renderError(bad).find("scene.json: render.opacity.occlusion_scale: expected a number"),
+                  std::string::npos)
+            << bad;
     EXPECT_NE(renderError(R"({"opacity": {"segment_per_line": 4}})").find("render.opacity.segment_per_line"),
               std::string::npos);
     EXPECT_NE(renderError(R"({"technique": "raytraced", "transparency": "opacity_optimization"})")

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <random>
+#include <tuple>
 
 #include "core/occlusion_matrix.h"
 
@@ -132,6 +133,54 @@ TEST(OpacityOcclusion, fast_path_matches_the_reference_with_many_parts_per_tile_
         ASSERT_FALSE(a || b) << "row " << i;
     }
     EXPECT_LE(diff, 1e-12);
+}
+
+TEST(OpacityOcclusion, subsampled_lists_are_the_lists_of_the_pixels_containing_the_small_pixel_centres) {
+    FragmentLists lists = crossingLines(2, 8);
+    lists.width = 16;
+    const FragmentLists same = subsampleLists(lists, 16, 1.0);
+    EXPECT_EQ(same.width, 16);
+    EXPECT_EQ(same.offsets, lists.offsets);
+    ASSERT_EQ(same.fragments.size(), lists.fragments.size());
+    for (std::size_t k = 0; k < lists.fragments.size(); ++k) {
+        EXPECT_EQ(same.fragments[k].part, lists.fragments[k].part);
+        EXPECT_EQ(same.fragments[k].frac, lists.fragments[k].frac);
+        EXPECT_EQ(same.fragments[k].depth, lists.fragments[k].depth);
+    }
+    // Scale 0.5: pixel (X, Y) of the 8 x 8 image is pixel (2X + 1, 2Y + 1); 0.3: a 4 x 4 image
+    // of pixels 1, 5, 8, 11 (floor((X + 0.5) / 0.3)) in each direction.
+    for (const auto& [scale, size, picks] :
+         {std::tuple<double, int, std::vector<int>>{0.5, 8, {1, 3, 5, 7, 9, 11, 13, 15}}, {0.3, 4, {1, 5, 8, 11}}}) {
+        const FragmentLists small = subsampleLists(lists, 16, scale);
+        ASSERT_EQ(small.width, size);
+        ASSERT_EQ(small.pixelCount(), std::size_t(size * size));
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                const std::size_t p = std::size_t(y * size + x), q = std::size_t(picks[y] * 16 + picks[x]);
+                ASSERT_EQ(small.offsets[p + 1] - small.offsets[p], lists.offsets[q + 1] - lists.offsets[q]);
+                for (std::uint64_t k = 0; k < small.offsets[p + 1] - small.offsets[p]; ++k) {
+                    EXPECT_EQ(small.fragments[small.offsets[p] + k].part, lists.fragments[lists.offsets[q] + k].part);
+                    EXPECT_EQ(small.fragments[small.offsets[p] + k].depth, lists.fragments[lists.offsets[q] + k].depth);
+                }
+            }
+    }
+    // A scale below one pixel still keeps one.
+    EXPECT_EQ(subsampleLists(lists, 16, 0.01).pixelCount(), 1u);
+}
+
+TEST(OpacityOcclusion, occlusion_at_half_resolution_keeps_the_pattern_and_the_fractions_of_covered_pixels) {
+    // h_ij is normalised by part j's fragment count, so halving the resolution in x and y keeps
+    // it where both lines span whole pairs of pixels: A over rows 2-9, B over columns 6-9.
+    FragmentLists lists = crossingLines(2, 8);
+    lists.width = 16;
+    const Eigen::MatrixXd full(occlusionMatrix(lists, 4));
+    const Eigen::MatrixXd half(occlusionMatrix(subsampleLists(lists, 16, 0.5), 4));
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            EXPECT_EQ(full(i, j) > 0, half(i, j) > 0) << i << ", " << j;
+            EXPECT_NEAR(half(i, j), full(i, j), 0.05 * full(i, j) + 1e-12) << i << ", " << j;
+        }
+    EXPECT_GT(full(0, 2) + full(0, 3) + full(1, 2) + full(1, 3), 0.1);
 }
 
 }  // namespace
