@@ -410,6 +410,7 @@ void readVrc(SpecReader r, VrcSpec& v) {
     v.quantization = r.getInt("quantization", v.quantization, 0, 90);
     v.neighbors = r.getEnum("neighbors", "off", {"off", "on"}) == "on";
     v.opacityThreshold = r.getFloat("opacity_threshold", v.opacityThreshold, 0.01f, 1.0f);
+    v.pathLengthOpacity = r.getBool("path_length_opacity", v.pathLengthOpacity);
     v.shadows = r.getBool("shadows", v.shadows);
     v.shadowMode = r.getEnum("shadow_mode", "soft", {"soft", "hard"}) == "hard" ? VrcSpec::ShadowMode::Hard
                                                                                 : VrcSpec::ShadowMode::Soft;

@@ -197,6 +197,9 @@ struct VrcSpec {
     int quantization = 32;           // bins per voxel face edge; 0 = exact float end points
     bool neighbors = false;          // also test the 26 neighbouring voxels' pieces
     float opacityThreshold = 0.99f;  // early ray termination
+    // Transparent: a tube hit's alpha is 1 - (1 - alpha)^(L / 2r), L the ray's chord through the
+    // hit piece's rounded cone, r the mean of its two radii (style alpha on a ray through the axis).
+    bool pathLengthOpacity = false;
     bool shadows = false;            // shadows toward the light (shadowMode)
     // soft: a cone toward the light through the density; hard: a ray against the representative
     // lines of LoD level shadowLevel (core/vrc_representative.h).

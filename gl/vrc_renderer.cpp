@@ -298,6 +298,8 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
         defines.push_back("VRC_Q " + std::to_string(model.quantization));
     }
     if (r->m_transparent) defines.push_back("TRANSPARENT");
+    // Only the compositing reads a hit's alpha: opaque rendering ignores the key.
+    if (r->m_transparent && r->m_spec.pathLengthOpacity) defines.push_back("VRC_PATH_LENGTH_OPACITY");
     defines.push_back("BRICK_SKIP");
     defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(r->m_pieceBlockCount));
     defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(r->m_blockShift));
@@ -442,6 +444,7 @@ nlohmann::json VrcRenderer::describe() const {
             {"quantization", m_quantization},
             {"neighbors", m_spec.neighbors},
             {"opacity_threshold", m_spec.opacityThreshold},
+            {"path_length_opacity", m_transparent && m_spec.pathLengthOpacity},
             {"pieces", m_pieces},
             {"copies", m_copies},
             {"copies_did_not_fit", m_copiesDidNotFit},

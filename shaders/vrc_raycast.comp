@@ -13,7 +13,8 @@
 // the representative lines of one LoD level), VRC_Q (the quantization, with QUANTIZED), BRICK_SKIP
 // (empty space skipping over bricks of 4^3 voxels), VRC_PIECE_BLOCKS and VRC_BLOCK_SHIFT (the
 // piece array's storage blocks, below), VRC_PIECE_TEXTURE (quantized pieces read through one texture
-// buffer over the whole array instead).
+// buffer over the whole array instead), VRC_PATH_LENGTH_OPACITY (with TRANSPARENT: a hit's alpha
+// depends on the ray's chord through the hit piece, below).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -299,19 +300,30 @@ float hardShadowVisibility(vec3 pos) {
 #else
 #define VRC_SLOTS 1
 #endif
+#if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
+// The hit's path-length alpha in hA (hC keeps the style alpha, which the AO and shadow cones'
+// own-tube term uses: the density volume is built with it).
+#define VRC_SLOT_A(k) float hA##k;
+#define VRC_CX_A(k) float a_ = hA##k; hA##k = cA; cA = a_;
+#define VRC_SHIFT_A(k, k1) hA##k = hA##k1;
+#else
+#define VRC_SLOT_A(k)
+#define VRC_CX_A(k)
+#define VRC_SHIFT_A(k, k1)
+#endif
 #if defined(AMBIENT_OCCLUSION) || defined(SOFT_SHADOWS)
 // The hit piece's axis ends and radii (x0, r0), (x1, r1) in hE, hF: its own tube is excluded from
 // the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
-#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k;
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k; VRC_SLOT_A(k)
 // Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one.
-#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; }
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; VRC_CX_A(k) }
 // Slot k takes slot k + 1 (k1); a later hit of `line` becomes kNoLine.
-#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1;
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1; VRC_SHIFT_A(k, k1)
 #else
-#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k;
-#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; }
-#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1;
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; VRC_SLOT_A(k)
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; VRC_CX_A(k) }
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; VRC_SHIFT_A(k, k1)
 #endif
 VRC_SLOT(0)
 #if VRC_SLOTS > 1
@@ -333,13 +345,16 @@ void clearHits() {
 
 // Carries the new hit through the sorted slots (ties keep the earlier hit first, as a stable
 // insertion sort); what is carried out of the last slot drops out.
-void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone) {
+void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone, float alpha) {
     float cT = t;
     vec3 cN = n;
     vec4 cC = color;
     uint cL = line;
 #ifdef VRC_HIT_CONE
     vec4 cE = vec4(cone.x0, cone.r0), cF = vec4(cone.x1, cone.r1);
+#endif
+#if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
+    float cA = alpha;
 #endif
     VRC_CX(0)
 #if VRC_SLOTS > 1
@@ -356,6 +371,20 @@ void popHit(uint line) {
     hT7 = uintBitsToFloat(0x7F800000u);
 #endif
 }
+
+#if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
+// Opacity that depends on the path length inside the tube (M8): a tube of style alpha a is a
+// homogeneous medium whose transmittance over a diameter is 1 - a, so over the ray's chord L it is
+// (1 - a)^(L / 2r) (Beer-Lambert). The chord is the hit piece's rounded-cone interval (entry to
+// exit; from the ray origin when the ray starts inside), r the mean of its two radii: a ray
+// through the axis of a straight tube sees a, grazing rays less.
+float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
+    if (a >= 1.0) return 1.0;
+    float chord = max(iv.tOut - max(iv.tIn, 0.0), 0.0);
+    float exponent = chord / (cone.r0 + cone.r1);
+    return 1.0 - exp2(exponent * log2(1.0 - a));
+}
+#endif
 
 // Tests the pieces of voxel v against the ray; keeps hits in [tEnter, tExit) (the current voxel).
 // Two passes per chunk of 32 pieces: the capsule pre-test of every piece records the passing ones
@@ -402,7 +431,11 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
                 if ((y < p.cone.r0 * sinAlpha && !p.vertexA) || (y > len + p.cone.r1 * sinAlpha && !p.vertexB)) continue;
             }
 #endif
-            insertHit(t, n, p.color, p.line, p.cone);
+#if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
+            insertHit(t, n, p.color, p.line, p.cone, pathLengthAlpha(p.color.a, iv, p.cone));
+#else
+            insertHit(t, n, p.color, p.line, p.cone, p.color.a);
+#endif
         }
     }
 }
@@ -534,7 +567,11 @@ void main() {
                         }
 #ifdef TRANSPARENT
                         // As every transparent path: shaded colour clamped to [0, 1], blended "under".
+#ifdef VRC_PATH_LENGTH_OPACITY
+                        float a = hA0;
+#else
                         float a = base.a;
+#endif
                         accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
                         accum.a += (1.0 - accum.a) * a;
 #else

@@ -27,18 +27,20 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
     EXPECT_EQ(d.render.vrc.quantization, 32);
     EXPECT_FALSE(d.render.vrc.neighbors);
     EXPECT_FLOAT_EQ(d.render.vrc.opacityThreshold, 0.99f);
+    EXPECT_FALSE(d.render.vrc.pathLengthOpacity);
     EXPECT_EQ(d.render.vrc.shadowMode, VrcSpec::ShadowMode::Soft);
     EXPECT_EQ(d.render.vrc.shadowLevel, 1);
 
     const Scene s = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
         "render": {"technique": "voxel_raycast", "transparency": "kbuffer",
                    "vrc": {"resolution": 64, "quantization": 0, "neighbors": "on", "opacity_threshold": 0.5,
-                           "shadows": true, "shadow_aperture_deg": 20, "shadow_mode": "hard",
+                           "path_length_opacity": true, "shadows": true, "shadow_aperture_deg": 20, "shadow_mode": "hard",
                            "shadow_level": 2}}})"), "scene.json");
     EXPECT_EQ(s.render.vrc.resolution, 64);
     EXPECT_EQ(s.render.vrc.quantization, 0);
     EXPECT_TRUE(s.render.vrc.neighbors);
     EXPECT_FLOAT_EQ(s.render.vrc.opacityThreshold, 0.5f);
+    EXPECT_TRUE(s.render.vrc.pathLengthOpacity);
     EXPECT_TRUE(s.render.vrc.shadows);
     EXPECT_FLOAT_EQ(s.render.vrc.shadowApertureDeg, 20.0f);
     EXPECT_EQ(s.render.vrc.shadowMode, VrcSpec::ShadowMode::Hard);
@@ -59,6 +61,9 @@ TEST(VrcScene, bad_vrc_keys_are_input_errors_naming_the_key) {
     const std::string mode = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
         "render": {"technique": "voxel_raycast", "vrc": {"shadow_mode": "sharp"}}})"));
     EXPECT_NE(mode.find("render.vrc.shadow_mode"), std::string::npos) << mode;
+    const std::string path = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"path_length_opacity": "on"}}})"));
+    EXPECT_NE(path.find("render.vrc.path_length_opacity"), std::string::npos) << path;
 }
 
 }  // namespace
