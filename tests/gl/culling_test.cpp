@@ -94,6 +94,15 @@ Scene baseScene(int w, int h) {
     return scene;
 }
 
+// A k-buffer (k = 4) scene without AOVs: the transparent images the slicing tests compare.
+Scene kbufferScene(int w, int h) {
+    Scene scene = baseScene(w, h);
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    scene.render.transparency = Transparency::KBuffer;
+    scene.render.kbufferK = 4;
+    return scene;
+}
+
 // CPU twin of shaders/cull_pyramid.comp: the last texel of an odd-sized row / column also takes
 // the leftover source texel.
 std::vector<float> reduceLevel(const std::vector<float>& src, glm::ivec2 srcSize, glm::ivec2 size, bool takeMax) {
@@ -268,10 +277,7 @@ TEST_F(GlTest, slicing_without_culling_leaves_the_kbuffer_bit_identical) {
     const int w = 80, h = 60;
     const StyledLines lines = denseBall(8, 200, 0.4f);
     const Camera cam = lookAt({-0.4f, 0.2f, 2.1f});
-    Scene scene = baseScene(w, h);
-    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
-    scene.render.transparency = Transparency::KBuffer;
-    scene.render.kbufferK = 4;
+    Scene scene = kbufferScene(w, h);
     const Rendered single = render(scene, lines, cam);
     // Opacity never exceeds 1, so with threshold 1 nothing is culled: only the slicing remains.
     scene.render.culling.enabled = true;
@@ -346,10 +352,7 @@ TEST_F(GlTest, culling_slices_what_is_in_view_and_skips_the_rest_without_changin
     // Transparent: threshold 1 culls nothing, so only the slicing of what is in view remains.
     StyledLines glassy = lines;
     for (glm::vec4& c : glassy.color) c.w = 0.4f;
-    Scene t = baseScene(w, h);
-    t.output.aovDepth = t.output.aovNormal = t.output.aovId = false;
-    t.render.transparency = Transparency::KBuffer;
-    t.render.kbufferK = 4;
+    Scene t = kbufferScene(w, h);
     const Rendered all = render(t, glassy, cam);
     t.render.culling.enabled = true;
     t.render.culling.opacityThreshold = 1.0f;
