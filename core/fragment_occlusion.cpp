@@ -54,6 +54,7 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     for (std::size_t l = 0; l < listCount; ++l) {
         const std::size_t p = order[l].second;
         m_listStart[l + 1] = m_listStart[l] + (lists.offsets[p + 1] - lists.offsets[p]);
+        m_longestList = std::max<std::size_t>(m_longestList, std::size_t(m_listStart[l + 1] - m_listStart[l]));
     }
     const std::uint64_t fragmentTotal = m_listStart.back();
 
@@ -68,7 +69,7 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     // ranges of lists, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k
     // no measurable change (docs/performance.md M7 session 5).
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const std::size_t ranges = fragmentTotal < 50000 ? 1 : 8 * threads;
+    const std::size_t ranges = fragmentTotal < 50000 ? 1 : 2 * threads;
     std::vector<std::size_t> rangeStart(1, 0);
     for (std::size_t r = 1; r < ranges; ++r) {
         const std::uint64_t target = fragmentTotal * r / ranges;
@@ -240,73 +241,69 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
         ys.head(n) = *y;
     }
     const std::size_t chunks = m_chunks.size() - 1;
-    // Per-chunk outputs: S N x scatters into the front parts, S^T y into the parts behind.
-    std::vector<Eigen::VectorXd> outH(hx ? chunks : 0), outT(htx ? chunks : 0);
+    // Per-chunk outputs (added in chunk order afterwards, so the result does not depend on which
+    // thread ran which chunk), kept across calls: S N x scatters into the front parts, S^T y into
+    // the parts behind.
+    m_outH.resize(hx ? chunks : 0);
+    m_outT.resize(htx ? chunks : 0);
     const auto body = [&](std::size_t c) {
         LocalArrays& local = m_locals->local();
-        if (local.in.size() < m_blockSlots) {
-            local.in.resize(m_blockSlots);
-            local.out.resize(m_blockSlots);
+        if (hx) m_outH[c].setZero(padded);
+        if (htx) m_outT[c].setZero(padded);
+        if (local.slots.size() < m_blockSlots) local.slots.resize(m_blockSlots);
+        if (local.prefix.size() < m_longestList) {
+            local.prefix.resize(m_longestList);
+            local.weighted.resize(m_longestList);
         }
         const Fragment* fragments = m_fragments.data();
         const std::uint64_t* start = m_listStart.data();
-        double* li = local.in.data();
-        double* lo = local.out.data();
-        const auto gather = [&](const Block& block, const double* v) {
-            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
-                const double* src = v + std::size_t(m_groups[g]) * kGroup;
-                double* dst = li + (g - block.groupBegin) * kGroupSlots;
-                for (std::uint32_t s = 0; s < kGroupSlots; ++s) dst[s] = src[s];
-            }
-            std::fill(lo, lo + (block.groupEnd - block.groupBegin) * kGroupSlots, 0.0);
-        };
-        const auto scatter = [&](const Block& block, double* v) {
-            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
-                double* dst = v + std::size_t(m_groups[g]) * kGroup;
-                const double* src = lo + (g - block.groupBegin) * kGroupSlots;
-                for (std::uint32_t s = 0; s < kGroupSlots; ++s) dst[s] += src[s];
-            }
-        };
-        double* oh = nullptr;
-        double* ot = nullptr;
-        if (hx) {
-            outH[c].setZero(padded);
-            oh = outH[c].data();
-        }
-        if (htx) {
-            outT[c].setZero(padded);
-            ot = outT[c].data();
-        }
+        Slot* slot = local.slots.data();
+        double* prefixOf = local.prefix.data();
+        double* weightedOf = local.weighted.data();
+        const double* xv = hx ? xs.data() : nullptr;
+        const double* yv = htx ? ys.data() : nullptr;
+        double* oh = hx ? m_outH[c].data() : nullptr;
+        double* ot = htx ? m_outT[c].data() : nullptr;
         for (std::size_t bi = m_chunks[c]; bi < m_chunks[c + 1]; ++bi) {
             const Block& block = m_blocks[bi];
-            if (htx) {
-                gather(block, ys.data());
-                for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
-                    // Front to back: P = sum of y over the front parts of the fragments in front.
-                    double prefix = 0;
-                    for (std::uint64_t b = start[l]; b < start[l + 1]; ++b) {
-                        const std::uint32_t j = fragments[b].part;
-                        const double w1 = double(fragments[b].frac);
-                        lo[j] += (1.0 - w1) * prefix;
-                        lo[j + 1] += w1 * prefix;
-                        prefix += li[j + (w1 >= 0.5)];
-                    }
-                }
-                scatter(block, ot);
+            // Gather both inputs (a missing one as zeros), zero both sums.
+            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
+                const std::size_t src = std::size_t(m_groups[g]) * kGroup;
+                Slot* dst = slot + (g - block.groupBegin) * kGroupSlots;
+                for (std::uint32_t s = 0; s < kGroupSlots; ++s)
+                    dst[s] = {xv ? xv[src + s] : 0.0, yv ? yv[src + s] : 0.0, 0.0, 0.0};
             }
-            if (hx) {
-                gather(block, xs.data());
-                for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
-                    // Back to front: T = sum of the weighted N x over the fragments behind.
-                    double suffix = 0;
-                    for (std::uint64_t a = start[l + 1]; a-- > start[l];) {
-                        const std::uint32_t j = fragments[a].part;
-                        const double w1 = double(fragments[a].frac);
-                        lo[j + (w1 >= 0.5)] += suffix;
-                        suffix += (1.0 - w1) * li[j] + w1 * li[j + 1];
-                    }
+            // Both products in two walks of each list, the second from L1: forward, the prefix of
+            // y over the front parts of the fragments in front (S^T y) and each fragment's
+            // weighted N x; backward, the suffix of those (S N x) and both scatters.
+            for (std::size_t l = block.listBegin; l < block.listEnd; ++l) {
+                const Fragment* f = fragments + start[l];
+                const std::size_t length = std::size_t(start[l + 1] - start[l]);
+                double prefix = 0;
+                for (std::size_t k = 0; k < length; ++k) {
+                    const std::uint32_t j = f[k].part;
+                    const double w1 = double(f[k].frac);
+                    prefixOf[k] = prefix;
+                    weightedOf[k] = (1.0 - w1) * slot[j].x + w1 * slot[j + 1].x;
+                    prefix += slot[j + (w1 >= 0.5)].y;
                 }
-                scatter(block, oh);
+                double suffix = 0;
+                for (std::size_t k = length; k-- > 0;) {
+                    const std::uint32_t j = f[k].part;
+                    const double w1 = double(f[k].frac);
+                    slot[j + (w1 >= 0.5)].hx += suffix;
+                    suffix += weightedOf[k];
+                    slot[j].hty += (1.0 - w1) * prefixOf[k];
+                    slot[j + 1].hty += w1 * prefixOf[k];
+                }
+            }
+            for (std::size_t g = block.groupBegin; g < block.groupEnd; ++g) {
+                const std::size_t dst = std::size_t(m_groups[g]) * kGroup;
+                const Slot* src = slot + (g - block.groupBegin) * kGroupSlots;
+                if (oh)
+                    for (std::uint32_t s = 0; s < kGroupSlots; ++s) oh[dst + s] += src[s].hx;
+                if (ot)
+                    for (std::uint32_t s = 0; s < kGroupSlots; ++s) ot[dst + s] += src[s].hty;
             }
         }
     };
@@ -314,14 +311,27 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
         body(0);
     else
         tbb::parallel_for(std::size_t(0), chunks, body);
-    if (hx) {
-        for (std::size_t c = 1; c < chunks; ++c) outH[0] += outH[c];
-        *hx = outH[0].head(n) - m_self.cwiseProduct(xs.head(n));
-    }
-    if (htx) {
-        for (std::size_t c = 1; c < chunks; ++c) outT[0] += outT[c];
-        *htx = m_inverseCount.cwiseProduct(outT[0].head(n) - m_self.cwiseProduct(*y));
-    }
+    // The chunks' sums added and finished in parallel over index ranges.
+    if (hx) hx->resize(n);
+    if (htx) htx->resize(n);
+    const auto finish = [&](const tbb::blocked_range<Eigen::Index>& r) {
+        for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+            if (hx) {
+                double sum = 0;
+                for (const Eigen::VectorXd& out : m_outH) sum += out[i];
+                (*hx)[i] = sum - m_self[i] * xs[i];
+            }
+            if (htx) {
+                double sum = 0;
+                for (const Eigen::VectorXd& out : m_outT) sum += out[i];
+                (*htx)[i] = m_inverseCount[i] * (sum - m_self[i] * (*y)[i]);
+            }
+        }
+    };
+    if (chunks == 1)
+        finish(tbb::blocked_range<Eigen::Index>(0, n));
+    else
+        tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 8192), finish);
 }
 
 }  // namespace tc

@@ -63,7 +63,7 @@ public:
     // block-local slot ids: per block the inputs are gathered into a local array, the lists are
     // walked there (in cache), and the local sums are scattered back once. Parallel over runs of
     // blocks (oneTBB); the scattered sums go to per-chunk buffers that are added afterwards (no
-    // atomics).
+    // atomics). Not for concurrent calls on one object (the per-chunk sums are kept across calls).
     void multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, const Eigen::VectorXd* y, Eigen::VectorXd* htx) const;
 
 private:
@@ -85,12 +85,21 @@ private:
     Eigen::VectorXd m_inverseCount;       // 1 / part j's fragment count, 0 for parts never seen
     Eigen::VectorXd m_self;               // d: S's diagonal (pairs of a part with itself)
     std::uint64_t m_pairs = 0;
-    // Each thread's block-local input and output arrays, kept from product to product: with large
-    // blocks (deep lists, see the constructor) they are megabytes, and allocating and zeroing them
-    // per product cost more than the walk at 128k parts with subsampled lists.
-    struct LocalArrays {
-        std::vector<double> in, out;
+    // A block-local slot: both inputs and both sums of a part side by side, so that a fragment's
+    // four accesses (x and y at floor(w), floor(w) + 1; the two sums) hit one or two cache lines
+    // instead of up to eight in four separate arrays.
+    struct Slot {
+        double x, y, hx, hty;
     };
+    // Each thread's block-local slots and per-list scratch, kept from product to product: with
+    // large blocks (deep lists, see the constructor) they are megabytes, and allocating and
+    // zeroing them per product cost more than the walk at 128k parts with subsampled lists.
+    struct LocalArrays {
+        std::vector<Slot> slots;
+        std::vector<double> prefix, weighted;  // per fragment of the list being walked
+    };
+    mutable std::vector<Eigen::VectorXd> m_outH, m_outT;  // per chunk, kept across calls
+    std::size_t m_longestList = 0;
     std::unique_ptr<tbb::enumerable_thread_specific<LocalArrays>> m_locals;
 };
 
