@@ -6,6 +6,8 @@
 //                                     [--scale S]   (the lists subsampled as render.opacity.occlusion_scale S)
 //                                     [--coarse C]  (also: a solve warm started from the solution of the lists
 //                                                    subsampled at C, both timed together)
+//                                     [--next FILE2] (also: FILE2's system, e.g. the next frame saved as FILE.frame1,
+//                                                    solved warm from the last cold solution, as the renderer does)
 //
 // --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead; prints the energy's
 // set-up from H (what the renderer's solve stage pays per frame), Q products and cold solves.
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
     bool assembled = false;
     double scale = 1;            // render.opacity.occlusion_scale: the lists subsampled first
     double coarse = 0;           // > 0: also a solve started from the solution at this subsampling scale
+    const char* next = nullptr;  // the next frame's system, solved from the cold solution
     std::size_t blockSlots = 0;  // the constructor's choice
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
         if (!std::strcmp(argv[i], "--assembled")) assembled = std::atoi(argv[i + 1]) != 0;
         if (!std::strcmp(argv[i], "--scale")) scale = std::atof(argv[i + 1]);
         if (!std::strcmp(argv[i], "--coarse")) coarse = std::atof(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--next")) next = argv[i + 1];
     }
     using tc::bench::Clock;
     using tc::bench::msSince;
@@ -103,6 +107,19 @@ int main(int argc, char** argv) {
                     "sum a %.17g\n",
                     msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
                     r.x.sum());
+                if (next && s + 1 == solves) {
+                    tc::bench::OpacitySystemFile sys2 = tc::bench::loadOpacitySystem(next);
+                    const tc::OpacityEnergy energy2(tc::occlusionMatrix(sys2.lists, n), sys2.importance, sys2.parts,
+                                                    tc::OpacityWeights{});
+                    t0 = Clock::now();
+                    c0 = std::clock();
+                    const tc::QpResult r2 = tc::solveBoundedQp(energy2, energy2.linearTerm(), lo, ones, r.x, opt);
+                    std::printf(
+                        "next frame, warm: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), "
+                        "residual %.2e\n",
+                        msSince(t0), cpuMs(c0), r2.iterations, r2.cgIterations, r2.products, r2.searchProducts,
+                        r2.residual);
+                }
             }
             return 0;
         }
@@ -138,6 +155,7 @@ int main(int argc, char** argv) {
         tc::QpSolverOptions opt;
         opt.tolerance = 1e-4;
         const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n));
+        Eigen::VectorXd solution = ones;
         for (int s = 0; s < solves; ++s) {
             t0 = Clock::now();
             c0 = std::clock();
@@ -147,6 +165,26 @@ int main(int argc, char** argv) {
                 "sum a %.6f\n",
                 msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
                 r.x.sum());
+            solution = r.x;
+        }
+        if (next) {
+            tc::bench::OpacitySystemFile sys2 = tc::bench::loadOpacitySystem(next);
+            if (scale < 1) {
+                const int height = int(sys2.lists.pixelCount() / std::size_t(sys2.lists.width));
+                sys2.lists = tc::subsampleLists(sys2.lists, height, scale);
+            }
+            const tc::OpacityEnergy energy2(std::make_shared<const tc::FragmentOcclusion>(sys2.lists, n, blockSlots),
+                                            sys2.importance, sys2.parts, tc::OpacityWeights{});
+            for (int s = 0; s < std::max(1, solves); ++s) {
+                t0 = Clock::now();
+                c0 = std::clock();
+                const tc::QpResult r = tc::solveBoundedQp(energy2, energy2.linearTerm(), lo, ones, solution, opt);
+                std::printf(
+                    "next frame, warm: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual "
+                    "%.2e, sum a %.6f, max |change| %.4f\n",
+                    msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
+                    r.x.sum(), (r.x - solution).lpNorm<Eigen::Infinity>());
+            }
         }
         if (coarse > 0) {
             // A cold solve in two steps: the system of the lists subsampled at `coarse` solved

@@ -14,7 +14,8 @@
 //                                                 with --frames 1, each compared with the first scale)
 //                          [--coarse-scale C]  (render.opacity.coarse_scale of every frame)
 //                          [--save-system FILE]  (frame 0's sorted lists, importance and parts of the last size,
-//                                                 for tubecast_fragment_occlusion_bench: products without GL)
+//                                                 for tubecast_fragment_occlusion_bench: products without GL;
+//                                                 frame N > 0 of --frames to FILE.frameN)
 //
 // --occlusion both: the frame runs with H assembled, then the same lists give the fragment-list
 // operator (core/fragment_occlusion.h), and both are timed on the same system (A/B in one run);
@@ -206,7 +207,12 @@ int main(int argc, char** argv) {
                 double fragBuildMs = 0, fragMaxDiff = 0;
                 std::size_t atOne = 0;
                 auto sink = [&](const tc::gl::OpacitySystem& sys) {
-                    if (sys.frame > 0) return;  // later frames: the renderer's own timings only
+                    if (sys.frame > 0) {  // later frames: the renderer's own timings only
+                        if (!saveSystem.empty())
+                            tc::bench::saveOpacitySystem(saveSystem + ".frame" + std::to_string(sys.frame),
+                                                         *sys.lists, *sys.parts, *sys.importance);
+                        return;
+                    }
                     {
                         // Checksums for A/B runs that must give the same numbers.
                         double sd = 0, sa = 0;

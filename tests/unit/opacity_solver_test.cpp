@@ -97,19 +97,22 @@ TEST(OpacitySolver, matches_exhaustive_active_set_on_tiny_random_problems) {
         Eigen::VectorXd c = randomVector(n, -3, 3, rng);
         Eigen::VectorXd lo = randomVector(n, -1.0, 0.0, rng), hi = randomVector(n, 0.1, 1.0, rng);
         Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
-        QpSolverOptions opt;
-        opt.tolerance = 1e-11;
-        SparseQpOperator op(q);
-        QpResult res = solveBoundedQp(op, c, lo, hi, x0, opt);
-        ASSERT_TRUE(res.converged) << "trial " << trial << " residual " << res.residual;
         Eigen::MatrixXd dense = Eigen::MatrixXd(q);
         Eigen::VectorXd ref = exhaustiveActiveSet(dense, c, lo, hi);
         ASSERT_EQ(ref.size(), n);
-        EXPECT_LE((res.x - ref).lpNorm<Eigen::Infinity>(), 1e-8) << "trial " << trial;
         for (int i = 0; i < n; ++i) activeSeen += (ref[i] == lo[i] || ref[i] == hi[i]);
-        // KKT from scratch: bounds hold, projected gradient vanishes.
-        EXPECT_TRUE((res.x.array() >= lo.array()).all() && (res.x.array() <= hi.array()).all());
-        EXPECT_LE(projectedGradientNorm(dense * res.x + c, res.x, lo, hi), 1e-10);
+        for (const bool bindingSet : {true, false}) {  // both strategies of QpSolverOptions
+            QpSolverOptions opt;
+            opt.tolerance = 1e-11;
+            opt.bindingSet = bindingSet;
+            SparseQpOperator op(q);
+            QpResult res = solveBoundedQp(op, c, lo, hi, x0, opt);
+            ASSERT_TRUE(res.converged) << "trial " << trial << " residual " << res.residual;
+            EXPECT_LE((res.x - ref).lpNorm<Eigen::Infinity>(), 1e-8) << "trial " << trial << " binding " << bindingSet;
+            // KKT from scratch: bounds hold, projected gradient vanishes.
+            EXPECT_TRUE((res.x.array() >= lo.array()).all() && (res.x.array() <= hi.array()).all());
+            EXPECT_LE(projectedGradientNorm(dense * res.x + c, res.x, lo, hi), 1e-10);
+        }
     }
     EXPECT_GT(activeSeen, 10);  // the test exercises active bounds, not only interior solutions
 }
@@ -136,29 +139,33 @@ TEST(OpacitySolver, satisfies_kkt_on_larger_sparse_problems_with_many_active_bou
     SparseMatrixD q = randomSpd(n, 0.01, 0.2, rng);
     Eigen::VectorXd c = randomVector(n, -4, 4, rng);
     Eigen::VectorXd lo = Eigen::VectorXd::Zero(n), hi = Eigen::VectorXd::Ones(n);
-    QpSolverOptions opt;
-    opt.tolerance = 1e-9;
-    SparseQpOperator op(q);
-    QpResult res = solveBoundedQp(op, c, lo, hi, Eigen::VectorXd::Constant(n, 0.5), opt);
-    ASSERT_TRUE(res.converged) << res.residual;
-    Eigen::VectorXd g = Eigen::MatrixXd(q) * res.x + c;
-    int atLo = 0, atHi = 0;
-    for (int i = 0; i < n; ++i) {
-        ASSERT_GE(res.x[i], 0.0);
-        ASSERT_LE(res.x[i], 1.0);
-        if (res.x[i] == 0.0) {
-            ++atLo;
-            EXPECT_GE(g[i], -1e-9);  // at the lower bound the gradient may only push outward
-        } else if (res.x[i] == 1.0) {
-            ++atHi;
-            EXPECT_LE(g[i], 1e-9);
-        } else {
-            EXPECT_NEAR(g[i], 0.0, 1e-9);
+    for (const bool bindingSet : {true, false}) {
+        SCOPED_TRACE(bindingSet ? "binding set" : "GPCG");
+        QpSolverOptions opt;
+        opt.tolerance = 1e-9;
+        opt.bindingSet = bindingSet;
+        SparseQpOperator op(q);
+        QpResult res = solveBoundedQp(op, c, lo, hi, Eigen::VectorXd::Constant(n, 0.5), opt);
+        ASSERT_TRUE(res.converged) << res.residual;
+        Eigen::VectorXd g = Eigen::MatrixXd(q) * res.x + c;
+        int atLo = 0, atHi = 0;
+        for (int i = 0; i < n; ++i) {
+            ASSERT_GE(res.x[i], 0.0);
+            ASSERT_LE(res.x[i], 1.0);
+            if (res.x[i] == 0.0) {
+                ++atLo;
+                EXPECT_GE(g[i], -1e-9);  // at the lower bound the gradient may only push outward
+            } else if (res.x[i] == 1.0) {
+                ++atHi;
+                EXPECT_LE(g[i], 1e-9);
+            } else {
+                EXPECT_NEAR(g[i], 0.0, 1e-9);
+            }
         }
+        EXPECT_GT(atLo, 20);
+        EXPECT_GT(atHi, 20);
+        EXPECT_NEAR(res.residual, projectedGradientNorm(g, res.x, lo, hi), 1e-9);
     }
-    EXPECT_GT(atLo, 20);
-    EXPECT_GT(atHi, 20);
-    EXPECT_NEAR(res.residual, projectedGradientNorm(g, res.x, lo, hi), 1e-9);
 }
 
 TEST(OpacitySolver, diagonally_scaled_gradient_step_reaches_the_same_minimiser) {
@@ -168,6 +175,7 @@ TEST(OpacitySolver, diagonally_scaled_gradient_step_reaches_the_same_minimiser) 
     QpSolverOptions opt;
     opt.tolerance = 1e-11;
     opt.scaledGradientStep = true;
+    opt.bindingSet = false;  // a gradient step in every iteration whose face is not settled
     for (int trial = 0; trial < 20; ++trial) {
         const int n = 2 + trial % 6;
         SparseMatrixD q = randomSpd(n, 0.3, 0.1, rng);
