@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/parallel_chunks.h"
 
 namespace tc {
 
@@ -232,14 +233,14 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     // zeros to whole groups plus the next group's first part (the last group's extra slot).
     const Eigen::Index padded = Eigen::Index((m_n / kGroup + 1) * kGroup + 1);
     Eigen::VectorXd xs, ys;
-    if (hx) {
-        xs.setZero(padded);
-        xs.head(n) = m_inverseCount.cwiseProduct(*x);
-    }
-    if (htx) {
-        ys.setZero(padded);
-        ys.head(n) = *y;
-    }
+    if (hx) xs.resize(padded);
+    if (htx) ys.resize(padded);
+    forChunks(padded, [&](std::int64_t i0, std::int64_t i1) {
+        for (std::int64_t i = i0; i < i1; ++i) {
+            if (hx) xs[i] = i < n ? m_inverseCount[i] * (*x)[i] : 0.0;
+            if (htx) ys[i] = i < n ? (*y)[i] : 0.0;
+        }
+    });
     const std::size_t chunks = m_chunks.size() - 1;
     // Per-chunk outputs (added in chunk order afterwards, so the result does not depend on which
     // thread ran which chunk), kept across calls: S N x scatters into the front parts, S^T y into

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/fragment_occlusion.h"
+#include "core/parallel_chunks.h"
 
 namespace tc {
 
@@ -392,56 +393,82 @@ void OpacityEnergy::multiplyBoth(const Eigen::VectorXd& xg, const Eigen::VectorX
 }
 
 void OpacityEnergy::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    // Q x = 2(p x + q R H C^2 H^T R x + r R H^T C^2 H R x + s D^T D x).
-    y = m_weights.p * x;
+    // Q x = 2(p x + q R H C^2 H^T R x + r R H^T C^2 H R x + s D^T D x). The element-wise steps
+    // run in chunks (core/parallel_chunks.h), each in the order of the serial expressions they
+    // replaced.
+    y.resize(m_n);
     const bool wTerm = m_weights.q != 0, vTerm = m_weights.r != 0;
-    if ((wTerm || vTerm) && (m_fragments || m_h.nonZeros() > 0)) {
-        const Eigen::VectorXd u = m_rowScale.cwiseProduct(x);
-        Eigen::VectorXd hu, htu, a, b;
+    const bool occlusion = (wTerm || vTerm) && (m_fragments || m_h.nonZeros() > 0);
+    Eigen::VectorXd u, hu, htu, a, b;
+    if (occlusion) {
+        u.resize(m_n);
+        forChunks(m_n, [&](std::int64_t i0, std::int64_t i1) {
+            for (std::int64_t i = i0; i < i1; ++i) u[i] = m_rowScale[i] * x[i];
+        });
         multiplyBoth(u, u, vTerm ? &hu : nullptr, wTerm ? &htu : nullptr);
         // Second pass: gather H (C^2 H^T u) for the W term, scatter H^T (C^2 H u) for the V term.
-        if (wTerm) htu = m_colScale2.cwiseProduct(htu);
-        if (vTerm) hu = m_colScale2.cwiseProduct(hu);
-        multiplyBoth(wTerm ? htu : u, vTerm ? hu : u, wTerm ? &a : nullptr, vTerm ? &b : nullptr);
-        if (wTerm) y += m_weights.q * m_rowScale.cwiseProduct(a);
-        if (vTerm) y += m_weights.r * m_rowScale.cwiseProduct(b);
-    }
-    if (m_weights.s != 0)
-        forEachNeighbourPair([&](Eigen::Index i) {
-            const double d = m_weights.s * (x[i] - x[i + 1]);
-            y[i] += d;
-            y[i + 1] -= d;
+        forChunks(m_n, [&](std::int64_t i0, std::int64_t i1) {
+            for (std::int64_t i = i0; i < i1; ++i) {
+                if (wTerm) htu[i] *= m_colScale2[i];
+                if (vTerm) hu[i] *= m_colScale2[i];
+            }
         });
-    y *= 2.0;
+        multiplyBoth(wTerm ? htu : u, vTerm ? hu : u, wTerm ? &a : nullptr, vTerm ? &b : nullptr);
+    }
+    const double p = m_weights.p, q = m_weights.q, r = m_weights.r, s = m_weights.s;
+    const int m = m_partsPerLine;
+    // Polylines in chunks (a polyline's parts are [firstPart[l], firstPart[l] + m)).
+    const std::int64_t lines = std::int64_t(m_firstPart.size()) - 1;
+    forChunks(lines, [&](std::int64_t l0, std::int64_t l1) {
+        for (std::int64_t l = l0; l < l1; ++l) {
+            const Eigen::Index first = m_firstPart[std::size_t(l)];
+            for (int k = 0; k < m; ++k) {
+                const Eigen::Index i = first + k;
+                double v = p * x[i];
+                if (occlusion && wTerm) v += q * (m_rowScale[i] * a[i]);
+                if (occlusion && vTerm) v += r * (m_rowScale[i] * b[i]);
+                if (s != 0) {
+                    if (k > 0) v -= s * (x[i - 1] - x[i]);
+                    if (k + 1 < m) v += s * (x[i] - x[i + 1]);
+                }
+                y[i] = 2.0 * v;
+            }
+        }
+    }, kVectorChunk / m);
 }
 
 bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const {
-    z.setZero(m_n);
+    z.resize(m_n);
     const double off = -2.0 * m_weights.s;
-    std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());
-    for (std::size_t l = 0; l + 1 < m_firstPart.size(); ++l) {
-        const Eigen::Index first = m_firstPart[l], end = first + m_partsPerLine;
-        for (Eigen::Index k0 = first; k0 < end;) {
-            if (!isFree[std::size_t(k0)]) {
-                ++k0;
-                continue;
+    const std::int64_t lines = std::int64_t(m_firstPart.size()) - 1;
+    // Polylines are independent: in chunks (core/parallel_chunks.h), each writing its own parts.
+    forChunks(lines, [&](std::int64_t l0, std::int64_t l1) {
+        std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());
+        for (std::int64_t l = l0; l < l1; ++l) {
+            const Eigen::Index first = m_firstPart[std::size_t(l)], end = first + m_partsPerLine;
+            for (Eigen::Index k0 = first; k0 < end;) {
+                if (!isFree[std::size_t(k0)]) {
+                    z[k0] = 0;
+                    ++k0;
+                    continue;
+                }
+                Eigen::Index k1 = k0;  // the run [k0, k1) of free parts
+                while (k1 < end && isFree[std::size_t(k1)]) ++k1;
+                // Thomas algorithm; diagonally dominant (diag >= 2(p + s deg) > |off| deg), so stable.
+                for (Eigen::Index k = k0; k < k1; ++k) {
+                    const std::size_t t = std::size_t(k - k0);
+                    const double m = m_diagonal[k] - (t ? off * cPrime[t - 1] : 0.0);
+                    cPrime[t] = off / m;
+                    dPrime[t] = (r[k] - (t ? off * dPrime[t - 1] : 0.0)) / m;
+                }
+                for (Eigen::Index k = k1 - 1; k >= k0; --k) {
+                    const std::size_t t = std::size_t(k - k0);
+                    z[k] = dPrime[t] - (k + 1 < k1 ? cPrime[t] * z[k + 1] : 0.0);
+                }
+                k0 = k1;
             }
-            Eigen::Index k1 = k0;  // the run [k0, k1) of free parts
-            while (k1 < end && isFree[std::size_t(k1)]) ++k1;
-            // Thomas algorithm; diagonally dominant (diag >= 2(p + s deg) > |off| deg), so stable.
-            for (Eigen::Index k = k0; k < k1; ++k) {
-                const std::size_t t = std::size_t(k - k0);
-                const double m = m_diagonal[k] - (t ? off * cPrime[t - 1] : 0.0);
-                cPrime[t] = off / m;
-                dPrime[t] = (r[k] - (t ? off * dPrime[t - 1] : 0.0)) / m;
-            }
-            for (Eigen::Index k = k1 - 1; k >= k0; --k) {
-                const std::size_t t = std::size_t(k - k0);
-                z[k] = dPrime[t] - (k + 1 < k1 ? cPrime[t] * z[k + 1] : 0.0);
-            }
-            k0 = k1;
         }
-    }
+    }, kVectorChunk / m_partsPerLine);
     return true;
 }
 
@@ -525,24 +552,65 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
     // trial; these were half of all products at 8k parts) but cut to the first bound the ray
     // meets: that step needs no product and decreases the objective, the quadratic being convex
     // along the ray. Returns false when no decrease was found.
+    // The vector work below runs in fixed chunks (core/parallel_chunks.h): at 128k parts it was
+    // serial and about a fifth of the solve's wall time.
+    struct MaxSum {
+        double sum = 0, max = 0;
+    };
+    struct TwoSums {
+        double a = 0, b = 0;
+    };
+    const auto joinMaxSum = [](MaxSum a, MaxSum b) { return MaxSum{a.sum + b.sum, std::max(a.max, b.max)}; };
+    const auto joinTwoSums = [](TwoSums u, TwoSums v) { return TwoSums{u.a + v.a, u.b + v.b}; };
+    auto acceptStep = [&]() {  // x = y, Q x and the gradient follow with Q s
+        forChunks(n, [&](std::int64_t b, std::int64_t e) {
+            for (std::int64_t i = b; i < e; ++i) {
+                x[i] = y[i];
+                qx[i] += qs[i];
+                g[i] = qx[i] + c[i];
+            }
+        });
+    };
     auto projectedSearch = [&](const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step,
                                bool toBreakpoint) {
+        y.resize(n);
+        s.resize(n);
+        qs.resize(n);
         for (int k = 0; k < kMaxBacktracks; ++k, step *= 0.5) {
-            y = clampBox(x + step * dir, lo, hi);
-            s = y - x;
-            const bool clipped = (s - step * dir).lpNorm<Eigen::Infinity>() > 0;
+            // y = P(x + step dir), s = y - x; clipped when some component left the box.
+            const MaxSum clip = reduceChunks(
+                n, MaxSum{},
+                [&](std::int64_t b, std::int64_t e, MaxSum& m) {
+                    for (std::int64_t i = b; i < e; ++i) {
+                        y[i] = std::clamp(x[i] + step * dir[i], lo[i], hi[i]);
+                        s[i] = y[i] - x[i];
+                        m.max = std::max(m.max, std::abs(s[i] - step * dir[i]));
+                    }
+                },
+                joinMaxSum);
+            const bool clipped = clip.max > 0;
             if (clipped) {
                 q.multiply(s, qs);
                 ++result.products;
                 ++result.searchProducts;
             } else {
-                qs = step * qdir;
+                forChunks(n, [&](std::int64_t b, std::int64_t e) {
+                    for (std::int64_t i = b; i < e; ++i) qs[i] = step * qdir[i];
+                });
             }
-            const double gs = g.dot(s);
-            if (gs < 0 && gs + 0.5 * s.dot(qs) <= kArmijo * gs) {
-                x = y;
-                qx += qs;
-                g = qx + c;
+            // g.s and s.Q s in one pass.
+            const TwoSums dots = reduceChunks(
+                n, TwoSums{},
+                [&](std::int64_t b, std::int64_t e, TwoSums& m) {
+                    for (std::int64_t i = b; i < e; ++i) {
+                        m.a += g[i] * s[i];
+                        m.b += s[i] * qs[i];
+                    }
+                },
+                joinTwoSums);
+            const double gs = dots.a, sqs = dots.b;
+            if (gs < 0 && gs + 0.5 * sqs <= kArmijo * gs) {
+                acceptStep();
                 return true;
             }
             if (clipped && toBreakpoint) {
@@ -561,26 +629,36 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
                 s = y - x;
                 const double gb = g.dot(s);
                 if (!(gb < 0)) return false;
-                x = y;
-                qx += breakpoint * qdir;  // s = breakpoint * dir up to rounding
-                g = qx + c;
+                qs = breakpoint * qdir;  // s = breakpoint * dir up to rounding
+                acceptStep();
                 return true;
             }
         }
         return false;
     };
 
-    Eigen::VectorXd r, z, p, qp, qpFree, xBefore;
-    std::vector<char> isFree(std::size_t(n), 0);
+    Eigen::VectorXd r(n), z(n), p(n), qp(n);
+    std::vector<char> isFree(std::size_t(n), 0), stateBefore(std::size_t(n), 0);
     bool forceGradientStep = false;
     Eigen::Index lastChanges = -1;  // variables whose state (at lo, free, at hi) the last CG step changed
     auto precondition = [&](const Eigen::VectorXd& residual, Eigen::VectorXd& out) {
         if (!q.precondition(residual, isFree, out)) out = inverseDiagonal.cwiseProduct(residual);
     };
-    auto state = [&](const Eigen::VectorXd& v, Eigen::Index i) { return v[i] <= lo[i] ? 0 : v[i] >= hi[i] ? 2 : 1; };
+    auto state = [&](Eigen::Index i) { return char(x[i] <= lo[i] ? 0 : x[i] >= hi[i] ? 2 : 1); };
+    d.resize(n);
+    qd.resize(n);
     for (;; ++result.iterations) {
-        d = -projectedGradient(g, x, lo, hi);
-        result.residual = d.size() ? d.lpNorm<Eigen::Infinity>() : 0.0;
+        // d = -(projected gradient), and its max norm.
+        result.residual = reduceChunks(
+            n, 0.0,
+            [&](std::int64_t b, std::int64_t e, double& m) {
+                for (std::int64_t i = b; i < e; ++i) {
+                    const double pg = x[i] <= lo[i] ? std::min(g[i], 0.0) : x[i] >= hi[i] ? std::max(g[i], 0.0) : g[i];
+                    d[i] = -pg;
+                    m = std::max(m, std::abs(pg));
+                }
+            },
+            [](double a, double b) { return std::max(a, b); });
         if (result.residual <= options.tolerance) {
             result.converged = true;
             break;
@@ -607,22 +685,23 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         }
 
         // 2. Truncated PCG on the free variables: those inside the box, and with the binding set
-        // also those at a bound whose gradient points into the box (they may leave it).
-        Eigen::Index freeCount = 0;
-        for (Eigen::Index i = 0; i < n; ++i) {
-            const bool inside = x[i] > lo[i] && x[i] < hi[i];
-            isFree[i] = inside || (binding && ((x[i] <= lo[i] && g[i] < 0) || (x[i] >= hi[i] && g[i] > 0)));
-            freeCount += isFree[i];
-        }
-        if (freeCount == 0) {
-            forceGradientStep = true;
-            continue;
-        }
-        r = -g;
-        for (Eigen::Index i = 0; i < n; ++i)
-            if (!isFree[i]) r[i] = 0;
-        const double r0 = r.norm();
-        if (r0 == 0) {
+        // also those at a bound whose gradient points into the box (they may leave it). r = -g on
+        // them, 0 elsewhere.
+        const TwoSums start = reduceChunks(
+            n, TwoSums{},
+            [&](std::int64_t b, std::int64_t e, TwoSums& m) {
+                for (std::int64_t i = b; i < e; ++i) {
+                    const bool inside = x[i] > lo[i] && x[i] < hi[i];
+                    isFree[i] =
+                        inside || (binding && ((x[i] <= lo[i] && g[i] < 0) || (x[i] >= hi[i] && g[i] > 0)));
+                    r[i] = isFree[i] ? -g[i] : 0.0;
+                    m.a += r[i] * r[i];
+                    m.b += isFree[i];  // the free count
+                }
+            },
+            joinTwoSums);
+        const double r0 = std::sqrt(start.a);
+        if (start.b == 0 || r0 == 0) {
             forceGradientStep = true;
             continue;
         }
@@ -635,33 +714,47 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         const double stop = (faceNearlyFound ? 0.01 : std::min(0.1, std::sqrt(r0))) * r0;
         const double stopMax = 0.25 * options.tolerance;
         precondition(r, z);
-        p = z;
-        double rz = r.dot(z);
-        d.setZero(n);
-        qd.setZero(n);
+        forChunks(n, [&](std::int64_t b, std::int64_t e) {
+            for (std::int64_t i = b; i < e; ++i) {
+                p[i] = z[i];
+                d[i] = 0;
+                qd[i] = 0;
+            }
+        });
+        double rz = sumChunks(n, [&](std::int64_t i) { return r[i] * z[i]; });
         for (int k = 0; k < options.maxCgIterations; ++k) {
             q.multiply(p, qp);
             ++result.products;
             ++result.cgIterations;
-            qpFree = qp;
-            for (Eigen::Index i = 0; i < n; ++i)
-                if (!isFree[i]) qpFree[i] = 0;
-            const double pqp = p.dot(qpFree);
+            const double pqp = sumChunks(n, [&](std::int64_t i) { return isFree[i] ? p[i] * qp[i] : 0.0; });
             if (!(pqp > 0)) break;
             const double alpha = rz / pqp;
-            d += alpha * p;
-            qd += alpha * qp;
-            r -= alpha * qpFree;
-            if (r.norm() <= stop || r.lpNorm<Eigen::Infinity>() <= stopMax) break;
+            const MaxSum rest = reduceChunks(
+                n, MaxSum{},
+                [&](std::int64_t b, std::int64_t e, MaxSum& m) {
+                    for (std::int64_t i = b; i < e; ++i) {
+                        d[i] += alpha * p[i];
+                        qd[i] += alpha * qp[i];
+                        if (isFree[i]) r[i] -= alpha * qp[i];
+                        m.sum += r[i] * r[i];
+                        m.max = std::max(m.max, std::abs(r[i]));
+                    }
+                },
+                joinMaxSum);
+            if (std::sqrt(rest.sum) <= stop || rest.max <= stopMax) break;
             precondition(r, z);
-            const double rzNext = r.dot(z);
-            p = z + (rzNext / rz) * p;
+            const double rzNext = sumChunks(n, [&](std::int64_t i) { return r[i] * z[i]; });
+            const double beta = rzNext / rz;
+            forChunks(n, [&](std::int64_t b, std::int64_t e) {
+                for (std::int64_t i = b; i < e; ++i) p[i] = z[i] + beta * p[i];
+            });
             rz = rzNext;
         }
-        xBefore = x;
+        forChunks(n, [&](std::int64_t b, std::int64_t e) {
+            for (std::int64_t i = b; i < e; ++i) stateBefore[i] = state(i);
+        });
         if (!projectedSearch(d, qd, 1.0, true)) forceGradientStep = true;
-        lastChanges = 0;
-        for (Eigen::Index i = 0; i < n; ++i) lastChanges += state(xBefore, i) != state(x, i);
+        lastChanges = Eigen::Index(sumChunks(n, [&](std::int64_t i) { return stateBefore[i] != state(i) ? 1.0 : 0.0; }));
     }
     // The residual above uses the running gradient, updated with the exact Q s of every step
     // (its drift from Q x + c is rounding; tubecast_opacity_bench prints both). A converged solve keeps
