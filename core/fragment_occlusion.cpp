@@ -66,11 +66,13 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     // instead of scattered over n-long vectors, 1 MB each at 128k parts, where a product cost 8x
     // the 32k one for 3.7x the fragments), and scatters the local sums back once per block (a part
     // in two groups' slots gets both sums). The inner loops are the ones over global ids (one
-    // 32-bit id and the fraction per fragment, no branches). Formed greedily in a few independent
-    // ranges of lists, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k
-    // no measurable change (docs/performance.md M7 session 5).
+    // 32-bit id and the fraction per fragment, no branches). Formed greedily in one range of lists
+    // per thread, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k no
+    // measurable change (docs/performance.md M7 session 5). One range per thread, not more: with
+    // deep lists the blocks grow to whole ranges (below), and every range gathers and scatters
+    // nearly all parts once per pass (docs/performance.md M7 session 7).
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const std::size_t ranges = fragmentTotal < 50000 ? 1 : 2 * threads;
+    const std::size_t ranges = fragmentTotal < 50000 ? 1 : threads;
     std::vector<std::size_t> rangeStart(1, 0);
     for (std::size_t r = 1; r < ranges; ++r) {
         const std::uint64_t target = fragmentTotal * r / ranges;
