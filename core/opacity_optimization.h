@@ -184,8 +184,8 @@ struct QpSolverOptions {
     // decrease (projected Newton with the binding set, Bertsekas 1982, with GPCG's step as the
     // safeguard). Off: GPCG, a projected gradient step in every iteration whose face is not
     // settled (two products when it is clipped). On the saved 8k / 32k / 128k-part systems the
-    // binding set took 17 / 27 / 38 products for a cold solve instead of 24 / 25 / 39, and 9-12
-    // instead of 11 (8k, next frame of an orbit) and 20-28 instead of 23-37 (128k)
+    // binding set took 17 / 26 / 35-36 products for a cold solve instead of 24 / 25 / 39, and
+    // 9-12 instead of 11 (8k, next frames of an orbit) and 23-27 instead of 23-37 (128k)
     // (docs/performance.md M7, session 7).
     bool bindingSet = true;
 };
