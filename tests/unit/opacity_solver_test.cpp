@@ -229,5 +229,52 @@ TEST(OpacitySolver, warm_start_needs_fewer_products_than_cold_start_on_a_perturb
     EXPECT_LE(warm.iterations, cold.iterations);
 }
 
+TEST(OpacitySolver, binding_set_stays_within_a_gpcg_budget_from_poor_starts) {
+    // The opacity energy's shape: Q = 2(I + A A^T) with A sparse and non-negative (the occlusion
+    // terms couple parts positively), c = -2 * 1, box [0, 1]; most parts end at 0 or inside. From
+    // each start both strategies must reach the same KKT point, and the binding set must not
+    // take many more products than GPCG. (The stagnation this guards against, a clipped CG step
+    // cut at its first bound over and over, showed on saved 32k / 128k-part frames from a Jacobi
+    // start, 192 products against GPCG's 100, and is checked there with
+    // tubecast_fragment_occlusion_bench, docs/performance.md M7 session 7; this random problem
+    // passes with and without that fix.)
+    std::mt19937 rng(23);
+    const int n = 3000;
+    std::vector<Eigen::Triplet<double>> entries;
+    std::uniform_int_distribution<int> column(0, n - 1);
+    std::uniform_real_distribution<double> weight(0.0, 1.0);
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 6; ++k) entries.emplace_back(i, column(rng), weight(rng));
+    SparseMatrixD a(n, n);
+    a.setFromTriplets(entries.begin(), entries.end());
+    SparseMatrixD identity(n, n);
+    identity.setIdentity();
+    const SparseMatrixD q = 2.0 * (identity + SparseMatrixD(a * SparseMatrixD(a.transpose())));
+    const Eigen::VectorXd c = Eigen::VectorXd::Constant(n, -2.0);
+    const Eigen::VectorXd lo = Eigen::VectorXd::Zero(n), hi = Eigen::VectorXd::Ones(n);
+    SparseQpOperator op(q);
+    const Eigen::VectorXd jacobi =
+        (hi - (Eigen::MatrixXd(q) * hi + c).cwiseQuotient(q.diagonal())).cwiseMax(lo).cwiseMin(hi);
+    const std::vector<std::pair<const char*, Eigen::VectorXd>> starts = {{"ones", hi},
+                                                                         {"zeros", lo},
+                                                                         {"half", Eigen::VectorXd::Constant(n, 0.5)},
+                                                                         {"jacobi step", jacobi},
+                                                                         {"random", randomVector(n, 0, 1, rng)}};
+    for (const auto& [name, x0] : starts) {
+        SCOPED_TRACE(name);
+        QpSolverOptions opt;
+        opt.tolerance = 1e-8;
+        opt.bindingSet = false;
+        const QpResult gpcg = solveBoundedQp(op, c, lo, hi, x0, opt);
+        opt.bindingSet = true;
+        const QpResult binding = solveBoundedQp(op, c, lo, hi, x0, opt);
+        ASSERT_TRUE(gpcg.converged) << gpcg.residual;
+        ASSERT_TRUE(binding.converged) << binding.residual;
+        EXPECT_LE(projectedGradientNorm(Eigen::MatrixXd(q) * binding.x + c, binding.x, lo, hi), 1e-7);
+        EXPECT_LE((binding.x - gpcg.x).lpNorm<Eigen::Infinity>(), 1e-6);
+        EXPECT_LE(binding.products, gpcg.products * 3 / 2 + 10) << "GPCG " << gpcg.products;
+    }
+}
+
 }  // namespace
 }  // namespace tc
