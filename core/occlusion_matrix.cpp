@@ -227,7 +227,7 @@ private:
 
 }  // namespace
 
-SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount) {
+SparseMatrixF occlusionMatrix(const FragmentLists& lists, std::size_t partCount) {
     const std::size_t pixels = lists.pixelCount();
     const std::size_t width = lists.width > 0 ? std::size_t(lists.width) : std::max<std::size_t>(pixels, 1);
     const std::size_t height = (pixels + width - 1) / width;
@@ -311,8 +311,8 @@ SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount)
         }
     });
 
-    // 3. The compressed rows, written in place.
-    SparseMatrixD h{Eigen::Index(partCount), Eigen::Index(partCount)};
+    // 3. The compressed rows in single precision, each value rounded once from its double sum.
+    SparseMatrixF h{Eigen::Index(partCount), Eigen::Index(partCount)};
     std::int64_t total = 0;
     for (std::size_t i = 0; i < partCount; ++i) {
         h.outerIndexPtr()[i] = int(total);
@@ -326,7 +326,7 @@ SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount)
             for (int k = 0; k < rowNonZeros[i]; ++k) {
                 const auto& [j, value] = byRow[rowStart[i] + std::uint64_t(k)];
                 h.innerIndexPtr()[h.outerIndexPtr()[i] + k] = int(j);
-                h.valuePtr()[h.outerIndexPtr()[i] + k] = value;
+                h.valuePtr()[h.outerIndexPtr()[i] + k] = float(value);
             }
     });
     return h;

@@ -53,6 +53,8 @@ SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t p
 // a per-row merge build the compressed rows. The per-pixel work is quadratic in the list length
 // by nature (every front part pairs with every part behind it, and H's per-pixel contribution
 // has that many distinct entries), but repeated front parts are counted once with multiplicity.
-SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
+// Each h_ij is summed and normalised in double and rounded to float once, straight into the form
+// OpacityEnergy keeps (move the result into it: no copy).
+SparseMatrixF occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
 
 }  // namespace tc

@@ -288,12 +288,14 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
              kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
     m_stats.fromFragments = fromFragments;
     const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
-    SparseMatrixD h;
+    SparseMatrixF h;  // handed to the energy in the solve stage (its arrays, not a copy)
     std::optional<OpacityEnergy> energy;
     if (fromFragments) {
         energy.emplace(std::make_shared<const FragmentOcclusion>(occlusionLists, n), m_importance, m_parts, weights);
     } else {
-        h = occlusionMatrix(occlusionLists, n);
+        // Eigen's SparseMatrix has no move assignment (h = ... would copy); swap is O(1).
+        SparseMatrixF assembled = occlusionMatrix(occlusionLists, n);
+        h.swap(assembled);
         m_stats.hNonZeros = std::size_t(h.nonZeros());
     }
     timer.setItems(fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
@@ -303,7 +305,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
     t0 = std::chrono::steady_clock::now();
     timer.begin("solve");
-    if (!energy) energy.emplace(h, m_importance, m_parts, weights, m_spec.dropBelow);
+    if (!energy) energy.emplace(std::move(h), m_importance, m_parts, weights, m_spec.dropBelow);
     m_stats.energyMs = msSince(t0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
     if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
@@ -337,8 +339,8 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
                   << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
                   << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
     if (m_sink)
-        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &h, &occlusionLists, &m_parts, &m_importance,
-                &m_solution, &m_displayed, &m_stats.solve});
+        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &energy->occlusion(), &occlusionLists, &m_parts,
+                &m_importance, &m_solution, &m_displayed, &m_stats.solve});
 
     // 4. Resolve: blend each sorted list front to back with the displayed opacities, on the CPU.
     // The lists are in memory and sorted already; a full-screen GL pass walking them was what

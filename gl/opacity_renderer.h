@@ -39,8 +39,8 @@ namespace tc::gl {
 struct OpacitySystem {
     int frame = 0;
     const OpacityEnergy* energy = nullptr;  // Q (factored; assemble() for the matrix) and c
-    const SparseMatrixD* h = nullptr;       // the occlusion penalties the energy was built from (null
-                                            // when H came from the fragment lists)
+    const SparseMatrixF* h = nullptr;       // the occlusion penalties the energy keeps (after
+                                            // drop_below; null when H came from the fragment lists)
     const FragmentLists* lists = nullptr;   // sorted front to back
     const OpacityParts* parts = nullptr;
     const std::vector<double>* importance = nullptr;
@@ -62,7 +62,7 @@ public:
         // The lists H came from (render.opacity.occlusion_scale): their image size and fragments.
         int occlusionWidth = 0, occlusionHeight = 0;
         std::size_t occlusionFragments = 0;
-        QpResult solve;  // iterations, products, residual (solve.x: the solution)
+        QpResult solve;   // iterations, products, residual (solve.x: the solution)
         QpResult coarse;  // the solve of render.opacity.coarse_scale's lists (0 products: off)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
         double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)

@@ -247,7 +247,8 @@ int main(int argc, char** argv) {
                     };
                     const double fExact = objective(exact.x);
                     for (double drop : drops) {
-                        const tc::OpacityEnergy es(*sys.h, *sys.importance, *sys.parts, e.weights(), drop);
+                        const tc::OpacityEnergy es(tc::SparseMatrixF(*sys.h), *sys.importance, *sys.parts, e.weights(),
+                                                   drop);
                         const tc::QpResult approx = tc::solveBoundedQp(es, es.linearTerm(), lo, hi, exact.x, tight);
                         const tc::SparsificationBound bound =
                             tc::sparsificationBound(e, es, approx.x, 2.0 * e.weights().p);
