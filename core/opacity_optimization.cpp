@@ -228,6 +228,12 @@ OpacityEnergy::OpacityEnergy(SparseMatrixF&& h, const std::vector<double>& g, co
     setUpFromH(parts);
 }
 
+void OpacityEnergy::releaseOcclusion(SparseMatrixF& into) {
+    into.swap(m_h);
+    m_h.resize(m_n, m_n);  // empty: products skip the occlusion terms
+    m_rowChunks.assign({0, int(m_n)});
+}
+
 void OpacityEnergy::setUpFromH(const OpacityParts& parts) {
     // H is taken over as it is (occlusionMatrix builds it in this form): until session 6 the
     // set-up copied a double H into this one, 13-30 ms of an 8k-part warm frame's 80-100 ms solve

@@ -140,6 +140,9 @@ public:
     bool fromFragments() const { return m_fragments != nullptr; }
     // H as the energy keeps it (after dropBelow); empty when it comes from the fragment lists.
     const SparseMatrixF& occlusion() const { return m_h; }
+    // Swaps H's arrays out into `into` for reuse (OcclusionAssembler::assemble refills them next
+    // frame). Only when done with the energy: H is empty afterwards, the diagonal still the old one.
+    void releaseOcclusion(SparseMatrixF& into);
     std::size_t droppedNonZeros() const { return m_dropped; }
     const OpacityWeights& weights() const { return m_weights; }
 

@@ -291,11 +291,13 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     SparseMatrixF h;  // handed to the energy in the solve stage (its arrays, not a copy)
     std::optional<OpacityEnergy> energy;
     if (fromFragments) {
+        m_assembler.release();
+        SparseMatrixF().swap(m_recycledH);
         energy.emplace(std::make_shared<const FragmentOcclusion>(occlusionLists, n), m_importance, m_parts, weights);
     } else {
-        // Eigen's SparseMatrix has no move assignment (h = ... would copy); swap is O(1).
-        SparseMatrixF assembled = occlusionMatrix(occlusionLists, n);
-        h.swap(assembled);
+        // Into the last frame's arrays (Eigen's SparseMatrix has no move assignment; swap is O(1)).
+        h.swap(m_recycledH);
+        m_assembler.assemble(occlusionLists, n, h);
         m_stats.hNonZeros = std::size_t(h.nonZeros());
     }
     timer.setItems(fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
@@ -341,6 +343,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     if (m_sink)
         m_sink({setup.frame, &*energy, fromFragments ? nullptr : &energy->occlusion(), &occlusionLists, &m_parts,
                 &m_importance, &m_solution, &m_displayed, &m_stats.solve});
+    if (!fromFragments) energy->releaseOcclusion(m_recycledH);
 
     // 4. Resolve: blend each sorted list front to back with the displayed opacities, on the CPU.
     // The lists are in memory and sorted already; a full-screen GL pass walking them was what

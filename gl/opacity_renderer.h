@@ -101,6 +101,10 @@ private:
     OpacityParts m_parts;
     std::vector<double> m_importance;
     Eigen::VectorXd m_solution, m_displayed;  // empty before the first frame
+    // Assembled H: the assembly's buffers and the last frame's H arrays, refilled every frame
+    // instead of allocated and first-touched anew (docs/performance.md M7, session 7).
+    OcclusionAssembler m_assembler;
+    SparseMatrixF m_recycledH;
     FrameStats m_stats;
 
     Program m_buildProgram;

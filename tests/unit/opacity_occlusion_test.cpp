@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <tuple>
 
@@ -139,6 +141,63 @@ TEST(OpacityOcclusion, fast_path_matches_the_reference_with_many_parts_per_tile_
     const SparseMatrixF fast = occlusionMatrix(lists, lines * m);
     ASSERT_GT(ref.nonZeros(), 100000);
     expectSameEntriesToFloatRounding(ref, fast);
+}
+
+// Random sorted lists over `lines` lines of `m` parts, `maxDepth` fragments per pixel at most.
+FragmentLists randomLists(int width, int height, int lines, int m, int maxDepth, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> depthCount(0, maxDepth), line(0, lines - 1);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    FragmentLists lists;
+    lists.width = width;
+    lists.offsets.assign(1, 0);
+    for (int p = 0; p < width * height; ++p) {
+        for (int k = depthCount(rng); k > 0; --k) {
+            const float w = u(rng) * float(m - 1);
+            const std::uint32_t part = std::min(std::uint32_t(w), std::uint32_t(m - 1));
+            const float frac = part == std::uint32_t(m - 1) ? 0.0f : w - float(part);
+            lists.fragments.push_back({u(rng), std::uint32_t(line(rng) * m) + part, frac});
+        }
+        lists.offsets.push_back(lists.fragments.size());
+    }
+    lists.sortByDepth();
+    return lists;
+}
+
+bool sameBits(const SparseMatrixF& a, const SparseMatrixF& b) {
+    return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() && a.isCompressed() &&
+           b.isCompressed() && std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outerIndexPtr()) &&
+           std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()) &&
+           std::memcmp(a.valuePtr(), b.valuePtr(), sizeof(float) * std::size_t(a.nonZeros())) == 0;
+}
+
+TEST(OpacityOcclusion, assembler_reusing_its_buffers_and_the_previous_h_gives_the_fresh_matrix_bit_for_bit) {
+    // The renderer's frames: one assembler, each frame's H assembled into the last frame's arrays.
+    // Frames of different depth (more and fewer non-zeros than before) and a change of the part
+    // count must all give exactly what a fresh occlusionMatrix gives.
+    OcclusionAssembler assembler;
+    SparseMatrixF h;
+    const float* firstValues = nullptr;
+    struct Frame {
+        int lines, maxDepth;
+        unsigned seed;
+    };
+    for (const Frame f : {Frame{300, 12, 1}, Frame{300, 6, 2}, Frame{300, 12, 3}, Frame{120, 20, 4}}) {
+        const FragmentLists lists = randomLists(64, 48, f.lines, 4, f.maxDepth, f.seed);
+        const std::size_t n = std::size_t(f.lines) * 4;
+        assembler.assemble(lists, n, h);
+        const SparseMatrixF fresh = occlusionMatrix(lists, n);
+        ASSERT_GT(fresh.nonZeros(), 1000) << f.seed;
+        EXPECT_TRUE(sameBits(h, fresh)) << "frame " << f.seed;
+        if (!firstValues) firstValues = h.valuePtr();
+        if (f.seed == 2) {
+            EXPECT_EQ(h.valuePtr(), firstValues) << "fewer non-zeros: H's arrays are refilled";
+        }
+    }
+    assembler.release();
+    const FragmentLists lists = randomLists(64, 48, 300, 4, 12, 5);
+    assembler.assemble(lists, 1200, h);
+    EXPECT_TRUE(sameBits(h, occlusionMatrix(lists, 1200)));
 }
 
 TEST(OpacityOcclusion, subsampled_lists_are_the_lists_of_the_pixels_containing_the_small_pixel_centres) {
