@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <ctime>
 #include <iostream>
 #include <limits>
 
@@ -47,6 +48,12 @@ std::vector<std::uint32_t> polylineOffsets(const StyledLines& lines) {
     offsets.push_back(std::uint32_t(lines.vertexCount()));
     if (offsets.size() == 1) offsets.insert(offsets.begin(), 0u);
     return offsets;
+}
+
+// Process CPU time (all threads) since c0: on a shared machine a stage's wall time includes
+// waiting for the cores; its CPU time does not (docs/performance.md M7, session 7).
+double cpuMsSince(std::clock_t c0) {
+    return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
 }
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -260,6 +267,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     // subsampleLists). The resolve below still blends all full-size lists: it needs them sorted
     // anyway, so a second, smaller list pass would only add a GL pass and a read-back.
     t0 = std::chrono::steady_clock::now();
+    std::clock_t c0 = std::clock();
     timer.begin("h_assembly");
     FragmentLists scaledLists;
     const bool scaled = m_spec.occlusionScale < 1.0f;
@@ -303,12 +311,15 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     timer.setItems(fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
     timer.end();
     m_stats.assemblyMs = msSince(t0);
+    m_stats.assemblyCpuMs = cpuMsSince(c0);
 
     // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
     t0 = std::chrono::steady_clock::now();
+    c0 = std::clock();
     timer.begin("solve");
     if (!energy) energy.emplace(std::move(h), m_importance, m_parts, weights, m_spec.dropBelow);
     m_stats.energyMs = msSince(t0);
+    m_stats.energyCpuMs = cpuMsSince(c0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
     if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
     QpSolverOptions options;
@@ -336,6 +347,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     timer.setItems(std::uint64_t(m_stats.solve.iterations));
     timer.end();
     m_stats.solveMs = msSince(t0);
+    m_stats.solveCpuMs = cpuMsSince(c0);
     if (!m_stats.solve.converged)
         std::cerr << "warning: opacity optimization, frame " << setup.frame << ": solver stopped after "
                   << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual

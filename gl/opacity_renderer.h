@@ -66,6 +66,8 @@ public:
         QpResult coarse;  // the solve of render.opacity.coarse_scale's lists (0 products: off)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
         double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)
+        // Process CPU time (all threads) of the same stages: what A/B runs compare on a shared machine.
+        double assemblyCpuMs = 0, solveCpuMs = 0, energyCpuMs = 0;
     };
     using SystemSink = std::function<void(const OpacitySystem&)>;
 

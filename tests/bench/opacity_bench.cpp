@@ -326,8 +326,10 @@ int main(int argc, char** argv) {
                     for (Eigen::Index i = 0; i < sf.solve.x.size(); ++i) checksum += sf.solve.x[i] * double(i % 7 + 1);
                     std::fprintf(stderr,
                                  "  frame %d: solve stage %.1f ms, of which energy set-up %.1f ms; coarse solve: %d "
-                                 "products; solve: %d products; solution checksum %.17g\n",
-                                 f, sf.solveMs, sf.energyMs, sf.coarse.products, sf.solve.products, checksum);
+                                 "products; solve: %d products; solution checksum %.17g; process CPU ms: h_assembly "
+                                 "%.1f (wall %.1f), solve %.1f, energy set-up %.1f\n",
+                                 f, sf.solveMs, sf.energyMs, sf.coarse.products, sf.solve.products, checksum,
+                                 sf.assemblyCpuMs, sf.assemblyMs, sf.solveCpuMs, sf.energyCpuMs);
                     frameRows += "| " + std::to_string(sf.parts) + " | " + std::to_string(f) + " | " +
                                  (sf.fromFragments ? "fragments" : "assembled") + " | " + std::to_string(sf.fragments) +
                                  (sf.overflow ? " (overflow)" : "");
