@@ -55,7 +55,7 @@ SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t p
 // by nature (every front part pairs with every part behind it, and H's per-pixel contribution
 // has that many distinct entries), but repeated front parts are counted once with multiplicity.
 // Each h_ij is summed and normalised in double and rounded to float once, straight into the form
-// OpacityEnergy keeps (move the result into it: no copy).
+// OpacityEnergy keeps (pass the result to it as an rvalue: its arrays are taken over, not copied).
 SparseMatrixF occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
 
 // occlusionMatrix with its buffers kept from call to call, for the renderer's frames: fresh buffers

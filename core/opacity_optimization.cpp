@@ -235,7 +235,7 @@ void OpacityEnergy::releaseOcclusion(SparseMatrixF& into) {
 }
 
 void OpacityEnergy::setUpFromH(const OpacityParts& parts) {
-    // H is taken over as it is (occlusionMatrix builds it in this form): until session 6 the
+    // H is taken over as it is (occlusionMatrix builds it in this form). Before session 7 the
     // set-up copied a double H into this one, 13-30 ms of an 8k-part warm frame's 80-100 ms solve
     // stage (docs/performance.md M7, sessions 6 and 7). What is left reads H twice, in parallel,
     // and sums in the order of the serial loops it replaced (so the diagonal is bit-identical).
