@@ -125,8 +125,13 @@ class TileAccumulator {
 public:
     static constexpr int kMaxLocal = 512;  // 512^2 doubles = 2 MB per thread
 
-    explicit TileAccumulator(std::size_t partCount)
-        : m_localId(partCount, -1), m_sum(std::size_t(kMaxLocal) * kMaxLocal, 0.0) {}
+    // Sized for `partCount` parts; kept from call to call (OcclusionAssembler), so this only
+    // allocates on first use or when the part count changes. Between tiles every local id is -1
+    // and every sum 0 again (flush).
+    void prepare(std::size_t partCount) {
+        if (m_localId.size() != partCount) m_localId.assign(partCount, -1);
+        if (m_sum.empty()) m_sum.assign(std::size_t(kMaxLocal) * kMaxLocal, 0.0);
+    }
 
     // Algorithm 1 on one sorted list. The fragments in front of B enter as distinct front parts
     // with their multiplicity (a line's adjacent segments overlap at joints, so a part often has
@@ -225,9 +230,36 @@ private:
     std::vector<std::pair<int, double>> m_fronts;  // distinct front parts so far in the pixel
 };
 
+// A sparse accumulator per thread for the per-row merge: a dense array over the columns (all
+// zero between rows) and the columns touched.
+struct Spa {
+    std::vector<double> sum;
+    std::vector<std::uint32_t> touched;
+};
+
 }  // namespace
 
-SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount) {
+struct OcclusionAssembler::Buffers {
+    tbb::enumerable_thread_specific<TileAccumulator> accumulators;
+    std::vector<std::vector<std::uint32_t>> histogram;  // per accumulator, per row
+    std::vector<std::uint64_t> rowStart;
+    std::vector<std::pair<std::uint32_t, double>> byRow;  // never shrinks: its pages stay mapped
+    tbb::enumerable_thread_specific<Spa> spas;
+    std::vector<int> rowNonZeros;
+};
+
+OcclusionAssembler::OcclusionAssembler() = default;
+OcclusionAssembler::~OcclusionAssembler() = default;
+OcclusionAssembler::OcclusionAssembler(OcclusionAssembler&&) noexcept = default;
+OcclusionAssembler& OcclusionAssembler::operator=(OcclusionAssembler&&) noexcept = default;
+
+void OcclusionAssembler::release() {
+    m_buffers.reset();
+}
+
+void OcclusionAssembler::assemble(const FragmentLists& lists, std::size_t partCount, SparseMatrixF& h) {
+    if (!m_buffers) m_buffers = std::make_unique<Buffers>();
+    Buffers& buffers = *m_buffers;
     const std::size_t pixels = lists.pixelCount();
     const std::size_t width = lists.width > 0 ? std::size_t(lists.width) : std::max<std::size_t>(pixels, 1);
     const std::size_t height = (pixels + width - 1) / width;
@@ -236,10 +268,12 @@ SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount)
     constexpr std::size_t kTileW = 32, kTileH = 32;
     const std::size_t tilesX = (width + kTileW - 1) / kTileW, tilesY = (height + kTileH - 1) / kTileH;
 
-    // 1. Tiles in parallel, each thread with its own accumulator: no shared writes.
-    tbb::enumerable_thread_specific<TileAccumulator> accumulators([&] { return TileAccumulator(partCount); });
+    // 1. Tiles in parallel, each thread with its own accumulator: no shared writes. The records
+    // keep their capacity from the last call.
+    for (TileAccumulator& acc : buffers.accumulators) acc.records.clear();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tilesX * tilesY, 16), [&](const auto& range) {
-        TileAccumulator& acc = accumulators.local();
+        TileAccumulator& acc = buffers.accumulators.local();
+        acc.prepare(partCount);
         for (std::size_t t = range.begin(); t != range.end(); ++t) {
             const std::size_t x0 = (t % tilesX) * kTileW, y0 = (t / tilesX) * kTileH;
             for (std::size_t y = y0; y < std::min(y0 + kTileH, height); ++y)
@@ -257,14 +291,16 @@ SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount)
     // into slots reserved per row), then per row a sparse accumulator (a dense array over the
     // columns plus the list of columns touched) sums duplicates in time linear in the records.
     std::vector<std::vector<TileAccumulator::Record>*> sources;
-    for (TileAccumulator& acc : accumulators) sources.push_back(&acc.records);
+    for (TileAccumulator& acc : buffers.accumulators) sources.push_back(&acc.records);
     const std::size_t threads = sources.size();
-    std::vector<std::vector<std::uint32_t>> histogram(threads);
+    std::vector<std::vector<std::uint32_t>>& histogram = buffers.histogram;
+    histogram.resize(threads);
     tbb::parallel_for(std::size_t(0), threads, [&](std::size_t t) {
         histogram[t].assign(partCount, 0);
         for (const auto& r : *sources[t]) ++histogram[t][r.i];
     });
-    std::vector<std::uint64_t> rowStart(partCount + 1, 0);
+    std::vector<std::uint64_t>& rowStart = buffers.rowStart;
+    rowStart.assign(partCount + 1, 0);
     for (std::size_t i = 0; i < partCount; ++i) {
         std::uint64_t at = rowStart[i];
         for (std::size_t t = 0; t < threads; ++t) {
@@ -274,23 +310,19 @@ SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount)
         }
         rowStart[i + 1] = at;
     }
-    std::vector<std::pair<std::uint32_t, double>> byRow(rowStart[partCount]);
+    std::vector<std::pair<std::uint32_t, double>>& byRow = buffers.byRow;
+    if (byRow.size() < rowStart[partCount]) byRow.resize(rowStart[partCount]);
     tbb::parallel_for(std::size_t(0), threads, [&](std::size_t t) {
         std::vector<std::uint32_t>& fill = histogram[t];
         for (const auto& r : *sources[t]) byRow[rowStart[r.i] + fill[r.i]++] = {r.j, r.value};
-        std::vector<TileAccumulator::Record>().swap(*sources[t]);
     });
-    histogram.clear();
 
     const std::vector<double> counts = partFragmentCounts(lists, partCount);
-    std::vector<int> rowNonZeros(partCount, 0);
-    struct Spa {
-        std::vector<double> sum;
-        std::vector<std::uint32_t> touched;
-    };
-    tbb::enumerable_thread_specific<Spa> spas([&] { return Spa{std::vector<double>(partCount, 0.0), {}}; });
+    std::vector<int>& rowNonZeros = buffers.rowNonZeros;
+    rowNonZeros.assign(partCount, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, partCount, 64), [&](const auto& range) {
-        Spa& spa = spas.local();
+        Spa& spa = buffers.spas.local();
+        if (spa.sum.size() != partCount) spa.sum.assign(partCount, 0.0);
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const std::uint64_t first = rowStart[i], last = rowStart[i + 1];
             for (std::uint64_t k = first; k < last; ++k) {
@@ -311,24 +343,34 @@ SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount)
         }
     });
 
-    // 3. The compressed rows, written in place.
-    SparseMatrixD h{Eigen::Index(partCount), Eigen::Index(partCount)};
+    // 3. The compressed rows in single precision, each value rounded once from its double sum,
+    // into h's own arrays when they are large enough (resize keeps them).
+    h.resize(Eigen::Index(partCount), Eigen::Index(partCount));
     std::int64_t total = 0;
-    for (std::size_t i = 0; i < partCount; ++i) {
-        h.outerIndexPtr()[i] = int(total);
-        total += rowNonZeros[i];
-    }
+    for (std::size_t i = 0; i < partCount; ++i) total += rowNonZeros[i];
     TC_CHECK_OP(total, <=, std::int64_t(std::numeric_limits<int>::max()));
-    h.outerIndexPtr()[partCount] = int(total);
+    // H's non-zeros change a little from frame to frame: some headroom when the arrays must grow.
+    if (h.data().allocatedSize() < total) h.data().reserve(Eigen::Index(total + total / 16));
     h.resizeNonZeros(Eigen::Index(total));
+    int* outer = h.outerIndexPtr();
+    int* inner = h.innerIndexPtr();
+    float* values = h.valuePtr();
+    outer[0] = 0;
+    for (std::size_t i = 0; i < partCount; ++i) outer[i + 1] = outer[i] + rowNonZeros[i];
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, partCount, 256), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i)
             for (int k = 0; k < rowNonZeros[i]; ++k) {
                 const auto& [j, value] = byRow[rowStart[i] + std::uint64_t(k)];
-                h.innerIndexPtr()[h.outerIndexPtr()[i] + k] = int(j);
-                h.valuePtr()[h.outerIndexPtr()[i] + k] = value;
+                inner[outer[i] + k] = int(j);
+                values[outer[i] + k] = float(value);
             }
     });
+}
+
+SparseMatrixF occlusionMatrix(const FragmentLists& lists, std::size_t partCount) {
+    OcclusionAssembler assembler;
+    SparseMatrixF h;
+    assembler.assemble(lists, partCount, h);
     return h;
 }
 

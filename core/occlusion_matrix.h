@@ -7,6 +7,7 @@
 // every image size. A part never occludes itself (i == target is skipped): a part's own fragments
 // overlap at its joints, which says nothing about which line hides which. No OpenGL.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/opacity_optimization.h"
@@ -53,6 +54,30 @@ SparseMatrixD occlusionMatrixReference(const FragmentLists& lists, std::size_t p
 // a per-row merge build the compressed rows. The per-pixel work is quadratic in the list length
 // by nature (every front part pairs with every part behind it, and H's per-pixel contribution
 // has that many distinct entries), but repeated front parts are counted once with multiplicity.
-SparseMatrixD occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
+// Each h_ij is summed and normalised in double and rounded to float once, straight into the form
+// OpacityEnergy keeps (pass the result to it as an rvalue: its arrays are taken over, not copied).
+SparseMatrixF occlusionMatrix(const FragmentLists& lists, std::size_t partCount);
+
+// occlusionMatrix with its buffers kept from call to call, for the renderer's frames: fresh buffers
+// (at 8k parts ~250 MB of pair records and their row-sorted copy, plus H's 26 MB) were ~100k page
+// faults per frame, first-touched and zeroed by the kernel (docs/performance.md M7, session 7).
+// Holds that memory between calls until release() or destruction.
+class OcclusionAssembler {
+public:
+    OcclusionAssembler();
+    ~OcclusionAssembler();
+    OcclusionAssembler(OcclusionAssembler&&) noexcept;
+    OcclusionAssembler& operator=(OcclusionAssembler&&) noexcept;
+
+    // H of `lists` into `h`, the same values as occlusionMatrix. h's own arrays are reused when
+    // they hold enough non-zeros (hand the previous frame's H back in: OpacityEnergy::releaseOcclusion).
+    void assemble(const FragmentLists& lists, std::size_t partCount, SparseMatrixF& h);
+    // Frees the kept buffers.
+    void release();
+
+private:
+    struct Buffers;
+    std::unique_ptr<Buffers> m_buffers;
+};
 
 }  // namespace tc

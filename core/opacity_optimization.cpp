@@ -177,7 +177,35 @@ void SparseQpOperator::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) co
     multiplyRows(m_q, x, y);
 }
 
+namespace {
+
+bool keptBy(double v, double dropBelow) {
+    return v != 0 && !(v < dropBelow);
+}
+
+// H in single precision, zeros and entries below dropBelow (compared in double) left out.
+SparseMatrixF toSingle(const SparseMatrixD& h, double dropBelow) {
+    SparseMatrixF out(h.rows(), h.cols());
+    out.reserve(h.nonZeros());
+    for (Eigen::Index i = 0; i < h.outerSize(); ++i) {
+        out.startVec(i);
+        for (SparseMatrixD::InnerIterator it(h, i); it; ++it)
+            if (keptBy(it.value(), dropBelow)) out.insertBack(i, it.index()) = float(it.value());
+    }
+    out.finalize();
+    return out;
+}
+
+}  // namespace
+
 OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
+                             const OpacityWeights& weights, double dropBelow)
+    : OpacityEnergy(toSingle(h, dropBelow), g, parts, weights) {
+    for (Eigen::Index i = 0; i < h.outerSize(); ++i)
+        for (SparseMatrixD::InnerIterator it(h, i); it; ++it) m_dropped += it.value() != 0 && it.value() < dropBelow;
+}
+
+OpacityEnergy::OpacityEnergy(SparseMatrixF&& h, const std::vector<double>& g, const OpacityParts& parts,
                              const OpacityWeights& weights, double dropBelow)
     : m_n(Eigen::Index(parts.partCount())),
       m_weights(weights),
@@ -185,82 +213,59 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
       m_firstPart(parts.firstPart) {
     TC_CHECK_OP(h.rows(), ==, m_n);
     TC_CHECK_OP(h.cols(), ==, m_n);
+    // Eigen 3.4's SparseMatrix has no move constructor (std::move would copy); swap is O(1).
+    m_h.swap(h);
     setScales(g);
-    // H in single precision, zeros and entries below dropBelow left out. Every loop of this
-    // set-up is parallel and sums in the order of the serial loops it replaced (so the energy and
-    // its diagonal are bit-identical to them): it ran once per frame inside the renderer's solve
-    // stage and was 20-35 ms of an 8k-part warm frame's ~110-150 ms (docs/performance.md M7,
-    // session 6).
-    const std::int64_t sourceNonZeros = h.nonZeros();
-    const bool parallel = sourceNonZeros >= 20000;
-    auto forRows = [&](auto&& body) {
-        if (parallel)
-            tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, m_n, 256), [&](const auto& r) {
-                for (Eigen::Index i = r.begin(); i != r.end(); ++i) body(i);
-            });
-        else
-            for (Eigen::Index i = 0; i < m_n; ++i) body(i);
-    };
-    // One pass converts the rows in place of the source's layout and sums diag(W W^T)'s row sums;
-    // rows only move (a serial compaction) when something was left out.
-    SparseMatrixD compressedCopy;
-    const SparseMatrixD* source = &h;
-    if (!h.isCompressed()) {
-        compressedCopy = h;
-        compressedCopy.makeCompressed();
-        source = &compressedCopy;
-    }
-    const auto* sourceOuter = source->outerIndexPtr();
-    const auto* sourceInner = source->innerIndexPtr();
-    const double* sourceValue = source->valuePtr();
-    m_h.resize(m_n, m_n);
-    m_h.resizeNonZeros(Eigen::Index(sourceNonZeros));  // compressed, not yet written
-    int* outer = m_h.outerIndexPtr();
-    int* innerOut = m_h.innerIndexPtr();
-    float* valueOut = m_h.valuePtr();
-    std::vector<int> kept(std::size_t(m_n), 0);
-    std::vector<std::size_t> droppedPerRow(std::size_t(m_n), 0);
-    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2.
-    Eigen::VectorXd rowSum = Eigen::VectorXd::Zero(m_n), colSum = Eigen::VectorXd::Zero(m_n);
-    // The new arrays are first touched by the threads that fill them.
-    forRows([&](Eigen::Index i) {
-        auto k = sourceOuter[i];
-        const auto begin = k;
+    m_h.makeCompressed();  // in place; occlusionMatrix's H is compressed already
+    if (dropBelow > 0) {
+        // In place, rows ascending (Eigen's prune compacts without reallocating).
         std::size_t dropped = 0;
-        double sum = 0;
-        for (auto e = sourceOuter[i]; e < sourceOuter[i + 1]; ++e) {
-            const double v = sourceValue[e];
-            if (v == 0) continue;
-            if (v < dropBelow) {
-                ++dropped;
-                continue;
-            }
-            const float f = float(v);
-            innerOut[k] = int(sourceInner[e]);
-            valueOut[k++] = f;
-            sum += double(f) * double(f) * m_colScale2[sourceInner[e]];
-        }
-        rowSum[i] = sum;
-        kept[std::size_t(i)] = int(k - begin);
-        droppedPerRow[std::size_t(i)] = dropped;
-    });
-    int total = 0;
-    for (Eigen::Index i = 0; i < m_n; ++i) {
-        const int from = int(sourceOuter[i]), count = kept[std::size_t(i)];
-        if (from != total) {
-            std::copy(innerOut + from, innerOut + from + count, innerOut + total);
-            std::copy(valueOut + from, valueOut + from + count, valueOut + total);
-        }
-        outer[i] = total;
-        total += count;
-        m_dropped += droppedPerRow[std::size_t(i)];
+        m_h.prune([&](Eigen::Index, Eigen::Index, float v) {
+            dropped += v != 0 && double(v) < dropBelow;
+            return keptBy(double(v), dropBelow);
+        });
+        m_dropped = dropped;
     }
-    outer[m_n] = total;
-    m_h.resizeNonZeros(total);
+    setUpFromH(parts);
+}
+
+void OpacityEnergy::releaseOcclusion(SparseMatrixF& into) {
+    into.swap(m_h);
+    m_h.resize(m_n, m_n);  // empty: products skip the occlusion terms
+    m_rowChunks.assign({0, int(m_n)});
+}
+
+void OpacityEnergy::setUpFromH(const OpacityParts& parts) {
+    // H is taken over as it is (occlusionMatrix builds it in this form). Before session 7 the
+    // set-up copied a double H into this one, 13-30 ms of an 8k-part warm frame's 80-100 ms solve
+    // stage (docs/performance.md M7, sessions 6 and 7). What is left reads H twice, in parallel,
+    // and sums in the order of the serial loops it replaced (so the diagonal is bit-identical).
+    const int* outer = m_h.outerIndexPtr();
+    const int* inner = m_h.innerIndexPtr();
+    const float* value = m_h.valuePtr();
+    const bool parallel = m_h.nonZeros() >= 20000;
+    const int threads = tbb::this_task_arena::max_concurrency();
+
+    // diag(W W^T)_i = R_i^2 sum_j h_ij^2 C_j^2, diag(V V^T)_i = R_i^2 sum_j h_ji^2 C_j^2.
+    Eigen::VectorXd rowSum(m_n), colSum = Eigen::VectorXd::Zero(m_n);
+    auto rowRange = [&](Eigen::Index i0, Eigen::Index i1) {
+        for (Eigen::Index i = i0; i < i1; ++i) {
+            double sum = 0;
+            for (int k = outer[i]; k < outer[i + 1]; ++k) {
+                const double v = double(value[k]);
+                sum += v * v * m_colScale2[inner[k]];
+            }
+            rowSum[i] = sum;
+        }
+    };
+    if (parallel)
+        tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, m_n, 256),
+                          [&](const auto& r) { rowRange(r.begin(), r.end()); });
+    else
+        rowRange(0, m_n);
 
     // Row ranges of about equal work; a few per thread so a thread slowed by other processes
     // does not hold the pass up.
-    const int threads = tbb::this_task_arena::max_concurrency();
     const int chunks = m_h.nonZeros() < 20000 ? 1 : std::max(1, 2 * threads);
     m_rowChunks.assign(1, 0);
     for (int c = 1; c < chunks; ++c) {
@@ -273,8 +278,6 @@ OpacityEnergy::OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& 
     // The column sums in parallel over column ranges, each walking the rows in order (its part of
     // each row found by binary search: columns are sorted), so every column still sums its rows
     // in ascending order.
-    const int* inner = m_h.innerIndexPtr();
-    const float* value = m_h.valuePtr();
     auto columnRange = [&](int c0, int c1) {
         for (Eigen::Index i = 0; i < m_n; ++i) {
             const int* first = inner + outer[i];

@@ -22,6 +22,10 @@
 namespace tc {
 
 using SparseMatrixD = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+// H the way OpacityEnergy keeps it: single precision values (h_ij in [0,1] comes from float
+// fragment data; products accumulate in double), int columns, compressed rows. occlusionMatrix
+// (core/occlusion_matrix.h) builds it directly so the energy takes it over without a copy.
+using SparseMatrixF = Eigen::SparseMatrix<float, Eigen::RowMajor, int>;
 class FragmentOcclusion;  // core/fragment_occlusion.h
 
 // The parts of a line set. Part k of polyline l (k = 0..m-1, m = segments per line) has global
@@ -101,9 +105,15 @@ public:
     // The factor k of the fragment-list constructor's diagonal estimate.
     static constexpr double kSquareEstimate = 0.25;
 
-    // `h` is n x n (h_ij: i occludes j), `g` the importance per part. Entries h_ij < dropBelow are
-    // left out (sparsification, render.opacity.drop_below; 0 keeps all): the solution then moves
-    // by at most sparsificationBound() from the exact one.
+    // `h` is n x n (h_ij: i occludes j), `g` the importance per part. The energy takes `h`'s
+    // arrays over (swapped in: `h` is left empty; pass `SparseMatrixF(x)` to keep x), so the
+    // renderer's H is never copied. Entries h_ij < dropBelow are pruned in place (sparsification,
+    // render.opacity.drop_below, compared on the stored float h_ij; 0 keeps all, and H is then only
+    // read for diag(Q)): the solution moves by at most sparsificationBound() from the exact one.
+    OpacityEnergy(SparseMatrixF&& h, const std::vector<double>& g, const OpacityParts& parts,
+                  const OpacityWeights& weights, double dropBelow = 0);
+    // The same from H in double precision (tests, the reference path): zeros are left out, the
+    // comparison with dropBelow is on the double h_ij, then each kept h_ij is rounded to float.
     OpacityEnergy(const SparseMatrixD& h, const std::vector<double>& g, const OpacityParts& parts,
                   const OpacityWeights& weights, double dropBelow = 0);
     // H applied from the fragment lists, never assembled (core/fragment_occlusion.h). diag(Q)
@@ -128,17 +138,23 @@ public:
     // Non-zeros of H kept, and left out by dropBelow (0 when H comes from the fragment lists).
     std::size_t nonZeros() const { return std::size_t(m_h.nonZeros()); }
     bool fromFragments() const { return m_fragments != nullptr; }
+    // H as the energy keeps it (after dropBelow); empty when it comes from the fragment lists.
+    const SparseMatrixF& occlusion() const { return m_h; }
+    // Swaps H's arrays out into `into` for reuse (OcclusionAssembler::assemble refills them next
+    // frame). Only when done with the energy: H is empty afterwards, the diagonal still the old one.
+    void releaseOcclusion(SparseMatrixF& into);
     std::size_t droppedNonZeros() const { return m_dropped; }
     const OpacityWeights& weights() const { return m_weights; }
 
 private:
-    using SparseMatrixF = Eigen::SparseMatrix<float, Eigen::RowMajor, int>;
     // hx = H xg and htx = H^T xs in one pass over H (either output may be null).
     void multiplyBoth(const Eigen::VectorXd& xg, const Eigen::VectorXd& xs, Eigen::VectorXd* hx,
                       Eigen::VectorXd* htx) const;
     // R and C^2 from g; the diagonal from the row and column sums of squares of H C.
     void setScales(const std::vector<double>& g);
     void setDiagonal(const Eigen::VectorXd& rowSum, const Eigen::VectorXd& colSum, const OpacityParts& parts);
+    // m_rowChunks and the diagonal from m_h (compressed, final).
+    void setUpFromH(const OpacityParts& parts);
     // f(i) for every pair (i, i + 1) of adjacent parts of a polyline: the rows of D.
     template <class F>
     void forEachNeighbourPair(F&& f) const {

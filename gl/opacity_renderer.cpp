@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <ctime>
 #include <iostream>
 #include <limits>
 
@@ -47,6 +48,12 @@ std::vector<std::uint32_t> polylineOffsets(const StyledLines& lines) {
     offsets.push_back(std::uint32_t(lines.vertexCount()));
     if (offsets.size() == 1) offsets.insert(offsets.begin(), 0u);
     return offsets;
+}
+
+// Process CPU time (all threads) since c0: on a shared machine a stage's wall time includes
+// waiting for the cores; its CPU time does not (docs/performance.md M7, session 7).
+double cpuMsSince(std::clock_t c0) {
+    return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
 }
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -260,6 +267,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     // subsampleLists). The resolve below still blends all full-size lists: it needs them sorted
     // anyway, so a second, smaller list pass would only add a GL pass and a read-back.
     t0 = std::chrono::steady_clock::now();
+    std::clock_t c0 = std::clock();
     timer.begin("h_assembly");
     FragmentLists scaledLists;
     const bool scaled = m_spec.occlusionScale < 1.0f;
@@ -288,23 +296,30 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
              kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
     m_stats.fromFragments = fromFragments;
     const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
-    SparseMatrixD h;
+    SparseMatrixF h;  // handed to the energy in the solve stage (its arrays, not a copy)
     std::optional<OpacityEnergy> energy;
     if (fromFragments) {
+        m_assembler.release();
+        SparseMatrixF().swap(m_recycledH);
         energy.emplace(std::make_shared<const FragmentOcclusion>(occlusionLists, n), m_importance, m_parts, weights);
     } else {
-        h = occlusionMatrix(occlusionLists, n);
+        // Into the last frame's arrays (Eigen's SparseMatrix has no move assignment; swap is O(1)).
+        h.swap(m_recycledH);
+        m_assembler.assemble(occlusionLists, n, h);
         m_stats.hNonZeros = std::size_t(h.nonZeros());
     }
     timer.setItems(fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
     timer.end();
     m_stats.assemblyMs = msSince(t0);
+    m_stats.assemblyCpuMs = cpuMsSince(c0);
 
     // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
     t0 = std::chrono::steady_clock::now();
+    c0 = std::clock();
     timer.begin("solve");
-    if (!energy) energy.emplace(h, m_importance, m_parts, weights, m_spec.dropBelow);
+    if (!energy) energy.emplace(std::move(h), m_importance, m_parts, weights, m_spec.dropBelow);
     m_stats.energyMs = msSince(t0);
+    m_stats.energyCpuMs = cpuMsSince(c0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
     if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
     QpSolverOptions options;
@@ -332,13 +347,15 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTim
     timer.setItems(std::uint64_t(m_stats.solve.iterations));
     timer.end();
     m_stats.solveMs = msSince(t0);
+    m_stats.solveCpuMs = cpuMsSince(c0);
     if (!m_stats.solve.converged)
         std::cerr << "warning: opacity optimization, frame " << setup.frame << ": solver stopped after "
                   << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
                   << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
     if (m_sink)
-        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &h, &occlusionLists, &m_parts, &m_importance,
-                &m_solution, &m_displayed, &m_stats.solve});
+        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &energy->occlusion(), &occlusionLists, &m_parts,
+                &m_importance, &m_solution, &m_displayed, &m_stats.solve});
+    if (!fromFragments) energy->releaseOcclusion(m_recycledH);
 
     // 4. Resolve: blend each sorted list front to back with the displayed opacities, on the CPU.
     // The lists are in memory and sorted already; a full-screen GL pass walking them was what

@@ -39,8 +39,8 @@ namespace tc::gl {
 struct OpacitySystem {
     int frame = 0;
     const OpacityEnergy* energy = nullptr;  // Q (factored; assemble() for the matrix) and c
-    const SparseMatrixD* h = nullptr;       // the occlusion penalties the energy was built from (null
-                                            // when H came from the fragment lists)
+    const SparseMatrixF* h = nullptr;       // the occlusion penalties the energy keeps (after
+                                            // drop_below; null when H came from the fragment lists)
     const FragmentLists* lists = nullptr;   // sorted front to back
     const OpacityParts* parts = nullptr;
     const std::vector<double>* importance = nullptr;
@@ -62,10 +62,12 @@ public:
         // The lists H came from (render.opacity.occlusion_scale): their image size and fragments.
         int occlusionWidth = 0, occlusionHeight = 0;
         std::size_t occlusionFragments = 0;
-        QpResult solve;  // iterations, products, residual (solve.x: the solution)
+        QpResult solve;   // iterations, products, residual (solve.x: the solution)
         QpResult coarse;  // the solve of render.opacity.coarse_scale's lists (0 products: off)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
         double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)
+        // Process CPU time (all threads) of the same stages: what A/B runs compare on a shared machine.
+        double assemblyCpuMs = 0, solveCpuMs = 0, energyCpuMs = 0;
     };
     using SystemSink = std::function<void(const OpacitySystem&)>;
 
@@ -101,6 +103,10 @@ private:
     OpacityParts m_parts;
     std::vector<double> m_importance;
     Eigen::VectorXd m_solution, m_displayed;  // empty before the first frame
+    // Assembled H: the assembly's buffers and the last frame's H arrays, refilled every frame
+    // instead of allocated and first-touched anew (docs/performance.md M7, session 7).
+    OcclusionAssembler m_assembler;
+    SparseMatrixF m_recycledH;
     FrameStats m_stats;
 
     Program m_buildProgram;

@@ -3,17 +3,22 @@
 // M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
 //
 //   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096 (0: automatic)] [--assembled 1]
+//                                     [--reuse 1]   (with --assembled 1: buffers and H kept from call to call)
 //                                     [--scale S]   (the lists subsampled as render.opacity.occlusion_scale S)
 //                                     [--coarse C]  (also: a solve warm started from the solution of the lists
 //                                                    subsampled at C, both timed together)
 //                                     [--next FILE2] (also: FILE2's system, e.g. the next frame saved as FILE.frame1,
 //                                                    solved warm from the last cold solution, as the renderer does)
 //
-// --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead; prints the energy's
-// set-up from H (what the renderer's solve stage pays per frame), Q products and cold solves.
+// --assembled 1: H assembled from the lists (core/occlusion_matrix.h) instead, `reps` times (wall,
+// CPU and minor page faults per call; with --reuse 1 by one OcclusionAssembler into the previous
+// H, as the renderer's frames); prints the energy's set-up from H (what the renderer's solve stage
+// pays per frame), Q products and cold solves.
 //
 // Prints the set-up time, H products (both outputs), Q products and cold solves (tolerance 1e-4,
 // from a = 1), each as wall and process CPU time (all threads).
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -27,13 +32,23 @@
 #include "core/opacity_optimization.h"
 #include "opacity_system_file.h"
 
+namespace {
+
+long minorFaults() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_minflt;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr, "usage: %s FILE [--reps R] [--solves S]\n", argv[0]);
         return 2;
     }
     int reps = 10, solves = 1;
-    bool assembled = false;
+    bool assembled = false, reuse = false;
     double scale = 1;            // render.opacity.occlusion_scale: the lists subsampled first
     double coarse = 0;           // > 0: also a solve started from the solution at this subsampling scale
     const char* next = nullptr;  // the next frame's system, solved from the cold solution
@@ -43,6 +58,7 @@ int main(int argc, char** argv) {
         if (!std::strcmp(argv[i], "--solves")) solves = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--block-slots")) blockSlots = std::size_t(std::atoi(argv[i + 1]));
         if (!std::strcmp(argv[i], "--assembled")) assembled = std::atoi(argv[i + 1]) != 0;
+        if (!std::strcmp(argv[i], "--reuse")) reuse = std::atoi(argv[i + 1]) != 0;
         if (!std::strcmp(argv[i], "--scale")) scale = std::atof(argv[i + 1]);
         if (!std::strcmp(argv[i], "--coarse")) coarse = std::atof(argv[i + 1]);
         if (!std::strcmp(argv[i], "--next")) next = argv[i + 1];
@@ -62,17 +78,49 @@ int main(int argc, char** argv) {
         auto t0 = Clock::now();
         std::clock_t c0 = std::clock();
         if (assembled) {
-            const tc::SparseMatrixD h = tc::occlusionMatrix(sys.lists, n);
-            std::printf("%zu parts, H assembled: %lld non-zeros in %.1f ms wall, %.1f ms CPU\n", n,
-                        (long long)h.nonZeros(), msSince(t0), cpuMs(c0));
+            // H assembled `reps` times, each after the previous one was freed (as in the renderer's
+            // frames): wall, process CPU and minor page faults per call.
+            // --reuse 1: one OcclusionAssembler refills its buffers and the previous H, as the renderer does.
+            tc::SparseMatrixF h;
+            tc::OcclusionAssembler assembler;
+            double leastH = 1e300, wallH = 0, cpuH = 0;
+            long faultsH = 0;
+            for (int r = 0; r < std::max(1, reps); ++r) {
+                if (!reuse) {
+                    tc::SparseMatrixF previous;
+                    h.swap(previous);
+                }
+                const long f1 = minorFaults();
+                const auto t1 = Clock::now();
+                const std::clock_t c1 = std::clock();
+                if (reuse) {
+                    assembler.assemble(sys.lists, n, h);
+                } else {
+                    tc::SparseMatrixF built = tc::occlusionMatrix(sys.lists, n);
+                    h.swap(built);
+                }
+                cpuH += cpuMs(c1);
+                const double wall = msSince(t1);
+                faultsH += minorFaults() - f1;
+                wallH += wall;
+                leastH = std::min(leastH, wall);
+            }
+            const int hReps = std::max(1, reps);
+            std::printf(
+                "%zu parts, H assembled: %lld non-zeros, %.1f ms wall, %.1f ms CPU, %ld minor faults per call "
+                "(least wall %.1f)\n",
+                n, (long long)h.nonZeros(), wallH / hReps, cpuH / hReps, faultsH / hReps, leastH);
             std::unique_ptr<tc::OpacityEnergy> energy;
-            double least = 1e300;
-            t0 = Clock::now();
-            c0 = std::clock();
+            double least = 1e300, wallSum = 0, cpuSum = 0;
             for (int r = 0; r < reps; ++r) {
                 energy.reset();
+                tc::SparseMatrixF copy = h;  // the energy takes H over; the copy is not timed
                 const auto t1 = Clock::now();
-                energy = std::make_unique<tc::OpacityEnergy>(h, sys.importance, sys.parts, tc::OpacityWeights{});
+                const std::clock_t c1 = std::clock();
+                energy = std::make_unique<tc::OpacityEnergy>(std::move(copy), sys.importance, sys.parts,
+                                                             tc::OpacityWeights{});
+                cpuSum += cpuMs(c1);
+                wallSum += msSince(t1);
                 least = std::min(least, msSince(t1));
             }
             double dsum = 0;
@@ -80,7 +128,7 @@ int main(int argc, char** argv) {
                 dsum += energy->diagonal()[i] * double(i % 7 + 1);
             std::printf(
                 "energy set-up from H: %.2f ms wall, %.2f ms CPU per call (least wall %.2f); diagonal checksum %.17g\n",
-                msSince(t0) / reps, cpuMs(c0) / reps, least, dsum);
+                wallSum / reps, cpuSum / reps, least, dsum);
             const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(Eigen::Index(n), 0.1, 1.0);
             Eigen::VectorXd y;
             energy->multiply(x, y);  // warm-up

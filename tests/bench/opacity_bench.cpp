@@ -253,7 +253,8 @@ int main(int argc, char** argv) {
                     };
                     const double fExact = objective(exact.x);
                     for (double drop : drops) {
-                        const tc::OpacityEnergy es(*sys.h, *sys.importance, *sys.parts, e.weights(), drop);
+                        const tc::OpacityEnergy es(tc::SparseMatrixF(*sys.h), *sys.importance, *sys.parts, e.weights(),
+                                                   drop);
                         const tc::QpResult approx = tc::solveBoundedQp(es, es.linearTerm(), lo, hi, exact.x, tight);
                         const tc::SparsificationBound bound =
                             tc::sparsificationBound(e, es, approx.x, 2.0 * e.weights().p);
@@ -327,10 +328,14 @@ int main(int argc, char** argv) {
                     renderer->render(tc::gl::FrameSetup{f, tc::cameraAtFrame(orbit, cam, f), width, height}, images, t);
                     t.collect();
                     const auto& sf = renderer->lastStats();
+                    double checksum = 0;  // as frame 0's, for A/B runs of the later frames
+                    for (Eigen::Index i = 0; i < sf.solve.x.size(); ++i) checksum += sf.solve.x[i] * double(i % 7 + 1);
                     std::fprintf(stderr,
                                  "  frame %d: solve stage %.1f ms, of which energy set-up %.1f ms; coarse solve: %d "
-                                 "products; solve: %d products\n",
-                                 f, sf.solveMs, sf.energyMs, sf.coarse.products, sf.solve.products);
+                                 "products; solve: %d products; solution checksum %.17g; process CPU ms: h_assembly "
+                                 "%.1f (wall %.1f), solve %.1f, energy set-up %.1f\n",
+                                 f, sf.solveMs, sf.energyMs, sf.coarse.products, sf.solve.products, checksum,
+                                 sf.assemblyCpuMs, sf.assemblyMs, sf.solveCpuMs, sf.energyCpuMs);
                     frameRows += "| " + std::to_string(sf.parts) + " | " + std::to_string(f) + " | " +
                                  (sf.fromFragments ? "fragments" : "assembled") + " | " + std::to_string(sf.fragments) +
                                  (sf.overflow ? " (overflow)" : "");

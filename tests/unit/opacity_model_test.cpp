@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include "core/error.h"
 #include "core/opacity_optimization.h"
@@ -221,6 +222,50 @@ TEST(OpacityModel, sparsified_solution_stays_within_the_stated_bound_of_the_exac
     // objective rises by 0.025 against the bound 0.117): opacities within 0.06 of the exact ones.
     EXPECT_LE((a.x - b.x).lpNorm<Eigen::Infinity>(), 0.06);
     EXPECT_LE(bound.distance, 0.25);
+}
+
+TEST(OpacityModel, energy_takes_a_single_precision_h_over_and_equals_the_energy_built_from_double_h) {
+    // 400 lines x 8 parts, 32 random occluded parts per part: ~100k non-zeros, so the set-up runs
+    // its parallel loops. The renderer hands occlusionMatrix's float H over (no copy); the result
+    // must be bit for bit the energy of the same h_ij given in double, with and without dropBelow.
+    const int lines = 400, m = 8, n = lines * m;
+    OpacityParts parts;
+    parts.partsPerLine = m;
+    for (int l = 0; l <= lines; ++l) parts.firstPart.push_back(std::uint32_t(l * m));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::uniform_int_distribution<int> column(0, n - 1);
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 32; ++k) {
+            const int j = column(rng);
+            if (i / m != j / m) t.emplace_back(i, j, 0.5 * u(rng) + 1e-3);
+        }
+    const SparseMatrixD hd = sparse(n, t);
+    ASSERT_GT(hd.nonZeros(), 90000);
+    std::vector<double> g(n);
+    for (double& v : g) v = u(rng);
+    const OpacityWeights w{1.0, 4.0, 0.4, 0.3, 1.0};
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.05, 1.0);
+    for (const double drop : {0.0, 0.25}) {
+        const OpacityEnergy fromDouble(hd, g, parts, w, drop);
+        SparseMatrixF hf = hd.cast<float>();
+        const float* values = hf.valuePtr();
+        const OpacityEnergy fromSingle(std::move(hf), g, parts, w, drop);
+        EXPECT_EQ(hf.nonZeros(), 0) << "the energy takes H's arrays over";
+        EXPECT_EQ(fromSingle.occlusion().valuePtr(), values) << "H was copied";
+        EXPECT_EQ(fromSingle.nonZeros(), fromDouble.nonZeros()) << drop;
+        EXPECT_EQ(fromSingle.droppedNonZeros(), fromDouble.droppedNonZeros()) << drop;
+        if (drop > 0) {
+            EXPECT_GT(fromSingle.droppedNonZeros(), std::size_t(hd.nonZeros()) / 3);
+        }
+        const Eigen::VectorXd da = fromSingle.diagonal(), db = fromDouble.diagonal();
+        EXPECT_TRUE((da.array() == db.array()).all()) << "diag(Q), drop " << drop;
+        Eigen::VectorXd ya, yb;
+        fromSingle.multiply(x, ya);
+        fromDouble.multiply(x, yb);
+        EXPECT_TRUE((ya.array() == yb.array()).all()) << "Q x, drop " << drop;
+    }
 }
 
 // Two lines of 4 parts: U (parts 0-3, unimportant) lies in front of I (parts 4-7, important) and

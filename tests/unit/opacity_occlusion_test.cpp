@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <random>
 #include <tuple>
 
@@ -35,10 +38,27 @@ FragmentLists crossingLines(int y0, int rows) {
     return lists;
 }
 
+// The fast path sums in another order than the reference and rounds each h_ij to float once:
+// same pattern, and every entry within float rounding (relative 2^-24) of the reference's double.
+void expectSameEntriesToFloatRounding(const SparseMatrixD& ref, const SparseMatrixF& fast) {
+    ASSERT_EQ(ref.rows(), fast.rows());
+    ASSERT_EQ(ref.nonZeros(), fast.nonZeros());
+    for (Eigen::Index i = 0; i < ref.rows(); ++i) {
+        SparseMatrixD::InnerIterator a(ref, i);
+        SparseMatrixF::InnerIterator b(fast, i);
+        for (; a && b; ++a, ++b) {
+            ASSERT_EQ(a.index(), b.index()) << "row " << i;
+            ASSERT_LE(std::abs(double(b.value()) - a.value()), std::ldexp(a.value(), -24) + 1e-12)
+                << "h(" << i << ", " << a.index() << ")";
+        }
+        ASSERT_FALSE(a || b) << "row " << i;
+    }
+}
+
 TEST(OpacityOcclusion, crossing_lines_give_the_expected_pattern_and_magnitudes) {
     FragmentLists lists = crossingLines(2, 2);
-    SparseMatrixD h = occlusionMatrix(lists, 4);
-    Eigen::MatrixXd d(h);
+    const SparseMatrixF h = occlusionMatrix(lists, 4);
+    Eigen::MatrixXd d(h.cast<double>());
     // Only A's parts (rows 0, 1) occlude only B's parts (columns 2, 3).
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j)
@@ -60,7 +80,7 @@ TEST(OpacityOcclusion, crossing_lines_give_the_expected_pattern_and_magnitudes) 
         EXPECT_NEAR(d(i, 2) * counts[2] + d(i, 3) * counts[3], 4.0, 1e-5);
     }
     // Twice as many covered rows, twice the penalty.
-    Eigen::MatrixXd d2(occlusionMatrix(crossingLines(2, 4), 4));
+    Eigen::MatrixXd d2(occlusionMatrix(crossingLines(2, 4), 4).cast<double>());
     const double covered2 = d2(0, 2) * counts[2] + d2(0, 3) * counts[3];
     EXPECT_NEAR(covered2, 8.0, 1e-5);
 }
@@ -87,11 +107,9 @@ TEST(OpacityOcclusion, fast_path_matches_the_reference_loop) {
         for (auto k = lists.offsets[p] + 1; k < lists.offsets[p + 1]; ++k)
             ASSERT_LE(lists.fragments[k - 1].depth, lists.fragments[k].depth);
     SparseMatrixD ref = occlusionMatrixReference(lists, lines * m);
-    SparseMatrixD fast = occlusionMatrix(lists, lines * m);
-    ASSERT_EQ(ref.nonZeros(), fast.nonZeros());
+    const SparseMatrixF fast = occlusionMatrix(lists, lines * m);
     ASSERT_GT(ref.nonZeros(), 1000);
-    const double diff = (Eigen::MatrixXd(ref) - Eigen::MatrixXd(fast)).cwiseAbs().maxCoeff();
-    EXPECT_LE(diff, 1e-12);
+    expectSameEntriesToFloatRounding(ref, fast);
     const double maxValue = Eigen::MatrixXd(ref).maxCoeff();
     EXPECT_LE(maxValue, 1.0);
     const Eigen::MatrixXd dense(ref);
@@ -120,19 +138,66 @@ TEST(OpacityOcclusion, fast_path_matches_the_reference_with_many_parts_per_tile_
     }
     lists.sortByDepth();
     const SparseMatrixD ref = occlusionMatrixReference(lists, lines * m);
-    const SparseMatrixD fast = occlusionMatrix(lists, lines * m);
-    ASSERT_EQ(ref.nonZeros(), fast.nonZeros());
+    const SparseMatrixF fast = occlusionMatrix(lists, lines * m);
     ASSERT_GT(ref.nonZeros(), 100000);
-    double diff = 0;
-    for (Eigen::Index i = 0; i < ref.rows(); ++i) {
-        SparseMatrixD::InnerIterator a(ref, i), b(fast, i);
-        for (; a && b; ++a, ++b) {
-            ASSERT_EQ(a.index(), b.index()) << "row " << i;
-            diff = std::max(diff, std::abs(a.value() - b.value()));
+    expectSameEntriesToFloatRounding(ref, fast);
+}
+
+// Random sorted lists over `lines` lines of `m` parts, `maxDepth` fragments per pixel at most.
+FragmentLists randomLists(int width, int height, int lines, int m, int maxDepth, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> depthCount(0, maxDepth), line(0, lines - 1);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    FragmentLists lists;
+    lists.width = width;
+    lists.offsets.assign(1, 0);
+    for (int p = 0; p < width * height; ++p) {
+        for (int k = depthCount(rng); k > 0; --k) {
+            const float w = u(rng) * float(m - 1);
+            const std::uint32_t part = std::min(std::uint32_t(w), std::uint32_t(m - 1));
+            const float frac = part == std::uint32_t(m - 1) ? 0.0f : w - float(part);
+            lists.fragments.push_back({u(rng), std::uint32_t(line(rng) * m) + part, frac});
         }
-        ASSERT_FALSE(a || b) << "row " << i;
+        lists.offsets.push_back(lists.fragments.size());
     }
-    EXPECT_LE(diff, 1e-12);
+    lists.sortByDepth();
+    return lists;
+}
+
+bool sameBits(const SparseMatrixF& a, const SparseMatrixF& b) {
+    return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() && a.isCompressed() &&
+           b.isCompressed() && std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outerIndexPtr()) &&
+           std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()) &&
+           std::memcmp(a.valuePtr(), b.valuePtr(), sizeof(float) * std::size_t(a.nonZeros())) == 0;
+}
+
+TEST(OpacityOcclusion, assembler_reusing_its_buffers_and_the_previous_h_gives_the_fresh_matrix_bit_for_bit) {
+    // The renderer's frames: one assembler, each frame's H assembled into the last frame's arrays.
+    // Frames of different depth (more and fewer non-zeros than before) and a change of the part
+    // count must all give exactly what a fresh occlusionMatrix gives.
+    OcclusionAssembler assembler;
+    SparseMatrixF h;
+    const float* firstValues = nullptr;
+    struct Frame {
+        int lines, maxDepth;
+        unsigned seed;
+    };
+    for (const Frame f : {Frame{300, 12, 1}, Frame{300, 6, 2}, Frame{300, 12, 3}, Frame{120, 20, 4}}) {
+        const FragmentLists lists = randomLists(64, 48, f.lines, 4, f.maxDepth, f.seed);
+        const std::size_t n = std::size_t(f.lines) * 4;
+        assembler.assemble(lists, n, h);
+        const SparseMatrixF fresh = occlusionMatrix(lists, n);
+        ASSERT_GT(fresh.nonZeros(), 1000) << f.seed;
+        EXPECT_TRUE(sameBits(h, fresh)) << "frame " << f.seed;
+        if (!firstValues) firstValues = h.valuePtr();
+        if (f.seed == 2) {
+            EXPECT_EQ(h.valuePtr(), firstValues) << "fewer non-zeros: H's arrays are refilled";
+        }
+    }
+    assembler.release();
+    const FragmentLists lists = randomLists(64, 48, 300, 4, 12, 5);
+    assembler.assemble(lists, 1200, h);
+    EXPECT_TRUE(sameBits(h, occlusionMatrix(lists, 1200)));
 }
 
 TEST(OpacityOcclusion, subsampled_lists_are_the_lists_of_the_pixels_containing_the_small_pixel_centres) {
@@ -173,8 +238,8 @@ TEST(OpacityOcclusion, occlusion_at_half_resolution_keeps_the_pattern_and_the_fr
     // it where both lines span whole pairs of pixels: A over rows 2-9, B over columns 6-9.
     FragmentLists lists = crossingLines(2, 8);
     lists.width = 16;
-    const Eigen::MatrixXd full(occlusionMatrix(lists, 4));
-    const Eigen::MatrixXd half(occlusionMatrix(subsampleLists(lists, 16, 0.5), 4));
+    const Eigen::MatrixXd full(occlusionMatrix(lists, 4).cast<double>());
+    const Eigen::MatrixXd half(occlusionMatrix(subsampleLists(lists, 16, 0.5), 4).cast<double>());
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
             EXPECT_EQ(full(i, j) > 0, half(i, j) > 0) << i << ", " << j;
