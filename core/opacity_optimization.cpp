@@ -548,15 +548,8 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
     const Eigen::VectorXd diagonal = q.diagonal();
     const Eigen::VectorXd inverseDiagonal = diagonal.cwiseMax(1e-300).cwiseInverse();
 
-    // Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
-    // whenever no component is clipped. With `toBreakpoint` (the quadratic along the ray x + t dir
-    // is smallest at t >= `step`: true for the steepest-descent step at its exact minimiser and
-    // for a CG step on the free face), a clipped step that fails is not halved (a product per
-    // trial; these were half of all products at 8k parts) but cut to the first bound the ray
-    // meets: that step needs no product and decreases the objective, the quadratic being convex
-    // along the ray. Returns false when no decrease was found.
-    // The vector work below runs in fixed chunks (core/parallel_chunks.h): at 128k parts it was
-    // serial and about a fifth of the solve's wall time.
+    // The vector work below runs in fixed chunks (core/parallel_chunks.h): serial, it cost 12-16 %
+    // of a 128k-part solve's wall time (A/B in docs/performance.md M7, session 7).
     struct MaxSum {
         double sum = 0, max = 0;
     };
@@ -574,6 +567,13 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             }
         });
     };
+    // Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
+    // whenever no component is clipped. With `toBreakpoint` (the quadratic along the ray x + t dir
+    // is smallest at t >= `step`: true for the steepest-descent step at its exact minimiser and
+    // for a CG step on the free face), a clipped step that fails is not halved (a product per
+    // trial; these were half of all products at 8k parts) but cut to the first bound the ray
+    // meets (Breakpoint): that step needs no product and decreases the objective, the quadratic
+    // being convex along the ray. Failed: no decrease found.
     enum class Search { Failed, Accepted, Breakpoint };
     auto projectedSearch = [&](const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step,
                                bool toBreakpoint) {
