@@ -548,7 +548,7 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
     const Eigen::VectorXd diagonal = q.diagonal();
     const Eigen::VectorXd inverseDiagonal = diagonal.cwiseMax(1e-300).cwiseInverse();
 
-    // The vector work below runs in fixed chunks (core/parallel_chunks.h): serial, it cost 12-16 %
+    // The vector work below runs in fixed chunks (core/parallel_chunks.h): serial, it cost 10-18 %
     // of a 128k-part solve's wall time (A/B in docs/performance.md M7, session 7).
     struct MaxSum {
         double sum = 0, max = 0;
