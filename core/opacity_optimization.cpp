@@ -422,22 +422,25 @@ void OpacityEnergy::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
     const int m = m_partsPerLine;
     // Polylines in chunks (a polyline's parts are [firstPart[l], firstPart[l] + m)).
     const std::int64_t lines = std::int64_t(m_firstPart.size()) - 1;
-    forChunks(lines, [&](std::int64_t l0, std::int64_t l1) {
-        for (std::int64_t l = l0; l < l1; ++l) {
-            const Eigen::Index first = m_firstPart[std::size_t(l)];
-            for (int k = 0; k < m; ++k) {
-                const Eigen::Index i = first + k;
-                double v = p * x[i];
-                if (occlusion && wTerm) v += q * (m_rowScale[i] * a[i]);
-                if (occlusion && vTerm) v += r * (m_rowScale[i] * b[i]);
-                if (s != 0) {
-                    if (k > 0) v -= s * (x[i - 1] - x[i]);
-                    if (k + 1 < m) v += s * (x[i] - x[i + 1]);
+    forChunks(
+        lines,
+        [&](std::int64_t l0, std::int64_t l1) {
+            for (std::int64_t l = l0; l < l1; ++l) {
+                const Eigen::Index first = m_firstPart[std::size_t(l)];
+                for (int k = 0; k < m; ++k) {
+                    const Eigen::Index i = first + k;
+                    double v = p * x[i];
+                    if (occlusion && wTerm) v += q * (m_rowScale[i] * a[i]);
+                    if (occlusion && vTerm) v += r * (m_rowScale[i] * b[i]);
+                    if (s != 0) {
+                        if (k > 0) v -= s * (x[i - 1] - x[i]);
+                        if (k + 1 < m) v += s * (x[i] - x[i + 1]);
+                    }
+                    y[i] = 2.0 * v;
                 }
-                y[i] = 2.0 * v;
             }
-        }
-    }, kVectorChunk / m);
+        },
+        kVectorChunk / m);
 }
 
 bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<char>& isFree, Eigen::VectorXd& z) const {
@@ -445,33 +448,36 @@ bool OpacityEnergy::precondition(const Eigen::VectorXd& r, const std::vector<cha
     const double off = -2.0 * m_weights.s;
     const std::int64_t lines = std::int64_t(m_firstPart.size()) - 1;
     // Polylines are independent: in chunks (core/parallel_chunks.h), each writing its own parts.
-    forChunks(lines, [&](std::int64_t l0, std::int64_t l1) {
-        std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());
-        for (std::int64_t l = l0; l < l1; ++l) {
-            const Eigen::Index first = m_firstPart[std::size_t(l)], end = first + m_partsPerLine;
-            for (Eigen::Index k0 = first; k0 < end;) {
-                if (!isFree[std::size_t(k0)]) {
-                    z[k0] = 0;
-                    ++k0;
-                    continue;
+    forChunks(
+        lines,
+        [&](std::int64_t l0, std::int64_t l1) {
+            std::vector<double> cPrime(static_cast<std::size_t>(m_partsPerLine)), dPrime(cPrime.size());
+            for (std::int64_t l = l0; l < l1; ++l) {
+                const Eigen::Index first = m_firstPart[std::size_t(l)], end = first + m_partsPerLine;
+                for (Eigen::Index k0 = first; k0 < end;) {
+                    if (!isFree[std::size_t(k0)]) {
+                        z[k0] = 0;
+                        ++k0;
+                        continue;
+                    }
+                    Eigen::Index k1 = k0;  // the run [k0, k1) of free parts
+                    while (k1 < end && isFree[std::size_t(k1)]) ++k1;
+                    // Thomas algorithm; diagonally dominant (diag >= 2(p + s deg) > |off| deg), so stable.
+                    for (Eigen::Index k = k0; k < k1; ++k) {
+                        const std::size_t t = std::size_t(k - k0);
+                        const double m = m_diagonal[k] - (t ? off * cPrime[t - 1] : 0.0);
+                        cPrime[t] = off / m;
+                        dPrime[t] = (r[k] - (t ? off * dPrime[t - 1] : 0.0)) / m;
+                    }
+                    for (Eigen::Index k = k1 - 1; k >= k0; --k) {
+                        const std::size_t t = std::size_t(k - k0);
+                        z[k] = dPrime[t] - (k + 1 < k1 ? cPrime[t] * z[k + 1] : 0.0);
+                    }
+                    k0 = k1;
                 }
-                Eigen::Index k1 = k0;  // the run [k0, k1) of free parts
-                while (k1 < end && isFree[std::size_t(k1)]) ++k1;
-                // Thomas algorithm; diagonally dominant (diag >= 2(p + s deg) > |off| deg), so stable.
-                for (Eigen::Index k = k0; k < k1; ++k) {
-                    const std::size_t t = std::size_t(k - k0);
-                    const double m = m_diagonal[k] - (t ? off * cPrime[t - 1] : 0.0);
-                    cPrime[t] = off / m;
-                    dPrime[t] = (r[k] - (t ? off * dPrime[t - 1] : 0.0)) / m;
-                }
-                for (Eigen::Index k = k1 - 1; k >= k0; --k) {
-                    const std::size_t t = std::size_t(k - k0);
-                    z[k] = dPrime[t] - (k + 1 < k1 ? cPrime[t] * z[k + 1] : 0.0);
-                }
-                k0 = k1;
             }
-        }
-    }, kVectorChunk / m_partsPerLine);
+        },
+        kVectorChunk / m_partsPerLine);
     return true;
 }
 
@@ -696,8 +702,7 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             [&](std::int64_t b, std::int64_t e, TwoSums& m) {
                 for (std::int64_t i = b; i < e; ++i) {
                     const bool inside = x[i] > lo[i] && x[i] < hi[i];
-                    isFree[i] =
-                        inside || (binding && ((x[i] <= lo[i] && g[i] < 0) || (x[i] >= hi[i] && g[i] > 0)));
+                    isFree[i] = inside || (binding && ((x[i] <= lo[i] && g[i] < 0) || (x[i] >= hi[i] && g[i] > 0)));
                     r[i] = isFree[i] ? -g[i] : 0.0;
                     m.a += r[i] * r[i];
                     m.b += isFree[i];  // the free count
@@ -773,9 +778,9 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         // iteration per variable that must reach a bound (seen from a poor start at 32k parts).
         const Search search = projectedSearch(d, qd, 1.0, true);
         if (search == Search::Failed || (binding && search == Search::Breakpoint)) forceGradientStep = true;
-        lastChanges = search != Search::Accepted
-                          ? -1
-                          : Eigen::Index(sumChunks(n, [&](std::int64_t i) { return stateBefore[i] != state(i) ? 1.0 : 0.0; }));
+        lastChanges = search != Search::Accepted ? -1 : Eigen::Index(sumChunks(n, [&](std::int64_t i) {
+            return stateBefore[i] != state(i) ? 1.0 : 0.0;
+        }));
     }
     // The residual above uses the running gradient, updated with the exact Q s of every step
     // (its drift from Q x + c is rounding; tubecast_opacity_bench prints both). A converged solve keeps
