@@ -67,14 +67,47 @@ int main(int argc, char** argv) {
     using tc::bench::msSince;
     auto cpuMs = [](std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; };
     try {
-        tc::bench::OpacitySystemFile sys = tc::bench::loadOpacitySystem(argv[1]);
-        if (scale < 1) {
-            const int height = int(sys.lists.pixelCount() / std::size_t(sys.lists.width));
-            sys.lists = tc::subsampleLists(sys.lists, height, scale);
-            std::printf("lists subsampled at scale %g: %dx%d px, %zu fragments\n", scale, sys.lists.width,
-                        int(sys.lists.pixelCount() / std::size_t(sys.lists.width)), sys.lists.fragments.size());
-        }
+        // A saved system, its lists subsampled as render.opacity.occlusion_scale `scale`.
+        auto loadSystem = [&](const char* path) {
+            tc::bench::OpacitySystemFile loaded = tc::bench::loadOpacitySystem(path);
+            if (scale < 1) {
+                const int height = int(loaded.lists.pixelCount() / std::size_t(loaded.lists.width));
+                loaded.lists = tc::subsampleLists(loaded.lists, height, scale);
+                std::printf("%s: lists subsampled at scale %g: %dx%d px, %zu fragments\n", path, scale,
+                            loaded.lists.width, int(loaded.lists.pixelCount() / std::size_t(loaded.lists.width)),
+                            loaded.lists.fragments.size());
+            }
+            return loaded;
+        };
+        tc::bench::OpacitySystemFile sys = loadSystem(argv[1]);
         const std::size_t n = sys.parts.partCount();
+        auto printSolve = [&](const char* label, const tc::QpResult& r, Clock::time_point t0, std::clock_t c0) {
+            std::printf(
+                "%s: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, sum a %.17g\n",
+                label, msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
+                r.x.sum());
+        };
+        tc::QpSolverOptions opt;
+        opt.tolerance = 1e-4;
+        const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)),
+                              ones = Eigen::VectorXd::Ones(Eigen::Index(n));
+        // --next: the next frame's system (H built the same way as this one's), solved from `from`.
+        auto solveNext = [&](const Eigen::VectorXd& from) {
+            if (!next) return;
+            const tc::bench::OpacitySystemFile sys2 = loadSystem(next);
+            const tc::OpacityEnergy energy2 =
+                assembled ? tc::OpacityEnergy(tc::occlusionMatrix(sys2.lists, n), sys2.importance, sys2.parts,
+                                              tc::OpacityWeights{})
+                          : tc::OpacityEnergy(std::make_shared<const tc::FragmentOcclusion>(sys2.lists, n, blockSlots),
+                                              sys2.importance, sys2.parts, tc::OpacityWeights{});
+            for (int s = 0; s < std::max(1, solves); ++s) {
+                const auto t0 = Clock::now();
+                const std::clock_t c0 = std::clock();
+                const tc::QpResult r = tc::solveBoundedQp(energy2, energy2.linearTerm(), lo, ones, from, opt);
+                printSolve("next frame, warm", r, t0, c0);
+                std::printf("  max |change| from the previous solution %.4f\n", (r.x - from).lpNorm<Eigen::Infinity>());
+            }
+        };
         auto t0 = Clock::now();
         std::clock_t c0 = std::clock();
         if (assembled) {
@@ -142,33 +175,15 @@ int main(int argc, char** argv) {
             }
             std::printf("Q x: %.2f ms wall, %.2f ms CPU per product (least wall %.2f); checksum %.17g\n",
                         msSince(t0) / reps, cpuMs(c0) / reps, least, y.sum());
-            tc::QpSolverOptions opt;
-            opt.tolerance = 1e-4;
-            const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)),
-                                  ones = Eigen::VectorXd::Ones(Eigen::Index(n));
+            Eigen::VectorXd solution = ones;
             for (int s = 0; s < solves; ++s) {
                 t0 = Clock::now();
                 c0 = std::clock();
                 const tc::QpResult r = tc::solveBoundedQp(*energy, energy->linearTerm(), lo, ones, ones, opt);
-                std::printf(
-                    "cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
-                    "sum a %.17g\n",
-                    msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
-                    r.x.sum());
-                if (next && s + 1 == solves) {
-                    tc::bench::OpacitySystemFile sys2 = tc::bench::loadOpacitySystem(next);
-                    const tc::OpacityEnergy energy2(tc::occlusionMatrix(sys2.lists, n), sys2.importance, sys2.parts,
-                                                    tc::OpacityWeights{});
-                    t0 = Clock::now();
-                    c0 = std::clock();
-                    const tc::QpResult r2 = tc::solveBoundedQp(energy2, energy2.linearTerm(), lo, ones, r.x, opt);
-                    std::printf(
-                        "next frame, warm: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), "
-                        "residual %.2e\n",
-                        msSince(t0), cpuMs(c0), r2.iterations, r2.cgIterations, r2.products, r2.searchProducts,
-                        r2.residual);
-                }
+                printSolve("cold solve", r, t0, c0);
+                solution = r.x;
             }
+            solveNext(solution);
             return 0;
         }
         auto occlusion = std::make_shared<const tc::FragmentOcclusion>(sys.lists, n, blockSlots);
@@ -176,7 +191,6 @@ int main(int argc, char** argv) {
                     (unsigned long long)occlusion->pairCount());
         std::printf("set-up: %.1f ms wall, %.1f ms CPU\n", msSince(t0), cpuMs(c0));
         const tc::OpacityEnergy energy(occlusion, sys.importance, sys.parts, tc::OpacityWeights{});
-        const Eigen::VectorXd ones = Eigen::VectorXd::Ones(Eigen::Index(n));
         Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(Eigen::Index(n), 0.1, 1.0), hx, hty, y;
         occlusion->multiply(&x, &hx, &x, &hty);  // warm-up
         // Per call: the mean, and the least CPU time of one call (the machine is shared).
@@ -200,40 +214,15 @@ int main(int argc, char** argv) {
         }
         std::printf("Q x: %.2f ms wall, %.2f ms CPU per product (least %.2f); checksum %.9e\n", msSince(t0) / reps,
                     cpuMs(c0) / reps, least, y.sum());
-        tc::QpSolverOptions opt;
-        opt.tolerance = 1e-4;
-        const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n));
         Eigen::VectorXd solution = ones;
         for (int s = 0; s < solves; ++s) {
             t0 = Clock::now();
             c0 = std::clock();
             const tc::QpResult r = tc::solveBoundedQp(energy, energy.linearTerm(), lo, ones, ones, opt);
-            std::printf(
-                "cold solve: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual %.2e, "
-                "sum a %.6f\n",
-                msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
-                r.x.sum());
+            printSolve("cold solve", r, t0, c0);
             solution = r.x;
         }
-        if (next) {
-            tc::bench::OpacitySystemFile sys2 = tc::bench::loadOpacitySystem(next);
-            if (scale < 1) {
-                const int height = int(sys2.lists.pixelCount() / std::size_t(sys2.lists.width));
-                sys2.lists = tc::subsampleLists(sys2.lists, height, scale);
-            }
-            const tc::OpacityEnergy energy2(std::make_shared<const tc::FragmentOcclusion>(sys2.lists, n, blockSlots),
-                                            sys2.importance, sys2.parts, tc::OpacityWeights{});
-            for (int s = 0; s < std::max(1, solves); ++s) {
-                t0 = Clock::now();
-                c0 = std::clock();
-                const tc::QpResult r = tc::solveBoundedQp(energy2, energy2.linearTerm(), lo, ones, solution, opt);
-                std::printf(
-                    "next frame, warm: %.1f ms wall, %.1f ms CPU; it %d, cg %d, products %d (search %d), residual "
-                    "%.2e, sum a %.6f, max |change| %.4f\n",
-                    msSince(t0), cpuMs(c0), r.iterations, r.cgIterations, r.products, r.searchProducts, r.residual,
-                    r.x.sum(), (r.x - solution).lpNorm<Eigen::Infinity>());
-            }
-        }
+        solveNext(solution);
         if (coarse > 0) {
             // A cold solve in two steps: the system of the lists subsampled at `coarse` solved
             // from a = 1, then this one warm started from its solution (same tolerance).
