@@ -317,8 +317,8 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
     // The chunks' sums added and finished in parallel over index ranges.
     if (hx) hx->resize(n);
     if (htx) htx->resize(n);
-    const auto finish = [&](const tbb::blocked_range<Eigen::Index>& r) {
-        for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+    forChunks(n, [&](std::int64_t i0, std::int64_t i1) {
+        for (std::int64_t i = i0; i < i1; ++i) {
             if (hx) {
                 double sum = 0;
                 for (const Eigen::VectorXd& out : m_outH) sum += out[i];
@@ -330,11 +330,7 @@ void FragmentOcclusion::multiply(const Eigen::VectorXd* x, Eigen::VectorXd* hx, 
                 (*htx)[i] = m_inverseCount[i] * (sum - m_self[i] * (*y)[i]);
             }
         }
-    };
-    if (chunks == 1)
-        finish(tbb::blocked_range<Eigen::Index>(0, n));
-    else
-        tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 8192), finish);
+    });
 }
 
 }  // namespace tc

@@ -38,15 +38,14 @@ Eigen::VectorXd clampBox(const Eigen::VectorXd& x, const Eigen::VectorXd& lo, co
 
 // The projected gradient: the gradient with the components removed that point out of the box at
 // an active bound (its negation is the steepest feasible descent direction).
+double projectedComponent(double g, double x, double lo, double hi) {
+    return x <= lo ? std::min(g, 0.0) : x >= hi ? std::max(g, 0.0) : g;
+}
+
 Eigen::VectorXd projectedGradient(const Eigen::VectorXd& g, const Eigen::VectorXd& x, const Eigen::VectorXd& lo,
                                   const Eigen::VectorXd& hi) {
-    Eigen::VectorXd pg = g;
-    for (Eigen::Index i = 0; i < g.size(); ++i) {
-        if (x[i] <= lo[i])
-            pg[i] = std::min(g[i], 0.0);
-        else if (x[i] >= hi[i])
-            pg[i] = std::max(g[i], 0.0);
-    }
+    Eigen::VectorXd pg(g.size());
+    for (Eigen::Index i = 0; i < g.size(); ++i) pg[i] = projectedComponent(g[i], x[i], lo[i], hi[i]);
     return pg;
 }
 
@@ -563,6 +562,7 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         double a = 0, b = 0;
     };
     const auto joinMaxSum = [](MaxSum a, MaxSum b) { return MaxSum{a.sum + b.sum, std::max(a.max, b.max)}; };
+    const auto maxOf = [](double a, double b) { return std::max(a, b); };
     const auto joinTwoSums = [](TwoSums u, TwoSums v) { return TwoSums{u.a + v.a, u.b + v.b}; };
     auto acceptStep = [&]() {  // x = y, Q x and the gradient follow with Q s
         forChunks(n, [&](std::int64_t b, std::int64_t e) {
@@ -588,17 +588,17 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
         qs.resize(n);
         for (int k = 0; k < kMaxBacktracks; ++k, step *= 0.5) {
             // y = P(x + step dir), s = y - x; clipped when some component left the box.
-            const MaxSum clip = reduceChunks(
-                n, MaxSum{},
-                [&](std::int64_t b, std::int64_t e, MaxSum& m) {
+            const double clip = reduceChunks(
+                n, 0.0,
+                [&](std::int64_t b, std::int64_t e, double& m) {
                     for (std::int64_t i = b; i < e; ++i) {
                         y[i] = std::clamp(x[i] + step * dir[i], lo[i], hi[i]);
                         s[i] = y[i] - x[i];
-                        m.max = std::max(m.max, std::abs(s[i] - step * dir[i]));
+                        m = std::max(m, std::abs(s[i] - step * dir[i]));
                     }
                 },
-                joinMaxSum);
-            const bool clipped = clip.max > 0;
+                maxOf);
+            const bool clipped = clip > 0;
             if (clipped) {
                 q.multiply(s, qs);
                 ++result.products;
@@ -663,12 +663,12 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             n, 0.0,
             [&](std::int64_t b, std::int64_t e, double& m) {
                 for (std::int64_t i = b; i < e; ++i) {
-                    const double pg = x[i] <= lo[i] ? std::min(g[i], 0.0) : x[i] >= hi[i] ? std::max(g[i], 0.0) : g[i];
+                    const double pg = projectedComponent(g[i], x[i], lo[i], hi[i]);
                     d[i] = -pg;
                     m = std::max(m, std::abs(pg));
                 }
             },
-            [](double a, double b) { return std::max(a, b); });
+            maxOf);
         if (result.residual <= options.tolerance) {
             result.converged = true;
             break;
@@ -770,17 +770,19 @@ QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eig
             });
             rz = rzNext;
         }
-        forChunks(n, [&](std::int64_t b, std::int64_t e) {
-            for (std::int64_t i = b; i < e; ++i) stateBefore[i] = state(i);
-        });
+        if (options.bindingSet)  // for lastChanges, which only the binding set reads
+            forChunks(n, [&](std::int64_t b, std::int64_t e) {
+                for (std::int64_t i = b; i < e; ++i) stateBefore[i] = state(i);
+            });
         // Without the binding set a failed search forces the gradient step. With it, so does a
         // step cut at the first bound: it changes one variable, and repeating it can take one
         // iteration per variable that must reach a bound (seen from a poor start at 32k parts).
         const Search search = projectedSearch(d, qd, 1.0, true);
         if (search == Search::Failed || (binding && search == Search::Breakpoint)) forceGradientStep = true;
-        lastChanges = search != Search::Accepted ? -1 : Eigen::Index(sumChunks(n, [&](std::int64_t i) {
-            return stateBefore[i] != state(i) ? 1.0 : 0.0;
-        }));
+        lastChanges =
+            !options.bindingSet || search != Search::Accepted
+                ? -1
+                : Eigen::Index(sumChunks(n, [&](std::int64_t i) { return stateBefore[i] != state(i) ? 1.0 : 0.0; }));
     }
     // The residual above uses the running gradient, updated with the exact Q s of every step
     // (its drift from Q x + c is rounding; tubecast_opacity_bench prints both). A converged solve keeps
