@@ -116,18 +116,18 @@ TEST(OpacityOcclusion, fast_path_matches_the_reference_loop) {
     for (int i = 0; i < lines * m; ++i) EXPECT_EQ(dense(i, i), 0.0);
 }
 
-TEST(OpacityOcclusion, fast_path_matches_the_reference_with_many_parts_per_tile_and_very_deep_lists) {
-    // 700 lines x 4 parts over a 80 x 40 image: tiles see more parts than their local matrix
-    // holds (flushes mid-tile), and a few pixels hold lists deeper than that (direct records).
-    std::mt19937 rng(9);
-    const int width = 80, height = 40, lines = 700, m = 4;
-    std::uniform_int_distribution<int> depthCount(0, 30), line(0, lines - 1);
+// Random sorted lists over `lines` lines of `m` parts, `maxDepth` fragments per pixel at most;
+// with deepEvery > 0, pixels 5, 5 + deepEvery, ... hold `deepCount` fragments instead.
+FragmentLists randomLists(int width, int height, int lines, int m, int maxDepth, unsigned seed, int deepEvery = 0,
+                          int deepCount = 0) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> depthCount(0, maxDepth), line(0, lines - 1);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     FragmentLists lists;
     lists.width = width;
     lists.offsets.assign(1, 0);
     for (int p = 0; p < width * height; ++p) {
-        const int count = p % 997 == 5 ? 400 : depthCount(rng);
+        const int count = deepEvery > 0 && p % deepEvery == 5 ? deepCount : depthCount(rng);
         for (int k = 0; k < count; ++k) {
             const float w = u(rng) * float(m - 1);
             const std::uint32_t part = std::min(std::uint32_t(w), std::uint32_t(m - 1));
@@ -137,31 +137,18 @@ TEST(OpacityOcclusion, fast_path_matches_the_reference_with_many_parts_per_tile_
         lists.offsets.push_back(lists.fragments.size());
     }
     lists.sortByDepth();
+    return lists;
+}
+
+TEST(OpacityOcclusion, fast_path_matches_the_reference_with_many_parts_per_tile_and_very_deep_lists) {
+    // 700 lines x 4 parts over a 80 x 40 image: tiles see more parts than their local matrix
+    // holds (flushes mid-tile), and a few pixels hold lists deeper than that (direct records).
+    const int lines = 700, m = 4;
+    const FragmentLists lists = randomLists(80, 40, lines, m, 30, 9, 997, 400);
     const SparseMatrixD ref = occlusionMatrixReference(lists, lines * m);
     const SparseMatrixF fast = occlusionMatrix(lists, lines * m);
     ASSERT_GT(ref.nonZeros(), 100000);
     expectSameEntriesToFloatRounding(ref, fast);
-}
-
-// Random sorted lists over `lines` lines of `m` parts, `maxDepth` fragments per pixel at most.
-FragmentLists randomLists(int width, int height, int lines, int m, int maxDepth, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> depthCount(0, maxDepth), line(0, lines - 1);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    FragmentLists lists;
-    lists.width = width;
-    lists.offsets.assign(1, 0);
-    for (int p = 0; p < width * height; ++p) {
-        for (int k = depthCount(rng); k > 0; --k) {
-            const float w = u(rng) * float(m - 1);
-            const std::uint32_t part = std::min(std::uint32_t(w), std::uint32_t(m - 1));
-            const float frac = part == std::uint32_t(m - 1) ? 0.0f : w - float(part);
-            lists.fragments.push_back({u(rng), std::uint32_t(line(rng) * m) + part, frac});
-        }
-        lists.offsets.push_back(lists.fragments.size());
-    }
-    lists.sortByDepth();
-    return lists;
 }
 
 bool sameBits(const SparseMatrixF& a, const SparseMatrixF& b) {
