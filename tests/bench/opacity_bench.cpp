@@ -207,12 +207,11 @@ int main(int argc, char** argv) {
                 double fragBuildMs = 0, fragMaxDiff = 0;
                 std::size_t atOne = 0;
                 auto sink = [&](const tc::gl::OpacitySystem& sys) {
-                    if (sys.frame > 0) {  // later frames: the renderer's own timings only
-                        if (!saveSystem.empty())
-                            tc::bench::saveOpacitySystem(saveSystem + ".frame" + std::to_string(sys.frame),
-                                                         *sys.lists, *sys.parts, *sys.importance);
-                        return;
-                    }
+                    if (!saveSystem.empty())
+                        tc::bench::saveOpacitySystem(
+                            sys.frame > 0 ? saveSystem + ".frame" + std::to_string(sys.frame) : saveSystem, *sys.lists,
+                            *sys.parts, *sys.importance);
+                    if (sys.frame > 0) return;  // later frames: the renderer's own timings only
                     {
                         // Checksums for A/B runs that must give the same numbers.
                         double sd = 0, sa = 0;
@@ -222,8 +221,6 @@ int main(int argc, char** argv) {
                             sa += (*sys.solution)[i] * double(i % 7 + 1);
                         std::fprintf(stderr, "  frame 0 checksums: diagonal %.17g, solution %.17g\n", sd, sa);
                     }
-                    if (!saveSystem.empty())
-                        tc::bench::saveOpacitySystem(saveSystem, *sys.lists, *sys.parts, *sys.importance);
                     const tc::OpacityEnergy& e = *sys.energy;
                     const Eigen::Index size = e.size();
                     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(size), hi = Eigen::VectorXd::Ones(size);
