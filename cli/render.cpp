@@ -18,26 +18,27 @@
 
 #include "cli/batch.h"
 #include "cli/commands.h"
-#include "cli/particle_frames.h"
-#include "cli/opacity_technique.h"
-#include "cli/technique_factory.h"
+#include "cli/technique_registry.h"
 #include "core/animation.h"
 #include "core/compositing.h"
 #include "core/error.h"
 #include "core/image_metrics.h"
+#include "core/opacity_system.h"
+#include "core/particle_series.h"
 #include "core/scene.h"
 #include "core/styling.h"
+#include "core/technique_registry.h"
 #include "core/tiling.h"
 #include "gl/context.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
-#include "gl/technique.h"
-#include "gl/tiled_technique.h"
+#include "core/tiled_technique.h"
 #include "gl/view_window.h"
 #include "io/atomic_file.h"
 #include "io/dataset.h"
 #include "io/image_io.h"
 #include "io/json_file.h"
+#include "io/opacity_system_dump.h"
 #include "io/paraview_preset.h"
 #include "io/timings_csv.h"
 
@@ -155,6 +156,8 @@ std::string slurmJobId() {
 void runRender(const RenderOptions& o) {
     Scene scene = loadScene(o.scene, o.overrides);
     loadStylePresets(scene.style, scene.file);  // a bad preset file fails before any output
+    const TechniqueRegistry& registry = techniqueRegistry();
+    registry.validateWithoutData(scene);  // so does a technique that cannot take the settings
     if (!o.outDir.empty()) scene.output.dir = o.outDir;
     const OutputSpec& out = scene.output;
     const std::vector<int> selected = parseFrameList(o.frames, scene.frameCount());
@@ -241,14 +244,12 @@ void runRender(const RenderOptions& o) {
     auto t0 = std::chrono::steady_clock::now();
     DatasetLoad data = loadDataset(scene.dataset);
     if (data.cleaned.any()) std::cerr << "warning: " << data.source << ": " << data.cleaned.summary() << "\n";
-    // Particle datasets (M6) go to the sphere renderer through ParticleFrames; `styled` is empty
-    // then and only carries the spheres' bounds (camera fit, depth range).
-    // Techniques are created for the largest tile (planned below, once the GL's limits are known).
-    Scene techniqueScene = scene;
-    std::optional<ParticleFrames> particles;
-    if (data.isParticles()) particles.emplace(techniqueScene, data.particles);
+    // Particle datasets are styled frame by frame by their technique (core/particle_series.h);
+    // `styled` is empty then and only carries the spheres' bounds (camera fit, depth range).
+    const DataKind kind = data.isParticles() ? DataKind::Particles : DataKind::Lines;
+    const bool particles = kind == DataKind::Particles;
     StyledLines styled = particles ? StyledLines{} : styleLines(data.lines, scene.style, scene.file);
-    if (particles) styled.bounds = particles->bounds();
+    if (particles) styled.bounds = particleSeriesBounds(scene, data.particles);
     double prepareSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     gl::ContextConfig config;
@@ -275,24 +276,37 @@ void runRender(const RenderOptions& o) {
                           ? "CUDA device " + std::to_string(cuda->cudaDevice) + " is EGL device " + context.info().device
                           : "no EGL device reports a CUDA ordinal (EGL_NV_device_cuda), device chosen as without it")
                   << "\n";
-    {
-        std::string why;
-        scene.render.technique = resolveTechnique(scene.render.technique, context.info().renderer, why);
-        techniqueScene.render.technique = scene.render.technique;
-        if (!why.empty() && !o.quiet) std::cerr << "tubecast: " << why << "\n";
+    if (scene.render.technique.isAuto()) {
+        const TechniqueRegistry::AutoChoice choice = registry.resolveAuto(scene, kind, context.info().renderer);
+        scene.render.technique = RenderTechnique(choice.descriptor->name);
+        if (!o.quiet) std::cerr << "tubecast: " << choice.why << "\n";
     }
+    const TechniqueDescriptor& descriptor = registry.validate(scene, kind);
     // Tiles (image.tiles, or render.memory_budget_mb over the per-pixel buffers; core/tiling.h):
     // the technique renders the largest tile, wrapped to render every tile and sample.
-    const TilePlan tilePlan = planSceneTiles(
-        scene, bool(particles), gl::currentTileLimits(perPixelStorageBufferBytes(scene, bool(particles))));
+    const PixelBuffers pixelBuffers = descriptor.pixelBuffersFor(scene, kind);
+    const TilePlan tilePlan = planSceneTiles(scene, pixelBuffers.bytes, pixelBuffers.what, descriptor.composes(scene),
+                                             gl::currentTileLimits(pixelBuffers.largestStorage));
+    Scene techniqueScene = scene;
     techniqueScene.image.width = tilePlan.largestTileWidth;
     techniqueScene.image.height = tilePlan.largestTileHeight;
-    auto technique = particles ? particles->createTechnique(todo.front().frame)
-                     : scene.render.transparency == Transparency::OpacityOptimization
-                         ? makeOpacityTechnique(scene, styled, data.lines)
-                         : makeTechnique(techniqueScene, styled);
-    const gl::KeptAovs keptAovs{out.exr && out.aovDepth, out.exr && out.aovNormal, out.exr && out.aovId};
-    technique = gl::wrapInTiles(std::move(technique), tilePlan, scene.image.samples, keptAovs);
+    TechniqueData techniqueData;
+    techniqueData.kind = kind;
+    techniqueData.lines = &styled;
+    techniqueData.source = &data.lines;
+    techniqueData.particles = &data.particles;
+    techniqueData.firstFrame = todo.front().frame;
+    TechniqueHooks hooks;
+    if (!scene.render.opacity.dumpDir.empty())
+        hooks.opacitySystem = [dir = scene.render.opacity.dumpDir](const OpacitySystem& s) {
+            const SparseMatrixD q = s.energy->assemble();
+            const Eigen::VectorXd c = s.energy->linearTerm();
+            const Eigen::VectorXd lower = Eigen::VectorXd::Zero(c.size()), upper = Eigen::VectorXd::Ones(c.size());
+            writeOpacitySystem(dir, s.frame, {&q, &c, s.importance, &lower, &upper, s.solution, s.displayed, s.solve});
+        };
+    auto technique = descriptor.create(techniqueScene, techniqueData, hooks);
+    const KeptAovs keptAovs{out.exr && out.aovDepth, out.exr && out.aovNormal, out.exr && out.aovId};
+    technique = wrapInTiles(std::move(technique), tilePlan, scene.image.samples, keptAovs);
     if (!o.quiet && (tilePlan.tiles.size() > 1 || scene.image.samples > 1))
         std::cerr << "tubecast: " << tilePlan.tiles.size() << " tile(s) (" << tilePlan.nx << "x" << tilePlan.ny
                   << (tilePlan.automatic ? ", for render.memory_budget_mb" : "") << "), largest "
@@ -301,7 +315,7 @@ void runRender(const RenderOptions& o) {
                   << " sample(s) per pixel\n";
     // render.reference: the same frames by depth peeling (GL) or exact ray tracing (rt/), compared
     // per frame into quality.csv.
-    std::unique_ptr<gl::Technique> reference;
+    std::unique_ptr<Technique> reference;
     const char* referenceName = scene.render.referenceRaytraced ? "raytraced" : "depth_peeling";
     if (scene.render.referenceDepthPeeling || scene.render.referenceRaytraced) {
         Scene refScene = techniqueScene;
@@ -316,7 +330,8 @@ void runRender(const RenderOptions& o) {
             refScene.render.maxPeelLayers = 0;
         }
         refScene.output.aovDepth = refScene.output.aovNormal = refScene.output.aovId = false;
-        reference = gl::wrapInTiles(makeTechnique(refScene, styled), tilePlan, scene.image.samples, {false, false, false});
+        reference = wrapInTiles(registry.validate(refScene, kind).create(refScene, techniqueData, {}), tilePlan,
+                                    scene.image.samples, {false, false, false});
     }
 
     const float aspect = float(scene.image.width) / float(scene.image.height);
@@ -449,12 +464,12 @@ void runRender(const RenderOptions& o) {
         }
         auto frameStart = std::chrono::steady_clock::now();
         try {
-            gl::FrameSetup setup{plan.frame, cameraAtFrame(scene.animation, base, plan.frame), scene.image.width,
+            FrameSetup setup{plan.frame, cameraAtFrame(scene.animation, base, plan.frame), scene.image.width,
                                  scene.image.height};
             gl::StageTimer timer;
             FrameImages& images = buffers[nextBuffer];
             if (overlapWrites) nextBuffer ^= 1;
-            if (particles) particles->beforeFrame(plan.frame, timer);
+            technique->prepareFrame(plan.frame, timer);
             technique->render(setup, images, timer);
             const double renderSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStart).count();
 

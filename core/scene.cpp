@@ -420,13 +420,13 @@ void readVrc(SpecReader r, VrcSpec& v) {
 }
 
 void readRender(SpecReader r, RenderSpec& rs) {
-    std::string technique =
-        r.getEnum("technique", "rasterized", {"rasterized", "raytraced", "auto", "spheres", "voxel_raycast"});
-    rs.technique = technique == "raytraced"       ? RenderTechnique::Raytraced
-                   : technique == "auto"          ? RenderTechnique::Auto
-                   : technique == "spheres"       ? RenderTechnique::Spheres
-                   : technique == "voxel_raycast" ? RenderTechnique::VoxelRaycast
-                                                  : RenderTechnique::Rasterized;
+    // Any identifier: the registry (core/technique_registry.h) knows which names exist and which
+    // combinations with the keys below it takes.
+    rs.technique = RenderTechnique(r.getString("technique", rs.technique.name()));
+    if (rs.technique.name().empty() ||
+        rs.technique.name().find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+        r.fail("technique", "expected a technique name (tubecast techniques lists them), got \"" +
+                                rs.technique.name() + "\"");
     if (r.has("vrc")) readVrc(r.child("vrc"), rs.vrc);
     if (r.has("spheres")) readSpheres(r.child("spheres"), rs.spheres);
     if (r.has("raytraced")) {
@@ -486,17 +486,6 @@ void readRender(SpecReader r, RenderSpec& rs) {
         a.finish();
     }
     if (r.has("opacity")) readOpacityOptimization(r.child("opacity"), rs.opacity);
-    // Opacity optimization needs the GL fragment lists; "auto" means rasterized for it.
-    if (rs.technique == RenderTechnique::Raytraced && rs.transparency == Transparency::OpacityOptimization)
-        r.fail("transparency", "technique \"raytraced\" does not take \"opacity_optimization\" (use \"rasterized\" or \"auto\")");
-    if (rs.technique == RenderTechnique::VoxelRaycast && rs.transparency == Transparency::OpacityOptimization)
-        r.fail("transparency", "technique \"voxel_raycast\" does not take \"opacity_optimization\"");
-    if (rs.technique == RenderTechnique::VoxelRaycast && rs.ao.enabled && rs.ao.method == AoSpec::Method::RayTraced)
-        r.fail("ao.method", "technique \"voxel_raycast\" takes \"cone_traced\" ambient occlusion");
-    if (rs.technique == RenderTechnique::Spheres && rs.transparency != Transparency::Opaque &&
-        rs.transparency != Transparency::ObjectOrder)
-        r.fail("transparency", "technique \"spheres\" takes \"opaque\" or \"object_order\" (sorted front to back by "
-                               "power distance), got \"" + transparency + "\"");
     r.finish();
 }
 
@@ -542,6 +531,14 @@ static const std::regex& frameBraces() {
 bool hasFrameToken(const std::string& pattern) {
     return pattern.find('#') != std::string::npos || std::regex_search(pattern, frameBraces());
 }
+
+const RenderTechnique RenderTechnique::Auto{"auto"};
+const RenderTechnique RenderTechnique::Rasterized{"rasterized"};
+const RenderTechnique RenderTechnique::Raytraced{"raytraced"};
+const RenderTechnique RenderTechnique::Spheres{"spheres"};
+const RenderTechnique RenderTechnique::VoxelRaycast{"voxel_raycast"};
+
+std::ostream& operator<<(std::ostream& out, const RenderTechnique& t) { return out << '"' << t.name() << '"'; }
 
 std::string frameFileName(const std::string& pattern, int frame) {
     std::smatch m;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -109,8 +110,27 @@ struct ImageSpec {
     int samples = 1;             // image.samples: jittered sub-pixel samples per pixel (core/tiling.h)
 };
 
-// Auto is resolved by the frame loop (cli/render.cpp): Raytraced on software GL rasterizers.
-enum class RenderTechnique { Rasterized, Raytraced, Auto, Spheres, VoxelRaycast };
+// render.technique: "auto" or the name of a registered technique (core/technique_registry.h).
+// The scene parser takes any name; the registry checks it against what is registered, so adding
+// a technique needs no change here. The constants name the built-in techniques for code that
+// builds scenes (tests, benchmarks); "auto" is resolved by TechniqueRegistry::resolveAuto.
+class RenderTechnique {
+public:
+    RenderTechnique() = default;
+    explicit RenderTechnique(std::string name) : m_name(std::move(name)) {}
+    const std::string& name() const { return m_name; }
+    bool isAuto() const { return m_name == "auto"; }
+    friend bool operator==(const RenderTechnique&, const RenderTechnique&) = default;
+
+    static const RenderTechnique Auto, Rasterized, Raytraced, Spheres, VoxelRaycast;
+
+private:
+    std::string m_name = "rasterized";
+};
+// For test failure messages (gtest prints through operator<<).
+std::ostream& operator<<(std::ostream& out, const RenderTechnique& t);
+
+
 enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling, OpacityOptimization };
 
 // Where the rasterized path builds each segment's billboard: a compute pre-pass (default), the

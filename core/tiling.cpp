@@ -147,72 +147,11 @@ TilePlan planTiles(int width, int height, int requestedNx, int requestedNy, std:
     return plan;
 }
 
-std::size_t perPixelBufferBytes(const Scene& scene, bool particles, std::string* what) {
-    const RenderSpec& r = scene.render;
-    const OutputSpec& o = scene.output;
-    auto say = [&](const std::string& s) {
-        if (what) *what = s;
-    };
-    // GL's per-level buffer of the culling pyramid: 4 B x (1/4 + 1/16 + ...) < 2 B per pixel.
-    const std::size_t pyramid = r.culling.enabled ? 2 : 0;
-    // gl/gbuffer_pass.cpp: segment R32UI, depth 32F, albedo RGBA16F, normal+depth RGBA32F, id R32UI.
-    const std::size_t gbuffer = 4 + 4 + 8 + 16 + 4;
-    if (particles || r.technique == RenderTechnique::Spheres) {
-        // gl/sphere_renderer.cpp: opaque colour, normal+depth, id, depth; blend colour and depth.
-        say(r.transparency == Transparency::Opaque ? "opaque spheres" : "transparent spheres");
-        return 16 + 16 + 4 + 4 + (r.transparency == Transparency::Opaque ? 0 : 16 + 4);
-    }
-    switch (r.technique) {
-    case RenderTechnique::Raytraced:
-    case RenderTechnique::Auto:
-        say("raytraced");
-        return 0;
-    case RenderTechnique::VoxelRaycast:
-        say("voxel_raycast");
-        return 16 + 16 + 4 + 4;  // colour, normal+depth, id, AO image
-    case RenderTechnique::Spheres:
-    case RenderTechnique::Rasterized:
-        break;
-    }
-    const bool aovs = o.aovDepth || o.aovNormal || o.aovId;
-    switch (r.transparency) {
-    case Transparency::Opaque:
-        say("opaque G-buffer");
-        return gbuffer + 16 + 4 + pyramid;  // + shaded colour and AO factor
-    case Transparency::ObjectOrder:
-        say("object_order");
-        return 16 + (aovs ? gbuffer : 0) + pyramid;
-    case Transparency::KBuffer:
-        say("kbuffer with k=" + std::to_string(r.kbufferK));
-        return 16 + 8 * std::size_t(r.kbufferK) + 4 + (aovs ? gbuffer : 0) + pyramid;  // + ring header
-    case Transparency::DepthPeeling:
-        say("depth_peeling");
-        return 16 + 16 + (aovs ? gbuffer : 0);
-    case Transparency::OpacityOptimization:
-        say("opacity_optimization");
-        return 16 + 4;  // the fragment nodes take what the budget leaves (gl/opacity_renderer.h)
-    }
-    return 0;
-}
-
-bool supportsWindows(const Scene& scene) {
-    return scene.render.transparency != Transparency::OpacityOptimization;
-}
-
-std::size_t perPixelStorageBufferBytes(const Scene& scene, bool particles) {
-    const RenderSpec& r = scene.render;
-    if (particles || r.technique != RenderTechnique::Rasterized) return 0;
-    if (r.transparency == Transparency::KBuffer) return 8 * std::size_t(r.kbufferK);
-    if (r.transparency == Transparency::DepthPeeling) return 8;
-    return 0;
-}
-
-TilePlan planSceneTiles(const Scene& scene, bool particles, TileLimits limits) {
+TilePlan planSceneTiles(const Scene& scene, std::size_t bytesPerPixel, const std::string& what, bool composes,
+                        TileLimits limits) {
     const ImageSpec& im = scene.image;
-    if (!supportsWindows(scene)) return planTiles(im.width, im.height, 1, 1, 0, 0, "");
-    std::string what;
-    const std::size_t bytes = perPixelBufferBytes(scene, particles, &what);
-    return planTiles(im.width, im.height, im.tilesX, im.tilesY, bytes,
+    if (!composes) return planTiles(im.width, im.height, 1, 1, 0, 0, "");
+    return planTiles(im.width, im.height, im.tilesX, im.tilesY, bytesPerPixel,
                      std::size_t(scene.render.memoryBudgetMb) * 1024 * 1024, what, limits);
 }
 

@@ -5,7 +5,7 @@
 // turns a window into an exact off-axis sub-frustum of the full camera (ray origins and
 // directions through the shifted sample positions, billboards mapped from full-image NDC to the
 // target's NDC), so every pixel of a tile casts bit-for-bit the ray the untiled image casts.
-// gl/tiled_technique.h renders the tiles and samples; gl/view_window.h sets the GLSL uniforms.
+// core/tiled_technique.h renders the tiles and samples; gl/view_window.h sets the GLSL uniforms.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -88,21 +88,12 @@ struct TilePlan {
 TilePlan planTiles(int width, int height, int requestedNx, int requestedNy, std::size_t bytesPerPixel,
                    std::size_t budgetBytes, const std::string& what, TileLimits limits = {});
 
-// GPU per-pixel buffer bytes of the technique a scene selects (colour targets, G-buffer,
-// k-buffer or peeling keys, AO target, culling pyramid; counted as the renderers in gl/ allocate
-// them). 0 for the CPU ray tracer. `what` gets a short description for messages.
-// `particles`: the dataset is particles (always the sphere renderer, cli/particle_frames.h).
-std::size_t perPixelBufferBytes(const Scene& scene, bool particles, std::string* what = nullptr);
-// Whether the technique renders a pixel independently of the others' contents, so tiles and
-// samples compose (not opacity optimization: it solves one system over the whole image's
-// fragments and blends it into the next frame's).
-bool supportsWindows(const Scene& scene);
-
-// The tiles of `scene`'s frames: image.tiles, else by render.memory_budget_mb over
-// perPixelBufferBytes; one tile when !supportsWindows (the renderer checks its own budget).
-TilePlan planSceneTiles(const Scene& scene, bool particles, TileLimits limits = {});
-// Bytes per pixel of the technique's largest per-pixel shader storage buffer (for TileLimits).
-std::size_t perPixelStorageBufferBytes(const Scene& scene, bool particles);
+// The tiles of `scene`'s frames: image.tiles, else by render.memory_budget_mb over `bytesPerPixel`
+// (the technique's per-pixel buffers, core/technique_registry.h PixelBuffers; `what` names them in
+// messages). One tile when the technique's pixels do not compose (`composes` false: it checks
+// its own budget).
+TilePlan planSceneTiles(const Scene& scene, std::size_t bytesPerPixel, const std::string& what, bool composes,
+                        TileLimits limits = {});
 
 // Sub-pixel sample offsets for image.samples = count, each in [-0.5, 0.5)^2 (x right, y down):
 // the centred Hammersley set x_i = (i + 0.5) / N, y_i = radical inverse base 2 of i + 0.5 / N,

@@ -34,7 +34,7 @@ void GBufferPass::resize(int width, int height) {
     m_attributes = makeFramebuffer({&m_albedo, &m_normalDepth, &m_id}, nullptr, "surface attributes");
 }
 
-void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer,
+void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, StageSink& timer,
                          HierarchicalCulling* culling, const SegmentOrder* order) {
     resize(setup.width, setup.height);
     timer.begin("gbuffer");

@@ -19,9 +19,13 @@ public:
     // render.culling); then render() needs the order and the culling.
     static GBufferPass create(const LineGeometry& geometry, const HierarchicalCulling* culling = nullptr);
 
+    // Per-pixel bytes of its targets (resize()): segment R32UI, depth 32F, albedo RGBA16F,
+    // normal + depth RGBA32F, id R32UI.
+    static constexpr std::size_t kBytesPerPixel = 4 + 4 + 8 + 16 + 4;
+
     // Renders the G-buffer for this frame (stage "gbuffer"). Without culling the billboards must
     // be computed; with it, `order` is the segment order and the billboards are built per slice.
-    void render(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer,
+    void render(const LineGeometry& geometry, const FrameSetup& setup, StageSink& timer,
                 HierarchicalCulling* culling = nullptr, const SegmentOrder* order = nullptr);
     // Copies depth, normal and id into `out` (rows flipped to top-first); `out` is resized.
     void readAovs(FrameImages& out) const;

@@ -1,20 +1,16 @@
 #pragma once
-// Per-frame stage timing: GPU time from GL timestamp queries, CPU time from std::chrono.
+// Per-frame stage timing: GPU time from GL timestamp queries, CPU time from std::chrono. The
+// frame loop's StageSink (core/stage_sink.h) when a GL context exists.
 #include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/stage_sink.h"
 #include "gl/objects.h"
 
 namespace tc::gl {
 
-struct StageTime {
-    std::string stage;
-    double gpuMs = 0;         // between the timestamps written at begin() and end()
-    double cpuMs = 0;         // wall time between begin() and end() on the calling thread
-    std::uint64_t items = 0;  // what the stage processed (segments, fragments, ...); 0 if unset
-};
 
 // Times a frame's stages in order:
 //     timer.begin("kbuffer"); ...; timer.setItems(n); timer.end();   ... one per stage
@@ -22,18 +18,18 @@ struct StageTime {
 // Stages do not nest. Needs a current context; reuses its timestamp queries across frames. The
 // GPU time is the time between the two timestamps reaching the GPU, so it includes bubbles and
 // is only meaningful when stages are submitted back to back (the frame loop does that).
-class StageTimer {
+class StageTimer final : public StageRecorder {
 public:
     StageTimer() = default;
 
-    void begin(std::string stage);  // glQueryCounter(GL_TIMESTAMP); starts the wall clock
-    void end();                     // closes the stage begun last
+    void begin(std::string stage) override;  // glQueryCounter(GL_TIMESTAMP); starts the wall clock
+    void end() override;                     // closes the stage begun last
     // Sets `items` of the stage begun last (open, or just ended).
-    void setItems(std::uint64_t items);
+    void setItems(std::uint64_t items) override;
 
     // Waits for the GPU to reach every timestamp, returns the frame's stages in begin() order and
     // starts a new frame. Throws tc::Error(Internal) if a stage is still open.
-    std::vector<StageTime> collect();
+    std::vector<StageTime> collect() override;
 
 private:
     struct Pending {

@@ -146,7 +146,7 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
     }
 }
 
-std::uint64_t HierarchicalCulling::readCulled(StageTimer& timer) const {
+std::uint64_t HierarchicalCulling::readCulled(StageSink& timer) const {
     timer.begin("culling");
     glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     GLuint culled = 0;

@@ -10,13 +10,14 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "core/stage_sink.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
 
 namespace tc::gl {
 
 class SegmentOrder;
-class StageTimer;
+
 
 class HierarchicalCulling {
 public:
@@ -25,6 +26,9 @@ public:
     // Compiles the pyramid programs and, for the compute billboard path, the culling billboard
     // program. Needs a current context.
     static HierarchicalCulling create(Target target, const CullingSpec& spec, const LineGeometry& geometry);
+
+    // Per-pixel bytes of the pyramid (its levels: 4 B x (1/4 + 1/16 + ...) < 2 B a pixel).
+    static constexpr std::size_t kBytesPerPixel = 2;
 
     // Defines for draw programs that cull per fragment (and per billboard on the vertex and
     // geometry paths): DRAW_ORDER, CULLING, CULL_MAX_DEPTH | CULL_MIN_OPACITY.
@@ -39,7 +43,7 @@ public:
                     const FrameSetup& setup);
     // Segments culled by the last drawSliced(), read back as stage "culling" of `timer` (its
     // items column). Waits for the draw to finish.
-    std::uint64_t readCulled(StageTimer& timer) const;
+    std::uint64_t readCulled(StageSink& timer) const;
 
     int slices() const { return m_slices; }
     nlohmann::json describe() const;

@@ -108,7 +108,7 @@ Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector
     return {};
 }
 
-void LineGeometry::computeBillboards(const FrameSetup& setup, StageTimer& timer) const {
+void LineGeometry::computeBillboards(const FrameSetup& setup, StageSink& timer) const {
     if (m_path != BillboardPath::Compute) return;
     timer.begin("billboards");
     setCameraUniforms(m_billboardProgram.id(), setup);

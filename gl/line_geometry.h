@@ -10,7 +10,7 @@
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "gl/objects.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 
@@ -44,7 +44,7 @@ public:
     Program compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines = {}) const;
     // Builds this frame's billboards (BillboardPath::Compute; no-op otherwise) as stage
     // "billboards" of `timer`.
-    void computeBillboards(const FrameSetup& setup, StageTimer& timer) const;
+    void computeBillboards(const FrameSetup& setup, StageSink& timer) const;
     // Dispatches the billboard compute `program` (billboard_pass.comp, camera uniforms set) over
     // the draw slots [firstSlot, firstSlot + count); the caller adds the memory barrier.
     void buildBillboards(GLuint program, std::size_t firstSlot, std::size_t count) const;

@@ -1,5 +1,6 @@
 #include "gl/objects.h"
 
+#include <atomic>
 #include <vector>
 
 #include <cstdio>
@@ -9,6 +10,29 @@
 
 namespace tc::gl {
 
+namespace {
+// A relaxed counter: allocations happen on the context's thread; readers are tests.
+std::atomic<std::uint64_t> g_storageBytes{0};
+
+std::size_t bytesPerTexel(GLenum internalFormat) {
+    switch (internalFormat) {
+    case GL_R8: return 1;
+    case GL_R32F:
+    case GL_R32UI:
+    case GL_RGBA8:
+    case GL_DEPTH_COMPONENT32F: return 4;
+    case GL_RG32F:
+    case GL_RG32UI:
+    case GL_RGBA16F: return 8;
+    case GL_RGBA32F:
+    case GL_RGBA32UI: return 16;
+    default: throw Error(ExitCode::Internal, "makeTexture2D: add the size of format " + std::to_string(internalFormat));
+    }
+}
+}  // namespace
+
+std::uint64_t allocatedStorageBytes() { return g_storageBytes.load(std::memory_order_relaxed); }
+
 Buffer makeBuffer(std::size_t bytes, const void* data, GLbitfield flags) {
     Buffer buffer = Buffer::create();
     if (bytes == 0) {
@@ -16,11 +40,14 @@ Buffer makeBuffer(std::size_t bytes, const void* data, GLbitfield flags) {
         data = nullptr;  // nothing to copy; the caller's pointer may be null or past-the-end
     }
     glNamedBufferStorage(buffer.id(), static_cast<GLsizeiptr>(bytes), data, flags);
+    g_storageBytes.fetch_add(bytes, std::memory_order_relaxed);
     return buffer;
 }
 
 Texture makeTexture2D(GLenum internalFormat, int width, int height) {
     TC_CHECK(width > 0 && height > 0);
+    g_storageBytes.fetch_add(bytesPerTexel(internalFormat) * std::size_t(width) * std::size_t(height),
+                             std::memory_order_relaxed);
     Texture texture = Texture::create(GL_TEXTURE_2D);
     glTextureStorage2D(texture.id(), 1, internalFormat, width, height);
     glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);

@@ -3,6 +3,7 @@
 // A default-constructed object is empty (id 0) and its destructor does nothing; otherwise the
 // destructor deletes the GL object, so it must run while the owning context is current.
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <utility>
 
@@ -96,6 +97,10 @@ Buffer makeBuffer(std::size_t bytes, const void* data = nullptr, GLbitfield flag
 // A single-level 2D texture with immutable storage (glTextureStorage2D), nearest filtering and
 // clamp-to-edge wrapping: render targets and lookup tables are read texel-exact.
 Texture makeTexture2D(GLenum internalFormat, int width, int height);
+
+// Bytes of storage makeBuffer and makeTexture2D have allocated in this process so far (never
+// decreases): tests measure what a technique allocates per pixel of its target with it.
+std::uint64_t allocatedStorageBytes();
 
 // A framebuffer drawing to `colors` (attachments 0, 1, ... in order, all set as draw buffers)
 // and, if not null, the depth texture `depth`; checked for completeness (naming `what`).

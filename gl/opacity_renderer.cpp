@@ -101,6 +101,12 @@ std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, con
     return r;
 }
 
+PixelBuffers OpacityRenderer::pixelBuffers(const Scene& scene) {
+    const OutputSpec& o = scene.output;
+    const std::size_t aovs = o.aovDepth || o.aovNormal || o.aovId ? GBufferPass::kBytesPerPixel : 0;
+    return {16 + 4 + aovs, 4, "opacity_optimization"};  // resize(): RGBA32F target, list heads
+}
+
 void OpacityRenderer::resize(int width, int height) {
     if (width == m_width && height == m_height) return;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
@@ -194,7 +200,7 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
     return lists;
 }
 
-void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
     m_geometry.computeBillboards(setup, timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);

@@ -26,28 +26,16 @@
 
 #include "core/occlusion_matrix.h"
 #include "core/opacity_optimization.h"
+#include "core/opacity_system.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique_registry.h"
 #include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
-
-// One frame's optimisation problem, for --dump-system style debugging (io/opacity_system_dump.h).
-struct OpacitySystem {
-    int frame = 0;
-    const OpacityEnergy* energy = nullptr;  // Q (factored; assemble() for the matrix) and c
-    const SparseMatrixF* h = nullptr;       // the occlusion penalties the energy keeps (after
-                                            // drop_below; null when H came from the fragment lists)
-    const FragmentLists* lists = nullptr;   // sorted front to back
-    const OpacityParts* parts = nullptr;
-    const std::vector<double>* importance = nullptr;
-    const Eigen::VectorXd* solution = nullptr;
-    const Eigen::VectorXd* displayed = nullptr;
-    const QpResult* solve = nullptr;
-};
 
 class OpacityRenderer final : public Technique {
 public:
@@ -77,7 +65,11 @@ public:
                                                    const std::vector<float>* vertexAttribute = nullptr,
                                                    SystemSink sink = {});
 
-    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    // Per-pixel GPU memory for `scene` besides the node pool, which takes what
+    // render.memory_budget_mb leaves: the colour target, the list heads, the AOV G-buffer.
+    static PixelBuffers pixelBuffers(const Scene& scene);
+
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
     const FrameStats& lastStats() const { return m_stats; }

@@ -4,11 +4,6 @@
 #include "core/shading.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
-#include "gl/transparent_renderer.h"
-#include "gl/opacity_renderer.h"
-#include "gl/sphere_renderer.h"
-#include "core/particle_styling.h"
-#include "gl/vrc_renderer.h"
 
 namespace tc::gl {
 
@@ -35,7 +30,12 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
     return r;
 }
 
-void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+PixelBuffers RoundedConeRenderer::pixelBuffers(const Scene& scene) {
+    const std::size_t pyramid = scene.render.culling.enabled ? HierarchicalCulling::kBytesPerPixel : 0;
+    return {GBufferPass::kBytesPerPixel + 16 + 4 + pyramid, 0, "opaque G-buffer"};  // + m_color, m_aoFactor
+}
+
+void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     const int w = setup.width, h = setup.height;
     if (w != m_width || h != m_height) {
         m_width = w;
@@ -95,25 +95,6 @@ nlohmann::json RoundedConeRenderer::describe() const {
         j["sorts_performed"] = m_order->sortsPerformed();
     }
     return j;
-}
-
-std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {
-    switch (scene.render.technique) {
-    case RenderTechnique::Rasterized:
-        if (scene.render.transparency == Transparency::Opaque) return RoundedConeRenderer::create(scene, lines);
-        if (scene.render.transparency == Transparency::OpacityOptimization) return OpacityRenderer::create(scene, lines);
-        return TransparentRenderer::create(scene, lines);
-    case RenderTechnique::VoxelRaycast:
-        return VrcRenderer::create(scene, lines);
-    case RenderTechnique::Spheres:
-        // A line dataset drawn as particles: one sphere per vertex (gl/sphere_renderer.h).
-        return SphereRenderer::create(scene, particlesFromLineVertices(lines));
-    case RenderTechnique::Raytraced:
-    case RenderTechnique::Auto:
-        // The CPU ray tracer lives in rt/ (no GL); cli/technique_factory.cpp dispatches to it.
-        break;
-    }
-    throw InputError("render.technique: the GL library only creates \"rasterized\"");
 }
 
 }  // namespace tc::gl

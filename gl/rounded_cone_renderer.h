@@ -4,6 +4,7 @@
 // one deferred full-screen shading pass, so shading (and AO later) runs once per visible pixel.
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique_registry.h"
 #include <optional>
 
 #include "gl/ambient_occlusion.h"
@@ -12,7 +13,7 @@
 #include "gl/segment_order.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 
@@ -20,8 +21,10 @@ class RoundedConeRenderer final : public Technique {
 public:
     // Uploads the lines and compiles the programs. Needs a current context.
     static std::unique_ptr<RoundedConeRenderer> create(const Scene& scene, const StyledLines& lines);
+    // Per-pixel GPU memory for `scene`: the G-buffer, the shaded colour and AO factor, the pyramid.
+    static PixelBuffers pixelBuffers(const Scene& scene);
 
-    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
 private:

@@ -40,7 +40,7 @@ bool SegmentOrder::sortedForView(const FrameSetup& setup) const {
            m_sortedImageSize == glm::ivec2(fullWidthOf(setup.window, setup.width), fullHeightOf(setup.window, setup.height));
 }
 
-bool SegmentOrder::update(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer) {
+bool SegmentOrder::update(const LineGeometry& geometry, const FrameSetup& setup, StageSink& timer) {
     const Camera& cam = setup.camera;
     if (!needsSort(cam)) return false;
     timer.begin("sort");

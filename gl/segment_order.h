@@ -22,11 +22,11 @@
 #include "gl/objects.h"
 #include "gl/radix_sort.h"
 #include "gl/sort_keys.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 
-class StageTimer;
+
 
 class SegmentOrder {
 public:
@@ -40,7 +40,7 @@ public:
     // Sorts for setup.camera as stage "sort" of `timer` if the policy asks for it; returns whether
     // it did. The first call always sorts. With the frustum test, stage "frustum" follows (items:
     // segments outside the view; its time is the wait for the key pass's count).
-    bool update(const LineGeometry& geometry, const FrameSetup& setup, StageTimer& timer);
+    bool update(const LineGeometry& geometry, const FrameSetup& setup, StageSink& timer);
     // Segments in view of the last sort's camera (all without the frustum test): the order's prefix.
     std::size_t inViewCount() const { return m_inView; }
     // Whether the last sort was for exactly this camera and full image size, so that segments

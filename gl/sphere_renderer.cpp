@@ -1,5 +1,9 @@
 #include "gl/sphere_renderer.h"
 
+#include "core/particle_series.h"
+#include "core/particle_styling.h"
+#include "gl/techniques.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -46,11 +50,14 @@ Buffer uploadVector(const std::vector<T>& v) {
 
 SphereRenderer::~SphereRenderer() = default;
 
+PixelBuffers SphereRenderer::pixelBuffers(const Scene& scene) {
+    const bool opaque = scene.render.transparency == Transparency::Opaque;
+    return {16 + 16 + 4 + 4 + (opaque ? 0 : 16 + 4), 0, opaque ? "opaque spheres" : "transparent spheres"};
+}
+
 std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const StyledParticles& particles) {
     const RenderSpec& rs = scene.render;
-    if (rs.transparency != Transparency::Opaque && rs.transparency != Transparency::ObjectOrder)
-        throw InputError((scene.file.empty() ? std::string("scene") : scene.file) +
-                         ": render.transparency: technique \"spheres\" takes \"opaque\" or \"object_order\"");
+    requireTechnique(spheresTechnique(), scene, DataKind::Particles);
     std::unique_ptr<SphereRenderer> r(new SphereRenderer());
     r->m_opaque = rs.transparency == Transparency::Opaque;
     r->m_aovs = scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId;
@@ -128,7 +135,7 @@ void SphereRenderer::uploadBuffers(const StyledParticles& particles) {
     }
 }
 
-void SphereRenderer::upload(const StyledParticles& particles, StageTimer& timer) {
+void SphereRenderer::upload(const StyledParticles& particles, StageSink& timer) {
     timer.begin("upload");
     uploadBuffers(particles);
     timer.setItems(particles.size());
@@ -188,7 +195,7 @@ void SphereRenderer::drawRange(const Programs& programs, std::size_t first, std:
     }
 }
 
-void SphereRenderer::sort(const FrameSetup& setup, StageTimer& timer) {
+void SphereRenderer::sort(const FrameSetup& setup, StageSink& timer) {
     timer.begin("sort");
     const Camera& cam = setup.camera;
     const GLuint p = m_sortKeyProgram.id();
@@ -215,7 +222,7 @@ void SphereRenderer::sort(const FrameSetup& setup, StageTimer& timer) {
 }
 
 void SphereRenderer::renderOpaque(const FrameSetup& setup, const Programs& programs, Framebuffer& target,
-                                  StageTimer& timer, const std::string& stage) {
+                                  StageSink& timer, const std::string& stage) {
     timer.begin(stage);
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, setup.width, setup.height);
@@ -240,7 +247,7 @@ void SphereRenderer::renderOpaque(const FrameSetup& setup, const Programs& progr
     timer.end();
 }
 
-void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& programs, StageTimer& timer,
+void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& programs, StageSink& timer,
                                        const std::string& suffix) {
     const int chunks = int(std::min<std::size_t>(std::size_t(m_spheres.chunks), std::max<std::size_t>(m_count, 1)));
     const GLuint p = programs.transparent.id();
@@ -331,7 +338,7 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& 
     }
 }
 
-void SphereRenderer::drawFrame(const FrameSetup& setup, const Programs& programs, StageTimer& timer,
+void SphereRenderer::drawFrame(const FrameSetup& setup, const Programs& programs, StageSink& timer,
                                const std::string& suffix) {
     m_lastShaded = 0;
     m_lastSkipped = 0;
@@ -343,7 +350,7 @@ void SphereRenderer::drawFrame(const FrameSetup& setup, const Programs& programs
     }
 }
 
-void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
     const int w = setup.width, h = setup.height;
     if (m_ambient && m_voxelsStale) {
@@ -423,6 +430,32 @@ nlohmann::json SphereRenderer::describe() const {
         j["early_z"] = {{"chunks", m_spheres.chunks}, {"threshold", m_spheres.earlyZThreshold}};
     }
     return j;
+}
+
+TechniqueDescriptor spheresTechnique() {
+    TechniqueDescriptor d;
+    d.name = "spheres";
+    d.summary = "particles as sphere glyphs with emission-absorption density models, sorted front to back; "
+                "a line dataset as one sphere per vertex";
+    d.paper = "Staib, Grottel & Gumhold 2015";
+    d.backend = TechniqueBackend::Gl;
+    d.data = {DataKind::Particles, DataKind::Lines};
+    d.autoData = {DataKind::Particles};
+    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder};
+    d.exactTransparency = Transparency::ObjectOrder;
+    d.ao = {AoSpec::Method::ConeTraced};
+    d.pixelBuffers = [](const Scene& scene, DataKind) { return SphereRenderer::pixelBuffers(scene); };
+    d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
+        if (data.kind == DataKind::Lines) return SphereRenderer::create(scene, particlesFromLineVertices(*data.lines));
+        return std::make_unique<ParticleSeriesTechnique>(
+            scene, *data.particles, data.firstFrame,
+            [&scene](const StyledParticles& first, ParticleSeriesTechnique::Upload& upload) {
+                std::unique_ptr<SphereRenderer> r = SphereRenderer::create(scene, first);
+                upload = [renderer = r.get()](const StyledParticles& p, StageSink& sink) { renderer->upload(p, sink); };
+                return std::unique_ptr<Technique>(std::move(r));
+            });
+    };
+    return d;
 }
 
 }  // namespace tc::gl

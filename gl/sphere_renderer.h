@@ -17,9 +17,10 @@
 
 #include "core/scene.h"
 #include "core/styled_particles.h"
+#include "core/technique_registry.h"
 #include "gl/objects.h"
 #include "gl/radix_sort.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 
@@ -30,12 +31,15 @@ public:
     // Compiles the programs and uploads `particles`. Needs a current context. Throws InputError
     // for a transparency mode spheres do not have.
     static std::unique_ptr<SphereRenderer> create(const Scene& scene, const StyledParticles& particles);
+    // Per-pixel GPU memory for `scene` (resize()): the opaque pass's colour, normal + depth, id and
+    // depth; transparent also the blend colour and depth.
+    static PixelBuffers pixelBuffers(const Scene& scene);
     ~SphereRenderer() override;
 
     // Replaces the particles (a new data frame), timed as stage "upload" of `timer`.
-    void upload(const StyledParticles& particles, StageTimer& timer);
+    void upload(const StyledParticles& particles, StageSink& timer);
 
-    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
     // Fragments the early-z chunks skipped in the last transparent frame (0 with one chunk), and
@@ -50,7 +54,7 @@ private:
     void uploadBuffers(const StyledParticles& particles);
     void resize(int width, int height);
     void setUniforms(GLuint program, const FrameSetup& setup) const;
-    void sort(const FrameSetup& setup, StageTimer& timer);
+    void sort(const FrameSetup& setup, StageSink& timer);
     // The draw programs of one billboard primitive.
     struct Programs {
         bool points = false;
@@ -59,10 +63,10 @@ private:
     Programs compilePrograms(bool points) const;
     const Programs& quads();  // compiled on first use when points are the default
     void drawRange(const Programs& programs, std::size_t first, std::size_t count) const;
-    void drawFrame(const FrameSetup& setup, const Programs& programs, StageTimer& timer, const std::string& suffix);
-    void renderTransparent(const FrameSetup& setup, const Programs& programs, StageTimer& timer,
+    void drawFrame(const FrameSetup& setup, const Programs& programs, StageSink& timer, const std::string& suffix);
+    void renderTransparent(const FrameSetup& setup, const Programs& programs, StageSink& timer,
                            const std::string& suffix);
-    void renderOpaque(const FrameSetup& setup, const Programs& programs, Framebuffer& target, StageTimer& timer,
+    void renderOpaque(const FrameSetup& setup, const Programs& programs, Framebuffer& target, StageSink& timer,
                       const std::string& stage);
 
     bool m_opaque = false;

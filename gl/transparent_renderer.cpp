@@ -23,17 +23,6 @@ void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
     glClearNamedBufferData(buffer.id(), GL_RG32UI, GL_RG_INTEGER, GL_UNSIGNED_INT, &value);
 }
 
-std::string mode(Transparency t) {
-    switch (t) {
-    case Transparency::ObjectOrder: return "object_order";
-    case Transparency::KBuffer: return "kbuffer";
-    case Transparency::DepthPeeling: return "depth_peeling";
-    case Transparency::Opaque: return "opaque";
-    case Transparency::OpacityOptimization: return "opacity_optimization";
-    }
-    return "?";
-}
-
 }  // namespace
 
 std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& scene, const StyledLines& lines) {
@@ -68,7 +57,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         r->m_synchronisation = "none (unordered: results may race)";
         if (rs.transparency != Transparency::ObjectOrder)
             std::cerr << "warning: this GPU has no fragment shader interlock and is not llvmpipe; the "
-                      << mode(rs.transparency) << " per-pixel updates are not ordered and may race\n";
+                      << transparencyName(rs.transparency) << " per-pixel updates are not ordered and may race\n";
     }
 
     // Depth slices with culling apply to the sorted draws; depth peeling has no order to slice.
@@ -123,6 +112,21 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     return r;
 }
 
+PixelBuffers TransparentRenderer::pixelBuffers(const Scene& scene) {
+    const RenderSpec& r = scene.render;
+    const OutputSpec& o = scene.output;
+    const std::size_t aovs = o.aovDepth || o.aovNormal || o.aovId ? GBufferPass::kBytesPerPixel : 0;
+    const std::size_t pyramid = r.culling.enabled ? HierarchicalCulling::kBytesPerPixel : 0;
+    switch (r.transparency) {
+    case Transparency::KBuffer: {
+        const std::size_t entries = 8 * std::size_t(r.kbufferK);  // m_kbuffer; + 4 B ring header
+        return {16 + entries + 4 + aovs + pyramid, entries, "kbuffer with k=" + std::to_string(r.kbufferK)};
+    }
+    case Transparency::DepthPeeling: return {16 + 16 + aovs, 8, "depth_peeling"};  // + two 8 B key buffers
+    default: return {16 + aovs + pyramid, 0, transparencyName(r.transparency)};
+    }
+}
+
 void TransparentRenderer::resize(int width, int height) {
     if (width == m_width && height == m_height) return;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
@@ -130,7 +134,7 @@ void TransparentRenderer::resize(int width, int height) {
     if (m_mode == Transparency::KBuffer) bytes += pixels * (std::size_t(m_k) * 8 + 4);  // entries, ring header
     if (m_mode == Transparency::DepthPeeling) bytes += pixels * 16;
     if (bytes > m_memoryBudgetBytes)
-        throw InputError("render.memory_budget_mb: " + mode(m_mode) + " at " + std::to_string(width) + "x" +
+        throw InputError("render.memory_budget_mb: " + std::string(transparencyName(m_mode)) + " at " + std::to_string(width) + "x" +
                          std::to_string(height) + (m_mode == Transparency::KBuffer ? " with k=" + std::to_string(m_k) : "") +
                          " needs " + std::to_string(bytes / (1024 * 1024) + 1) + " MB of per-pixel buffers, over the budget of " +
                          std::to_string(m_memoryBudgetBytes / (1024 * 1024)) + " MB (lower image size or k, or raise the budget)");
@@ -169,7 +173,7 @@ void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup)
     if (m_ao) m_ao->apply(p);
 }
 
-void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
     // With culling the billboards are built per depth slice; the G-buffer pass of the AOVs
     // needs them all.
@@ -218,7 +222,7 @@ void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     timer.end();
 }
 
-void TransparentRenderer::renderObjectOrder(const FrameSetup& setup, StageTimer& timer) {
+void TransparentRenderer::renderObjectOrder(const FrameSetup& setup, StageSink& timer) {
     timer.begin("blend");
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
@@ -228,7 +232,7 @@ void TransparentRenderer::renderObjectOrder(const FrameSetup& setup, StageTimer&
     if (m_culling) m_culling->readCulled(timer);
 }
 
-void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageTimer& timer) {
+void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageSink& timer) {
     timer.begin("kbuffer");
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
@@ -252,7 +256,7 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageTimer& tim
     timer.end();
 }
 
-void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageTimer& timer) {
+void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageSink& timer) {
     timer.begin("peel");
     const GLuint pMin = m_peelMinProgram.id(), pShade = m_peelShadeProgram.id();
     setFragmentUniforms(pMin, setup);
@@ -287,7 +291,7 @@ void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageTimer
 
 nlohmann::json TransparentRenderer::describe() const {
     nlohmann::json j = {{"technique", "rasterized"},
-                        {"transparency", mode(m_mode)},
+                        {"transparency", std::string(transparencyName(m_mode))},
                         {"cap_clipping", m_capClipping},
                         {"billboards", m_geometry.describeBillboards()},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)},

@@ -8,21 +8,25 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique_registry.h"
 #include "gl/ambient_occlusion.h"
 #include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
 #include "gl/hierarchical_culling.h"
 #include "gl/segment_order.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 
 class TransparentRenderer final : public Technique {
 public:
     static std::unique_ptr<TransparentRenderer> create(const Scene& scene, const StyledLines& lines);
+    // Per-pixel GPU memory for `scene` (resize()): the colour target; k-buffer entries and ring
+    // header, or the two peeling key buffers; the AOV G-buffer when AOVs are written; the pyramid.
+    static PixelBuffers pixelBuffers(const Scene& scene);
 
-    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
     // Layers peeled in the last frame (depth peeling), for tests and timings.
@@ -35,9 +39,9 @@ private:
     // culling (render.culling).
     void drawSorted(GLuint program, const FrameSetup& setup);
     void setFragmentUniforms(GLuint program, const FrameSetup& setup) const;
-    void renderObjectOrder(const FrameSetup& setup, StageTimer& timer);
-    void renderKBuffer(const FrameSetup& setup, StageTimer& timer);
-    void renderDepthPeeling(const FrameSetup& setup, StageTimer& timer);
+    void renderObjectOrder(const FrameSetup& setup, StageSink& timer);
+    void renderKBuffer(const FrameSetup& setup, StageSink& timer);
+    void renderDepthPeeling(const FrameSetup& setup, StageSink& timer);
 
     Transparency m_mode = Transparency::KBuffer;
     int m_k = 8;

@@ -2,7 +2,7 @@
 // The GLSL side of core/tiling.h's ImageWindow: the uniforms of shaders/view_window.glsl that
 // make a render target an exact off-axis window (a tile, a jittered sample) of the full image.
 #include "gl/gl_api.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 

@@ -1,5 +1,7 @@
 #include "gl/vrc_renderer.h"
 
+#include "gl/techniques.h"
+
 #include <chrono>
 #include <algorithm>
 #include <cmath>
@@ -347,6 +349,10 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     return r;
 }
 
+PixelBuffers VrcRenderer::pixelBuffers(const Scene&) {
+    return {16 + 16 + 4 + 4, 0, "voxel_raycast"};  // resize(): colour, normal + depth, id, AO image
+}
+
 void VrcRenderer::resize(int width, int height) {
     if (width == m_width && height == m_height) return;
     m_width = width;
@@ -357,7 +363,7 @@ void VrcRenderer::resize(int width, int height) {
     m_aoImage = makeTexture2D(GL_R32F, width, height);
 }
 
-void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     const int w = setup.width, h = setup.height;
     resize(w, h);
 
@@ -462,6 +468,28 @@ nlohmann::json VrcRenderer::describe() const {
                                                                        {"build_ms", m_representativeMs}}
                                                      : nlohmann::json(false)},
             {"ambient_occlusion", m_ao && m_aoEnabled ? m_ao->describe() : nlohmann::json(false)}};
+}
+
+TechniqueDescriptor voxelRaycastTechnique() {
+    TechniqueDescriptor d;
+    d.name = "voxel_raycast";
+    d.summary = "rays through a voxel model of the lines (quantized pieces per voxel); opaque, or transparent "
+                "composited front to back along each ray";
+    d.paper = "Kanzler, Rautenhaus & Westermann 2019";
+    d.backend = TechniqueBackend::Gl;
+    d.data = {DataKind::Lines};
+    // Chosen explicitly only: on the densest sets it beats the k-buffer, on small ones it loses
+    // (docs/performance.md).
+    d.autoData = {};
+    // Every transparent mode name means the same here: front-to-back compositing along the ray.
+    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
+    d.exactTransparency = Transparency::DepthPeeling;
+    d.ao = {AoSpec::Method::ConeTraced};
+    d.pixelBuffers = [](const Scene& scene, DataKind) { return VrcRenderer::pixelBuffers(scene); };
+    d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
+        return VrcRenderer::create(scene, *data.lines);
+    };
+    return d;
 }
 
 }  // namespace tc::gl

@@ -13,10 +13,11 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique_registry.h"
 #include "core/vrc_model.h"
 #include "gl/ambient_occlusion.h"
 #include "gl/objects.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
 namespace tc::gl {
 
@@ -40,6 +41,8 @@ public:
     // total); only a model larger than all of them falls back to neighbour tests (describe():
     // copies_did_not_fit).
     static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines);
+    // Per-pixel GPU memory: the colour, normal + depth, id and AO images.
+    static PixelBuffers pixelBuffers(const Scene& scene);
     // Same, from a model built elsewhere (tests, the GPU build path). `maxBlockBytes` > 0 caps the
     // bytes of one piece block below the GL limit (tests force several blocks on a small model);
     // throws tc::InputError if the model needs more than kMaxPieceBlocks blocks.
@@ -52,7 +55,7 @@ public:
     // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
     static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
 
-    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
 private:

@@ -1,5 +1,7 @@
 #include "rt/raytraced_particles.h"
 
+#include "rt/techniques.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -65,16 +67,8 @@ RaytracedParticles::~RaytracedParticles() = default;
 std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scene, const StyledParticles& particles) {
     std::unique_ptr<RaytracedParticles> r(new RaytracedParticles());
     const RenderSpec& rs = scene.render;
-    const std::string where = scene.file.empty() ? std::string("scene") : scene.file;
-    switch (rs.transparency) {
-    case Transparency::Opaque: r->m_transparent = false; break;
-    case Transparency::ObjectOrder:
-    case Transparency::KBuffer:
-    case Transparency::DepthPeeling: r->m_transparent = true; break;
-    default:
-        throw InputError(where + ": render.transparency: not available for particles with render.technique \"raytraced\" "
-                                 "(use \"opaque\" or \"object_order\")");
-    }
+    requireTechnique(raytracedTechnique(), scene, DataKind::Particles);
+    r->m_transparent = rs.transparency != Transparency::Opaque;
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;

@@ -25,18 +25,19 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
+#include "core/technique.h"
 #include "rt/particle_ambient.h"
 #include "rt/primary_rays.h"
-#include "rt/stage_sink.h"
+#include "core/stage_sink.h"
 
 namespace tc::rt {
 
-class RaytracedParticles {
+class RaytracedParticles final : public Technique {
 public:
     // Builds the BVH of `particles` (a copy is kept), and with render.ao the ambient data. Throws
     // InputError for transparency modes the ray tracer does not implement for particles.
     static std::unique_ptr<RaytracedParticles> create(const Scene& scene, const StyledParticles& particles);
-    ~RaytracedParticles();
+    ~RaytracedParticles() override;
 
     // Replaces the particles (a new data frame of a time series): rebuilds the BVH and AO data.
     void upload(const StyledParticles& particles);
@@ -47,7 +48,10 @@ public:
     void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
                 const ImageWindow& window = {}) const;
 
-    nlohmann::json describe() const;
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& sink) override {
+        render(setup.camera, setup.width, setup.height, out, sink, setup.window);
+    }
+    nlohmann::json describe() const override;
     void setTraversal(Traversal t) { m_traversal = t; }
     std::uint64_t lastHitCount() const { return m_lastHits; }
 

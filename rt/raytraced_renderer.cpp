@@ -1,5 +1,7 @@
 #include "rt/raytraced_renderer.h"
 
+#include "rt/techniques.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -50,15 +52,9 @@ RaytracedRenderer::~RaytracedRenderer() = default;
 std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene, const StyledLines& lines) {
     std::unique_ptr<RaytracedRenderer> r(new RaytracedRenderer());
     const RenderSpec& rs = scene.render;
-    switch (rs.transparency) {
-    case Transparency::Opaque: r->m_transparent = false; break;
-    case Transparency::ObjectOrder:
-    case Transparency::KBuffer:
-    case Transparency::DepthPeeling: r->m_transparent = true; break;
-    default:
-        throw InputError(scene.file + ": render.transparency: not available with render.technique \"raytraced\" "
-                                      "(use \"opaque\", \"object_order\", \"kbuffer\" or \"depth_peeling\")");
-    }
+    requireTechnique(raytracedTechnique(), scene, DataKind::Lines);
+    // Every transparent mode is exact compositing here (up to render.raytraced.alpha_cutoff).
+    r->m_transparent = rs.transparency != Transparency::Opaque;
     r->m_lines = lines;
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;

@@ -32,21 +32,22 @@
 #include "core/frame_images.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique.h"
 #include "core/tiling.h"
 #include "rt/primary_rays.h"
-#include "rt/stage_sink.h"
+#include "core/stage_sink.h"
 
 namespace tc::rt {
 
 class EmbreeLines;
 class AoEstimator;
 
-class RaytracedRenderer {
+class RaytracedRenderer final : public Technique {
 public:
     // Builds the BVH (once per dataset) and, with render.ao, the AO data. Keeps a copy of `lines`.
     // Throws InputError for transparency modes the ray tracer does not implement.
     static std::unique_ptr<RaytracedRenderer> create(const Scene& scene, const StyledLines& lines);
-    ~RaytracedRenderer();
+    ~RaytracedRenderer() override;
 
     // Renders one frame into `out` (allocated to width x height): rgba linear premultiplied,
     // depth / normal / id as core/frame_images.h, ao (opaque with AO enabled: the factor at the
@@ -55,7 +56,11 @@ public:
     void render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
                 const ImageWindow& window = {}) const;
 
-    nlohmann::json describe() const;
+    // The Technique interface: render() above with the setup's camera, size and window.
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& sink) override {
+        render(setup.camera, setup.width, setup.height, out, sink, setup.window);
+    }
+    nlohmann::json describe() const override;
 
     // How opaque primary rays traverse the BVH (rt/primary_rays.h; transparent rays always go one
     // at a time: their filter callback collects hits per ray). Images do not depend on it.

@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
                 Rates primary, frag;
                 double fragBuildMs = 0, fragMaxDiff = 0;
                 std::size_t atOne = 0;
-                auto sink = [&](const tc::gl::OpacitySystem& sys) {
+                auto sink = [&](const tc::OpacitySystem& sys) {
                     if (!saveSystem.empty())
                         tc::bench::saveOpacitySystem(
                             sys.frame > 0 ? saveSystem + ".frame" + std::to_string(sys.frame) : saveSystem, *sys.lists,
@@ -281,8 +281,8 @@ int main(int argc, char** argv) {
                 auto renderer = tc::gl::OpacityRenderer::create(scene, styled, nullptr, sink);
                 tc::FrameImages images;
                 tc::gl::StageTimer timer;
-                renderer->render(tc::gl::FrameSetup{0, cam, width, height}, images, timer);
-                for (const tc::gl::StageTime& st : timer.collect())
+                renderer->render(tc::FrameSetup{0, cam, width, height}, images, timer);
+                for (const tc::StageTime& st : timer.collect())
                     std::fprintf(stderr, "  %zu parts, stage %s: gpu %.1f ms, cpu %.1f ms\n", std::size_t(n),
                                  st.stage.c_str(), st.gpuMs, st.cpuMs);
                 const auto& s = renderer->lastStats();
@@ -322,7 +322,7 @@ int main(int argc, char** argv) {
                 orbit.degrees = stepDeg;
                 for (int f = 1; f < frames; ++f) {
                     tc::gl::StageTimer t;
-                    renderer->render(tc::gl::FrameSetup{f, tc::cameraAtFrame(orbit, cam, f), width, height}, images, t);
+                    renderer->render(tc::FrameSetup{f, tc::cameraAtFrame(orbit, cam, f), width, height}, images, t);
                     t.collect();
                     const auto& sf = renderer->lastStats();
                     double checksum = 0;  // as frame 0's, for A/B runs of the later frames

@@ -98,7 +98,7 @@ int main(int argc, char** argv) try {
             timer.end();
             glFinish();
             double wall = msSince(start);
-            std::vector<tc::gl::StageTime> times = timer.collect();
+            std::vector<tc::StageTime> times = timer.collect();
             if (r >= 0) {
                 gpuMs.push_back(times.at(0).gpuMs);
                 wallMs.push_back(wall);

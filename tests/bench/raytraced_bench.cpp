@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
         const Camera camera = cameraAtFrame(scene.animation, base, f);
         for (const auto& mode : modes) {
             renderer->setTraversal(byName.at(mode));
-            rt::CpuStageTimer timer;
+            tc::CpuStageTimer timer;
             const double c0 = processCpuMs();
             renderer->render(camera, w, h, images, timer);
             ms["raytrace " + mode].push_back(timer.totalMs());

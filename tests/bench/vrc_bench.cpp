@@ -27,9 +27,10 @@
 #include "core/error.h"
 #include "core/generators.h"
 #include "core/image_metrics.h"
+#include "gl/techniques.h"
 #include "gl/context.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl/vrc_renderer.h"
 #include "core/scene.h"
 #include "core/styling.h"
@@ -67,11 +68,11 @@ struct Frame {
 };
 
 Frame renderOnce(const tc::Scene& scene, const tc::StyledLines& lines, const tc::Camera& cam) {
-    std::unique_ptr<tc::gl::Technique> t = tc::gl::createTechnique(scene, lines);
+    std::unique_ptr<tc::Technique> t = tc::gl::createTechnique(scene, lines);
     tc::gl::StageTimer timer;
     Frame f;
-    t->render(tc::gl::FrameSetup{0, cam, scene.image.width, scene.image.height}, f.images, timer);
-    for (const tc::gl::StageTime& st : timer.collect()) f.ms += st.cpuMs;
+    t->render(tc::FrameSetup{0, cam, scene.image.width, scene.image.height}, f.images, timer);
+    for (const tc::StageTime& st : timer.collect()) f.ms += st.cpuMs;
     f.described = t->describe();
     return f;
 }

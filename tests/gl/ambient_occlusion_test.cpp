@@ -24,8 +24,9 @@
 #include "core/compositing.h"
 #include "core/image_metrics.h"
 #include "core/scene.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl_fixture.h"
 #include "golden.h"
 #include "io/image_io.h"
@@ -78,7 +79,7 @@ FrameImages render(const Scene& scene, const StyledLines& lines, const Camera& c
     auto technique = gl::createTechnique(scene, lines);
     gl::StageTimer timer;
     FrameImages out;
-    technique->render(gl::FrameSetup{0, cam, w, h}, out, timer);
+    technique->render(tc::FrameSetup{0, cam, w, h}, out, timer);
     timer.collect();
     return out;
 }
@@ -336,8 +337,8 @@ TEST_F(GlTest, opaque_ao_frames_are_bit_identical_across_renders_and_techniques)
     auto technique = gl::createTechnique(aoScene(), b.lines);
     gl::StageTimer timer;
     FrameImages first, second;
-    technique->render(gl::FrameSetup{0, cam, 80, 64}, first, timer);
-    technique->render(gl::FrameSetup{0, cam, 80, 64}, second, timer);
+    technique->render(tc::FrameSetup{0, cam, 80, 64}, first, timer);
+    technique->render(tc::FrameSetup{0, cam, 80, 64}, second, timer);
     timer.collect();
     const FrameImages third = render(aoScene(), b.lines, cam, 80, 64);
     for (const FrameImages* other : {static_cast<const FrameImages*>(&second), &third}) {

@@ -4,8 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "core/scene.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -20,7 +21,7 @@ FrameImages renderWith(const StyledLines& lines, BillboardPath path, Transparenc
     scene.render.transparency = transparency;
     scene.output.aovId = true;
     auto technique = gl::createTechnique(scene, lines);
-    gl::FrameSetup setup;
+    tc::FrameSetup setup;
     setup.camera.eye = {0.3f, 0.4f, 3.0f};
     setup.camera.target = {0.0f, 0.0f, 0.0f};
     setup.width = 96;

@@ -18,10 +18,11 @@
 
 #include "core/frustum.h"
 #include "core/scene.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
 #include "gl/hierarchical_culling.h"
 #include "gl/line_geometry.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -37,15 +38,15 @@ struct Rendered {
 };
 
 Rendered render(const Scene& scene, const StyledLines& lines, const std::vector<Camera>& cameras) {
-    std::unique_ptr<gl::Technique> technique = gl::createTechnique(scene, lines);
+    std::unique_ptr<tc::Technique> technique = gl::createTechnique(scene, lines);
     Rendered r;
     gl::StageTimer timer;
     for (std::size_t i = 0; i < cameras.size(); ++i) {
         r.images = FrameImages{};
-        technique->render(gl::FrameSetup{int(i), cameras[i], scene.image.width, scene.image.height}, r.images, timer);
+        technique->render(tc::FrameSetup{int(i), cameras[i], scene.image.width, scene.image.height}, r.images, timer);
         r.culled = 0;
         r.outsideView = 0;
-        for (const gl::StageTime& t : timer.collect()) {
+        for (const tc::StageTime& t : timer.collect()) {
             if (t.stage == "culling") {
                 r.culled = t.items;
                 r.hadCullingStage = true;

@@ -11,8 +11,9 @@
 #include "core/animation.h"
 #include "core/compositing.h"
 #include "core/styling.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "io/dataset.h"
 
 namespace tc::test {
@@ -57,7 +58,7 @@ FrameImages renderSceneFrame(const Scene& scene) {
     const Camera camera = cameraAtFrame(scene.animation, fitCamera(scene.camera, styled.bounds, aspect), 0);
     gl::StageTimer timer;
     FrameImages images;
-    technique->render(gl::FrameSetup{0, camera, scene.image.width, scene.image.height}, images, timer);
+    technique->render(tc::FrameSetup{0, camera, scene.image.width, scene.image.height}, images, timer);
     timer.collect();
     compositeUnder(images, scene.image.background);
     return images;

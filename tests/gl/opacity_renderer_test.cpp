@@ -1,6 +1,7 @@
 // Opacity optimization on the GPU (gl/opacity_renderer.cpp): two crossing lines, a short
 // unimportant one in front of a long important one (importance "length"), seen orthographically
 // from +z so the crossing is known in pixels.
+#include "gl/techniques.h"
 #include "gl/opacity_renderer.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +11,7 @@
 
 #include "core/scene.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -63,7 +64,7 @@ struct Frame {
 Frame renderOnce(gl::OpacityRenderer& r, int frame = 0, const Camera& cam = topCamera(), int size = kSize) {
     Frame f;
     gl::StageTimer timer;
-    r.render(gl::FrameSetup{frame, cam, size, size}, f.images, timer);
+    r.render(tc::FrameSetup{frame, cam, size, size}, f.images, timer);
     timer.collect();
     f.stats = r.lastStats();
     f.opacity = r.displayedOpacities();
@@ -78,7 +79,7 @@ glm::vec4 pixel(const FrameImages& im, int x, int y) {
 TEST_F(GlTest, opacity_optimization_keeps_the_important_line_and_fades_its_occluder) {
     const StyledLines lines = crossingLines();
     // createTechnique dispatches render.transparency "opacity_optimization" here.
-    std::unique_ptr<gl::Technique> t = gl::createTechnique(opacityScene(0.0f), lines);
+    std::unique_ptr<tc::Technique> t = gl::createTechnique(opacityScene(0.0f), lines);
     auto* plain = dynamic_cast<gl::OpacityRenderer*>(t.get());
     ASSERT_NE(plain, nullptr);
     Frame off = renderOnce(*plain);
@@ -244,7 +245,7 @@ TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_fai
     auto r = gl::OpacityRenderer::create(scene, lines);
     FrameImages im;
     gl::StageTimer timer;
-    r->render(gl::FrameSetup{0, topCamera(), 220, 220}, im, timer);
+    r->render(tc::FrameSetup{0, topCamera(), 220, 220}, im, timer);
     timer.collect();
     const auto& s = r->lastStats();
     EXPECT_EQ(s.capacity, 4028u);

@@ -20,8 +20,9 @@
 #include "core/cpu_reference.h"
 #include "core/rounded_cone.h"
 #include "core/scene.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -163,7 +164,7 @@ FrameImages renderGpu(const StyledLines& lines, const Camera& cam, const Scene& 
     auto technique = gl::createTechnique(scene, lines);
     gl::StageTimer timer;
     FrameImages gpu;
-    technique->render(gl::FrameSetup{0, cam, w, h}, gpu, timer);
+    technique->render(tc::FrameSetup{0, cam, w, h}, gpu, timer);
     timer.collect();
     return gpu;
 }

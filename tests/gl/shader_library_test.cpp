@@ -162,7 +162,7 @@ TEST_F(GlTest, stage_timer_reports_stages_in_order_with_items_and_reuses_queries
         timer.end();
         timer.begin("empty");
         timer.end();
-        const std::vector<gl::StageTime> times = timer.collect();
+        const std::vector<tc::StageTime> times = timer.collect();
         ASSERT_EQ(times.size(), 2u);
         EXPECT_EQ(times[0].stage, "fill");
         EXPECT_EQ(times[0].items, 4096u);

@@ -136,7 +136,7 @@ std::vector<float> renderWithAo(const StyledParticles& p, AoSpec::Cache cache, c
     auto renderer = gl::SphereRenderer::create(scene, p);
     FrameImages img;
     gl::StageTimer timer;
-    renderer->render(gl::FrameSetup{0, cam, w, h}, img, timer);
+    renderer->render(tc::FrameSetup{0, cam, w, h}, img, timer);
     timer.collect();
     return img.rgba;
 }
@@ -200,7 +200,7 @@ TEST_P(SphereAmbientModes, ambient_occlusion_darkens_a_sphere_among_others) {
     const int w = 160, h = 40;
     FrameImages img;
     gl::StageTimer timer;
-    renderer->render(gl::FrameSetup{0, cam, w, h}, img, timer);
+    renderer->render(tc::FrameSetup{0, cam, w, h}, img, timer);
     timer.collect();
     // Pixel at world x: column (x - 0.5) / (0.5 * 4) * w + w / 2 (ortho width = 0.5 * 4 = 2).
     auto lum = [&](float x) {

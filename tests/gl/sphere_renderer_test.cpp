@@ -86,7 +86,7 @@ FrameImages renderGpu(const Scene& scene, const StyledParticles& p, const Camera
     auto r = gl::SphereRenderer::create(s, p);
     gl::StageTimer timer;
     FrameImages img;
-    r->render(gl::FrameSetup{0, cam, w, h}, img, timer);
+    r->render(tc::FrameSetup{0, cam, w, h}, img, timer);
     timer.collect();
     if (keep) *keep = std::move(r);
     return img;

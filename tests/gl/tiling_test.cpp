@@ -1,4 +1,4 @@
-// Tiled and anti-aliased rendering (M9; core/tiling.h, gl/tiled_technique.h, gl/view_window.h):
+// Tiled and anti-aliased rendering (M9; core/tiling.h, core/tiled_technique.h, gl/view_window.h):
 // - tiled == untiled: a frame rendered as 3 x 2 tiles of uneven size (97 x 63) equals the untiled
 //   frame in every channel (colour, depth, normal, id, AO), bit for bit, for the rasterized
 //   opaque path (culling and AO on), the k-buffer (culling and AO on), depth peeling, spheres
@@ -17,9 +17,10 @@
 
 #include "core/scene.h"
 #include "core/tiling.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
-#include "gl/tiled_technique.h"
+#include "core/technique.h"
+#include "core/tiled_technique.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -46,12 +47,12 @@ struct Rendered {
 // sample: the technique itself, the untiled path).
 Rendered render(const Scene& scene, const StyledLines& lines, const Camera& cam, int nx, int ny, int samples) {
     const int w = scene.image.width, h = scene.image.height;
-    auto technique = gl::wrapInTiles(gl::createTechnique(scene, lines), planTiles(w, h, nx, ny, 0, 0, ""), samples,
-                                     gl::KeptAovs{});
+    auto technique = wrapInTiles(gl::createTechnique(scene, lines), planTiles(w, h, nx, ny, 0, 0, ""), samples,
+                                     KeptAovs{});
     Rendered r;
     gl::StageTimer timer;
-    technique->render(gl::FrameSetup{0, cam, w, h}, r.images, timer);
-    for (const gl::StageTime& t : timer.collect())
+    technique->render(tc::FrameSetup{0, cam, w, h}, r.images, timer);
+    for (const tc::StageTime& t : timer.collect())
         if (t.stage == "culling") r.culled += t.items;
     return r;
 }
@@ -162,10 +163,10 @@ TEST_F(GlTest, tiled_samples_equal_untiled_samples_and_one_tile_one_sample_is_th
     const Camera cam = lookAt({0.4f, 0.5f, 2.2f}, Projection::Perspective);
     expectIdentical(render(scene, lines, cam, 3, 2, 4).images, render(scene, lines, cam, 1, 1, 4).images);
     // The stitching path itself with one tile and one sample changes nothing.
-    gl::TiledTechnique wrapped(gl::createTechnique(scene, lines), planTiles(97, 63, 1, 1, 0, 0, ""), 1, gl::KeptAovs{});
+    TiledTechnique wrapped(gl::createTechnique(scene, lines), planTiles(97, 63, 1, 1, 0, 0, ""), 1, KeptAovs{});
     FrameImages viaWrapper;
     gl::StageTimer timer;
-    wrapped.render(gl::FrameSetup{0, cam, 97, 63}, viaWrapper, timer);
+    wrapped.render(tc::FrameSetup{0, cam, 97, 63}, viaWrapper, timer);
     timer.collect();
     expectIdentical(viaWrapper, render(scene, lines, cam, 1, 1, 1).images);
 }
@@ -252,7 +253,7 @@ TEST_F(GlTest, anti_aliased_depth_normal_and_id_are_the_nearest_samples) {
     ASSERT_NE(nearest.jitter, glm::vec2(0.0f));
     FrameImages one;
     gl::StageTimer timer;
-    gl::createTechnique(scene, lines)->render(gl::FrameSetup{0, cam, 97, 63, nearest}, one, timer);
+    gl::createTechnique(scene, lines)->render(tc::FrameSetup{0, cam, 97, 63, nearest}, one, timer);
     timer.collect();
     const FrameImages aa = render(scene, lines, cam, 3, 2, 8).images;
     EXPECT_EQ(countDifferent(aa.depth, one.depth), 0u);

@@ -22,8 +22,9 @@
 #include "core/rounded_cone.h"
 #include "core/scene.h"
 #include "core/transparent_reference.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl/transparent_renderer.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
@@ -88,12 +89,12 @@ Scene transparentScene(const TransparentSettings& s, int width, int height) {
 }
 
 GpuFrame renderGpu(const StyledLines& lines, const Camera& cam, int w, int h, const TransparentSettings& s) {
-    std::unique_ptr<gl::Technique> technique = gl::createTechnique(transparentScene(s, w, h), lines);
+    std::unique_ptr<tc::Technique> technique = gl::createTechnique(transparentScene(s, w, h), lines);
     auto* renderer = dynamic_cast<gl::TransparentRenderer*>(technique.get());
     EXPECT_NE(renderer, nullptr) << "createTechnique did not pick the transparent renderer";
     gl::StageTimer timer;
     GpuFrame f;
-    technique->render(gl::FrameSetup{0, cam, w, h}, f.images, timer);
+    technique->render(tc::FrameSetup{0, cam, w, h}, f.images, timer);
     timer.collect();
     if (renderer) f.peelLayers = renderer->lastPeelLayers();
     return f;
@@ -657,7 +658,7 @@ TEST_F(TransparencyTest, transparent_modes_write_first_surface_aovs_only_when_re
     opaque.output.aovDepth = opaque.output.aovNormal = opaque.output.aovId = true;
     gl::StageTimer timer;
     FrameImages reference;
-    gl::createTechnique(opaque, lines)->render(gl::FrameSetup{0, cam, w, h}, reference, timer);
+    gl::createTechnique(opaque, lines)->render(tc::FrameSetup{0, cam, w, h}, reference, timer);
     timer.collect();
     std::size_t hits = 0;
     for (std::uint32_t id : reference.id) hits += id != kBackgroundId;
@@ -668,7 +669,7 @@ TEST_F(TransparencyTest, transparent_modes_write_first_surface_aovs_only_when_re
         Scene scene = transparentScene(s, w, h);
         scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = true;
         FrameImages with;
-        gl::createTechnique(scene, lines)->render(gl::FrameSetup{0, cam, w, h}, with, timer);
+        gl::createTechnique(scene, lines)->render(tc::FrameSetup{0, cam, w, h}, with, timer);
         timer.collect();
         EXPECT_EQ(with.depth, reference.depth) << int(mode);
         EXPECT_EQ(with.normal, reference.normal) << int(mode);

@@ -22,8 +22,9 @@
 #include "core/error.h"
 #include "core/scene.h"
 #include "core/vrc_model.h"
+#include "gl/techniques.h"
 #include "gl/gpu_timer.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 #include "gl/vrc_renderer.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
@@ -74,19 +75,19 @@ Scene vrcScene(int w, int h, bool transparent, int quantization, bool neighbors)
     return scene;
 }
 
-FrameImages render(gl::Technique& t, const Scene& scene, const Camera& cam) {
+FrameImages render(tc::Technique& t, const Scene& scene, const Camera& cam) {
     gl::StageTimer timer;
     FrameImages out;
-    t.render(gl::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
+    t.render(tc::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
     timer.collect();
     return out;
 }
 
 FrameImages render(const Scene& scene, const StyledLines& lines, const Camera& cam) {
-    std::unique_ptr<gl::Technique> t = gl::createTechnique(scene, lines);
+    std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
     gl::StageTimer timer;
     FrameImages out;
-    t->render(gl::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
+    t->render(tc::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
     timer.collect();
     return out;
 }
@@ -268,7 +269,7 @@ TEST_F(GlTest, vrc_path_length_opacity_follows_the_chord_through_a_tube_seen_sid
     scene.render.vrc.resolution = 12;
     const FrameImages styleAlpha = render(scene, lines, cam);
     scene.render.vrc.pathLengthOpacity = true;
-    const std::unique_ptr<gl::Technique> t = gl::createTechnique(scene, lines);
+    const std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
     EXPECT_EQ(t->describe().value("path_length_opacity", false), true);
     const FrameImages pathAlpha = render(*t, scene, cam);
     ASSERT_EQ(pathAlpha.rgba.size(), styleAlpha.rgba.size());

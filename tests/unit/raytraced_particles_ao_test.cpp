@@ -156,7 +156,7 @@ TEST(RaytracedParticlesAo, images_with_ao_are_identical_with_one_and_two_threads
                 tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
                 auto r = rt::RaytracedParticles::create(scene, p);
                 FrameImages img;
-                rt::CpuStageTimer timer;
+                tc::CpuStageTimer timer;
                 r->render(cam, 40, 30, img, timer);
                 images.push_back(std::move(img));
             }

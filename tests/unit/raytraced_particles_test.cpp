@@ -52,7 +52,7 @@ Scene particleScene(Transparency transparency, SphereDensity density, float cuto
 FrameImages raytrace(const Scene& scene, const StyledParticles& p, const Camera& cam, int w, int h) {
     auto r = rt::RaytracedParticles::create(scene, p);
     FrameImages img;
-    rt::CpuStageTimer timer;
+    tc::CpuStageTimer timer;
     r->render(cam, w, h, img, timer);
     return img;
 }
@@ -192,7 +192,7 @@ TEST(RaytracedParticles, images_are_identical_with_one_and_two_threads_and_every
         for (rt::Traversal traversal : {rt::Traversal::Single, rt::Traversal::Stream}) {
             r->setTraversal(traversal);
             FrameImages img;
-            rt::CpuStageTimer timer;
+            tc::CpuStageTimer timer;
             r->render(cam, 37, 29, img, timer);
             images.push_back(std::move(img));
         }

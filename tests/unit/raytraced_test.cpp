@@ -91,7 +91,7 @@ FrameImages raytrace(const Scene& scene, const StyledLines& lines, const Camera&
                      std::uint64_t* hits = nullptr) {
     auto r = rt::RaytracedRenderer::create(scene, lines);
     FrameImages img;
-    rt::CpuStageTimer timer;
+    tc::CpuStageTimer timer;
     r->render(cam, w, h, img, timer);
     if (hits) *hits = r->lastHitCount();
     return img;
@@ -270,7 +270,7 @@ TEST(Raytraced, opaque_images_are_identical_with_single_rays_packets_and_streams
              {rt::Traversal::Single, rt::Traversal::Packet8, rt::Traversal::Packet16, rt::Traversal::Stream}) {
             r->setTraversal(t);
             FrameImages img;
-            rt::CpuStageTimer timer;
+            tc::CpuStageTimer timer;
             r->render(cam, w, h, img, timer);
             images.push_back(std::move(img));
         }
@@ -295,7 +295,7 @@ TEST(Raytraced, a_target_reused_across_frames_gets_the_same_image_as_a_fresh_one
         scene.render.ao.enabled = t == Transparency::Opaque;
         scene.render.ao.resolution = 32;
         auto r = rt::RaytracedRenderer::create(scene, lines);
-        rt::CpuStageTimer timer;
+        tc::CpuStageTimer timer;
         FrameImages reused, fresh;
         r->render(cameraAt({0.2f, 0.1f, 1.5f}), 40, 32, reused, timer);  // close: most pixels covered
         r->render(cameraAt({0.5f, 0.6f, 6.0f}), 40, 32, reused, timer);  // far: mostly background

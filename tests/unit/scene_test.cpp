@@ -338,9 +338,6 @@ TEST(Scene, StyleColourWithAlphaIsAnErrorPointingToOpacity) {
 }
 
 TEST(Scene, BadEnumValuesListTheValidOnes) {
-    EXPECT_EQ(errorOf(with(R"({"render": {"technique": "kbuffer"}})")),
-              "scene.json: render.technique: expected one of \"rasterized\", \"raytraced\", \"auto\", \"spheres\", "
-              "\"voxel_raycast\", got \"kbuffer\"");
     EXPECT_EQ(errorOf(with(R"({"render": {"transparency": "weighted"}})")),
               "scene.json: render.transparency: expected one of \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", "
               "\"opacity_optimization\", got \"weighted\"");

@@ -156,24 +156,6 @@ TEST(Tiling, budget_below_the_smallest_tile_is_an_input_error_naming_the_key) {
     }
 }
 
-TEST(Tiling, per_pixel_bytes_follow_the_renderers_allocations) {
-    Scene s;
-    s.render.transparency = Transparency::KBuffer;
-    s.render.kbufferK = 8;
-    std::string what;
-    EXPECT_EQ(perPixelBufferBytes(s, false, &what), 16u + 64u + 4u + 36u);  // colour, entries, header, AOV G-buffer
-    EXPECT_EQ(what, "kbuffer with k=8");
-    s.output.aovDepth = s.output.aovNormal = s.output.aovId = false;
-    s.render.culling.enabled = true;
-    EXPECT_EQ(perPixelBufferBytes(s, false), 16u + 64u + 4u + 2u);
-    s.render.transparency = Transparency::Opaque;
-    EXPECT_EQ(perPixelBufferBytes(s, false), 36u + 20u + 2u);
-    s.render.technique = RenderTechnique::Raytraced;
-    EXPECT_EQ(perPixelBufferBytes(s, false), 0u);
-    s.render.transparency = Transparency::OpacityOptimization;
-    EXPECT_FALSE(supportsWindows(s));
-}
-
 TEST(Tiling, sample_sets_stay_in_the_pixel_one_sample_is_the_centre) {
     EXPECT_EQ(sampleOffsets(1), std::vector<glm::vec2>{glm::vec2(0.0f)});
     for (int n : {2, 4, 16, 64, 1000}) {

@@ -1,13 +1,13 @@
-#include "gl/tiled_technique.h"
+#include "core/tiled_technique.h"
 
 #include <algorithm>
 #include <cstring>
 #include <limits>
 
 #include "core/error.h"
-#include "gl/gpu_timer.h"
 
-namespace tc::gl {
+
+namespace tc {
 
 TiledTechnique::TiledTechnique(std::unique_ptr<Technique> inner, TilePlan plan, int samples, KeptAovs keep)
     : m_inner(std::move(inner)), m_plan(std::move(plan)), m_offsets(sampleOffsets(samples)),
@@ -15,7 +15,7 @@ TiledTechnique::TiledTechnique(std::unique_ptr<Technique> inner, TilePlan plan, 
     TC_CHECK(!m_plan.tiles.empty());
 }
 
-void TiledTechnique::render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) {
+void TiledTechnique::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     TC_CHECK(setup.window.isFull() && setup.window.fullWidth == 0);
     const int W = setup.width, H = setup.height;
     const std::size_t n = std::size_t(W) * std::size_t(H);
@@ -87,4 +87,4 @@ std::unique_ptr<Technique> wrapInTiles(std::unique_ptr<Technique> inner, const T
     return std::make_unique<TiledTechnique>(std::move(inner), plan, samples, keep);
 }
 
-}  // namespace tc::gl
+}  // namespace tc

@@ -1,5 +1,5 @@
 #pragma once
-// Tiles and anti-aliasing around any technique (M9, core/tiling.h): renders the frame as the
+// Tiles and anti-aliasing around any technique (core/tiling.h): renders the frame as the
 // tiles of a TilePlan, each with `samples` jittered sub-pixel positions, by calling the wrapped
 // technique's render() with a FrameSetup whose window is that tile and sample, and stitches the
 // results into the full image. The wrapped technique is unchanged: its shaders turn the window
@@ -13,9 +13,9 @@
 #include <memory>
 
 #include "core/tiling.h"
-#include "gl/technique.h"
+#include "core/technique.h"
 
-namespace tc::gl {
+namespace tc {
 
 // Which first-surface AOVs the stitched image keeps; the others are left empty so a huge frame
 // holds one full-size copy of only what will be written.
@@ -28,7 +28,9 @@ public:
     TiledTechnique(std::unique_ptr<Technique> inner, TilePlan plan, int samples, KeptAovs keep);
 
     // setup.width x height is the full image (the plan's); setup.window must be the full window.
-    void render(const FrameSetup& setup, FrameImages& out, StageTimer& timer) override;
+    // Forwards to the wrapped technique (once per frame, not per tile).
+    void prepareFrame(int frame, StageSink& sink) override { m_inner->prepareFrame(frame, sink); }
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
 private:
@@ -45,4 +47,4 @@ private:
 std::unique_ptr<Technique> wrapInTiles(std::unique_ptr<Technique> inner, const TilePlan& plan, int samples,
                                        KeptAovs keep);
 
-}  // namespace tc::gl
+}  // namespace tc

@@ -1,0 +1,171 @@
+#include "core/technique_registry.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "core/error.h"
+
+namespace tc {
+namespace {
+
+std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+// "a", "a" or "b", "a", "b" or "c"
+std::string orList(const std::vector<std::string>& items) {
+    std::string out;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        if (i) out += i + 1 == items.size() ? " or " : ", ";
+        out += quoted(items[i]);
+    }
+    return out;
+}
+
+std::string sceneName(const Scene& scene) { return scene.file.empty() ? std::string("scene") : scene.file; }
+
+template <class T>
+bool contains(const std::vector<T>& v, const T& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+}  // namespace
+
+const char* dataKindName(DataKind kind) { return kind == DataKind::Lines ? "lines" : "particles"; }
+
+const char* transparencyName(Transparency t) {
+    switch (t) {
+    case Transparency::Opaque: return "opaque";
+    case Transparency::ObjectOrder: return "object_order";
+    case Transparency::KBuffer: return "kbuffer";
+    case Transparency::DepthPeeling: return "depth_peeling";
+    case Transparency::OpacityOptimization: return "opacity_optimization";
+    }
+    return "?";
+}
+
+const char* aoMethodName(AoSpec::Method m) { return m == AoSpec::Method::RayTraced ? "ray_traced" : "cone_traced"; }
+
+bool TechniqueDescriptor::takes(DataKind kind) const { return contains(data, kind); }
+
+PixelBuffers TechniqueDescriptor::pixelBuffersFor(const Scene& scene, DataKind kind) const {
+    if (!pixelBuffers) return {0, 0, name};
+    return pixelBuffers(scene, kind);
+}
+
+std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind) {
+    const std::string technique = "technique " + quoted(d.name);
+    if (!d.takes(kind)) {
+        std::vector<std::string> kinds;
+        for (DataKind k : d.data) kinds.push_back(dataKindName(k));
+        return SpecProblem{"render.technique", quoted(d.name) + " renders " + orList(kinds) + ", the dataset holds " +
+                                                   dataKindName(kind)};
+    }
+    const RenderSpec& r = scene.render;
+    if (!contains(d.transparency, r.transparency)) {
+        std::vector<std::string> modes;
+        for (Transparency t : d.transparency) modes.push_back(transparencyName(t));
+        return SpecProblem{"render.transparency",
+                           technique + " takes " + orList(modes) + ", got " + quoted(transparencyName(r.transparency))};
+    }
+    if (r.ao.enabled && !contains(d.ao, r.ao.method)) {
+        if (d.ao.empty()) return SpecProblem{"render.ao", technique + " has no ambient occlusion"};
+        std::vector<std::string> methods;
+        for (AoSpec::Method m : d.ao) methods.push_back(aoMethodName(m));
+        return SpecProblem{"render.ao.method", technique + " takes " + orList(methods) + " ambient occlusion, got " +
+                                                   quoted(aoMethodName(r.ao.method))};
+    }
+    if (d.check) return d.check(scene, kind);
+    return std::nullopt;
+}
+
+void requireTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind) {
+    if (auto problem = checkTechnique(d, scene, kind))
+        throw InputError(sceneName(scene) + ": " + problem->key + ": " + problem->message);
+}
+
+bool isSoftwareRasterizer(const std::string& glRenderer) {
+    std::string lower = glRenderer;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    for (const char* software : {"llvmpipe", "softpipe", "swrast"})
+        if (lower.find(software) != std::string::npos) return true;
+    return false;
+}
+
+void TechniqueRegistry::add(TechniqueDescriptor d) {
+    if (d.name.empty() || d.name == "auto" || find(d.name) || !d.create)
+        throw Error(ExitCode::Internal, "technique registry: bad or duplicate entry \"" + d.name + "\"");
+    m_entries.push_back(std::move(d));
+}
+
+const TechniqueDescriptor* TechniqueRegistry::find(const std::string& name) const {
+    for (const TechniqueDescriptor& d : m_entries)
+        if (d.name == name) return &d;
+    return nullptr;
+}
+
+const TechniqueDescriptor& TechniqueRegistry::validate(const Scene& scene, DataKind kind) const {
+    const TechniqueDescriptor* d = find(scene.render.technique.name());
+    if (!d) {
+        std::vector<std::string> names{"auto"};
+        for (const TechniqueDescriptor& e : m_entries) names.push_back(e.name);
+        std::string list;
+        for (const std::string& n : names) list += (list.empty() ? "" : ", ") + quoted(n);
+        throw InputError(sceneName(scene) + ": render.technique: expected one of " + list + ", got " +
+                         quoted(scene.render.technique.name()));
+    }
+    requireTechnique(*d, scene, kind);
+    return *d;
+}
+
+void TechniqueRegistry::validateWithoutData(const Scene& scene) const {
+    if (scene.render.technique.isAuto()) {
+        std::optional<SpecProblem> first;
+        for (const TechniqueDescriptor& d : m_entries)
+            for (DataKind kind : d.data) {
+                auto problem = checkTechnique(d, scene, kind);
+                if (!problem) return;
+                if (!first) first = problem;
+            }
+        if (first) throw InputError(sceneName(scene) + ": " + first->key + ": no technique takes this (" + first->message + ")");
+        return;
+    }
+    const TechniqueDescriptor* d = find(scene.render.technique.name());
+    if (!d) validate(scene, DataKind::Lines);  // throws the unknown-name error
+    std::optional<SpecProblem> first;
+    for (DataKind kind : d->data) {
+        auto problem = checkTechnique(*d, scene, kind);
+        if (!problem) return;
+        if (!first) first = problem;
+    }
+    if (first) throw InputError(sceneName(scene) + ": " + first->key + ": " + first->message);
+}
+
+TechniqueRegistry::AutoChoice TechniqueRegistry::resolveAuto(const Scene& scene, DataKind kind,
+                                                             const std::string& glRenderer) const {
+    const bool software = isSoftwareRasterizer(glRenderer);
+    const TechniqueBackend preferred = software ? TechniqueBackend::Cpu : TechniqueBackend::Gl;
+    const std::string gl = "GL renderer " + quoted(glRenderer) + (software ? " is a software rasterizer" : "");
+    // Why the preferred backend's candidates were passed over, for the log line.
+    std::vector<std::string> passedOver;
+    for (int round = 0; round < 2; ++round) {
+        const bool wantPreferred = round == 0;
+        for (const TechniqueDescriptor& d : m_entries) {
+            if ((d.backend == preferred) != wantPreferred || !contains(d.autoData, kind)) continue;
+            if (auto problem = checkTechnique(d, scene, kind)) {
+                if (wantPreferred) passedOver.push_back(problem->message + " (" + problem->key + ")");
+                continue;
+            }
+            std::string why = "render.technique auto: " + d.name + " (" + gl;
+            for (const std::string& p : passedOver) why += "; " + p;
+            return {&d, why + ")"};
+        }
+    }
+    std::string reasons;
+    for (const TechniqueDescriptor& d : m_entries)
+        if (contains(d.autoData, kind))
+            if (auto problem = checkTechnique(d, scene, kind))
+                reasons += (reasons.empty() ? "" : "; ") + problem->key + ": " + problem->message;
+    throw InputError(sceneName(scene) + ": render.technique: \"auto\" finds no technique for " + dataKindName(kind) +
+                     " with these settings (" + reasons + ")");
+}
+
+}  // namespace tc

@@ -1,0 +1,133 @@
+#pragma once
+// The technique registry: one descriptor per render technique, saying what the technique takes
+// (data kinds, transparency modes, ambient occlusion methods), what it costs per pixel and how to
+// make it. The frame loop looks techniques up by name here and nowhere else; render.technique
+// "auto" is a rule over the descriptors (resolveAuto); every combination check a user can hit
+// runs here, with the usual "file: key: expectation" message (exit code 2).
+//
+// Descriptors live beside their techniques (gl/*, rt/*) and are listed once per library
+// (gl/techniques.cpp, rt/techniques.cpp); docs/architecture.md has the recipe for adding one.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/technique.h"
+
+namespace tc {
+
+struct LineSet;
+struct ParticleData;
+struct StyledLines;
+struct OpacitySystem;
+
+enum class DataKind { Lines, Particles };
+const char* dataKindName(DataKind kind);  // "lines", "particles"
+
+// Where a technique runs: on the GL context (gl/) or on the CPU (rt/; it needs no GL at all).
+enum class TechniqueBackend { Gl, Cpu };
+
+// The scene-file spellings of the enums the registry checks.
+const char* transparencyName(Transparency t);   // "opaque", "kbuffer", ...
+const char* aoMethodName(AoSpec::Method m);     // "cone_traced", "ray_traced"
+
+// The dataset a technique is made for. Lines are styled once by the frame loop; a particle time
+// series is styled frame by frame by the technique as the animation reaches each data frame
+// (core/particle_series.h).
+struct TechniqueData {
+    DataKind kind = DataKind::Lines;
+    const StyledLines* lines = nullptr;       // kind Lines
+    const LineSet* source = nullptr;          // kind Lines: as read (attributes the style did not map)
+    const ParticleData* particles = nullptr;  // kind Particles: every data frame
+    int firstFrame = 0;                       // the first animation frame that will be rendered
+};
+
+// Observers the frame loop attaches (a technique never writes files itself).
+struct TechniqueHooks {
+    // Every frame's optimisation problem of opacity optimization (render.opacity.dump_dir).
+    std::function<void(const OpacitySystem&)> opacitySystem;
+};
+
+// Memory a GL technique allocates per pixel of its render target; tiling plans against it
+// (core/tiling.h planSceneTiles). CPU techniques allocate nothing per pixel but their output.
+struct PixelBuffers {
+    std::size_t bytes = 0;           // every per-pixel buffer and texture together
+    std::size_t largestStorage = 0;  // the largest per-pixel shader storage buffer (its GL limit)
+    std::string what;                // for messages: "kbuffer with k=8"
+};
+
+// A scene key (from the root, "render.ao.method") and what is wrong with it.
+struct SpecProblem {
+    std::string key;
+    std::string message;
+};
+
+struct TechniqueDescriptor {
+    std::string name;     // the render.technique value
+    std::string summary;  // one line for `tubecast techniques`
+    std::string paper;    // the paper it implements ("" for none)
+    TechniqueBackend backend = TechniqueBackend::Gl;
+    std::vector<DataKind> data;      // what it renders
+    std::vector<DataKind> autoData;  // what render.technique "auto" may choose it for
+    std::vector<Transparency> transparency;
+    // Its exact-order transparent mode (what a transparent scene gets when it names none).
+    Transparency exactTransparency = Transparency::Opaque;
+    std::vector<AoSpec::Method> ao;  // empty: no ambient occlusion
+    // Rules beyond the lists above (e.g. no AO with one of its modes); null = none.
+    std::function<std::optional<SpecProblem>(const Scene&, DataKind)> check;
+    // Per-pixel GPU memory for `scene`; null = none.
+    std::function<PixelBuffers(const Scene&, DataKind)> pixelBuffers;
+    // Whether a pixel is rendered independently of the others' contents, so tiles and image.samples
+    // compose (core/tiling.h); null = always.
+    std::function<bool(const Scene&)> composesWindows;
+    // Makes the technique (after a successful check). GL techniques need a current context.
+    std::function<std::unique_ptr<Technique>(const Scene&, const TechniqueData&, const TechniqueHooks&)> create;
+
+    bool takes(DataKind kind) const;
+    PixelBuffers pixelBuffersFor(const Scene& scene, DataKind kind) const;
+    bool composes(const Scene& scene) const { return !composesWindows || composesWindows(scene); }
+};
+
+// What is wrong with rendering `scene` (as `kind`) with `d`, or nothing: the data kind, the
+// transparency mode, the AO method, then the descriptor's own check.
+std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind);
+// The same as an InputError "file: key: message" (for renderers that guard their create()).
+void requireTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind);
+
+// Whether GL_RENDERER names a software rasterizer (llvmpipe, softpipe, swrast).
+bool isSoftwareRasterizer(const std::string& glRenderer);
+
+class TechniqueRegistry {
+public:
+    // Adds a descriptor; a duplicate name is a programming error (tc::Error Internal).
+    void add(TechniqueDescriptor d);
+
+    const TechniqueDescriptor* find(const std::string& name) const;
+    const std::vector<TechniqueDescriptor>& all() const { return m_entries; }
+
+    // The descriptor of render.technique (not "auto"), checked for `kind`. Throws InputError naming
+    // the scene file and key: an unknown name (listing the registered ones), or what
+    // checkTechnique finds.
+    const TechniqueDescriptor& validate(const Scene& scene, DataKind kind) const;
+    // Without the data (tubecast validate): the name, and the checks of at least one data kind
+    // the technique takes ("auto": only that some technique takes the scene).
+    void validateWithoutData(const Scene& scene) const;
+
+    // render.technique "auto": on a software GL rasterizer the first CPU technique (in
+    // registration order) that takes the scene, else the first GL one; on a hardware GL the first
+    // GL technique, else the first CPU one. Only techniques whose autoData has `kind` count.
+    // `why` is the log line ("render.technique auto: raytraced (...)"). Throws InputError when
+    // no technique takes the scene.
+    struct AutoChoice {
+        const TechniqueDescriptor* descriptor = nullptr;
+        std::string why;
+    };
+    AutoChoice resolveAuto(const Scene& scene, DataKind kind, const std::string& glRenderer) const;
+
+private:
+    std::vector<TechniqueDescriptor> m_entries;
+};
+
+}  // namespace tc

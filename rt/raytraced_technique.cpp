@@ -1,0 +1,40 @@
+// render.technique "raytraced": the tubes (rt/raytraced_renderer.h) and the spheres
+// (rt/raytraced_particles.h) of the GL techniques, ray traced on the CPU with Embree.
+#include "core/particle_series.h"
+#include "rt/raytraced_particles.h"
+#include "rt/raytraced_renderer.h"
+#include "rt/techniques.h"
+
+namespace tc::rt {
+
+TechniqueDescriptor raytracedTechnique() {
+    TechniqueDescriptor d;
+    d.name = "raytraced";
+    d.summary = "the same tubes and spheres ray traced on the CPU with Embree; transparent modes composite every "
+                "hit in exact depth order (up to render.raytraced.alpha_cutoff)";
+    d.paper = "tubes: Groß & Gumhold 2020; spheres: Staib, Grottel & Gumhold 2015 (on Embree)";
+    d.backend = TechniqueBackend::Cpu;
+    d.data = {DataKind::Lines, DataKind::Particles};
+    d.autoData = {DataKind::Lines, DataKind::Particles};
+    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
+    d.exactTransparency = Transparency::DepthPeeling;
+    d.ao = {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced};
+    d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
+        if (data.kind == DataKind::Lines) return RaytracedRenderer::create(scene, *data.lines);
+        return std::make_unique<ParticleSeriesTechnique>(
+            scene, *data.particles, data.firstFrame,
+            [&scene](const StyledParticles& first, ParticleSeriesTechnique::Upload& upload) {
+                std::unique_ptr<RaytracedParticles> r = RaytracedParticles::create(scene, first);
+                upload = [renderer = r.get()](const StyledParticles& p, StageSink& sink) {
+                    sink.begin("upload");  // the BVH rebuild
+                    renderer->upload(p);
+                    sink.setItems(p.size());
+                    sink.end();
+                };
+                return std::unique_ptr<Technique>(std::move(r));
+            });
+    };
+    return d;
+}
+
+}  // namespace tc::rt

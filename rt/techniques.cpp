@@ -1,0 +1,7 @@
+#include "rt/techniques.h"
+
+namespace tc::rt {
+
+void registerTechniques(TechniqueRegistry& registry) { registry.add(raytracedTechnique()); }
+
+}  // namespace tc::rt
