@@ -6,6 +6,10 @@
 
 #include <CLI/CLI.hpp>
 
+namespace tc {
+class TechniqueRegistry;
+}
+
 namespace tc::cli {
 
 void addRenderCommand(CLI::App& app);
@@ -14,6 +18,10 @@ void addInfoCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
 void addMergeTimingsCommand(CLI::App& app);  // cli/batch_commands.cpp
+void addTechniquesCommand(CLI::App& app);
+
+// The technique table of `tubecast techniques --markdown` (README.md's).
+std::string techniquesMarkdown(const TechniqueRegistry& registry);
 
 // Set by subcommands that end with a non-zero code without an exception (compare --fail).
 extern int g_exitCode;

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     tc::cli::addCompareCommand(app);
     tc::cli::addConvertCommand(app);
     tc::cli::addMergeTimingsCommand(app);
+    tc::cli::addTechniquesCommand(app);
 
     try {
         app.parse(argc, argv);

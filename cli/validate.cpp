@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/technique_registry.h"
 #include "core/error.h"
 #include "core/scene.h"
 #include "io/paraview_preset.h"
@@ -22,6 +23,7 @@ void addValidateCommand(CLI::App& app) {
     cmd->callback([options] {
         Scene scene = loadScene(options->scene, options->overrides);
         loadStylePresets(scene.style, scene.file);
+        techniqueRegistry().validateWithoutData(scene);
         if (!scene.dataset.path.empty() && !std::filesystem::exists(scene.dataset.path))
             throw InputError(options->scene + ": dataset.path: no such file: " + scene.dataset.path);
         std::cout << options->scene << ": ok (" << scene.frameCount() << " frame"

@@ -88,6 +88,27 @@ TEST_F(Cli, SetOverrideIsTypeCheckedAndNamedAsSet) {
     EXPECT_EQ(run("validate scene.json --set image.width=64").code, 0);
 }
 
+TEST_F(Cli, ValidateChecksTheTechniqueAgainstTheRegistry) {
+    // The registry (core/technique_registry.h) knows the names and which settings each takes; the
+    // scene parser only reads them, so `validate` must ask it.
+    writeScene();
+    RunResult r = run("validate scene.json --set render.technique=kbuffer");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("scene.json: render.technique: expected one of \"auto\", \"rasterized\", \"spheres\", "
+                         "\"voxel_raycast\", \"raytraced\", got \"kbuffer\""),
+              std::string::npos)
+        << r.err;
+    r = run("validate scene.json --set render.technique=raytraced --set render.transparency=opacity_optimization");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("scene.json: render.transparency: technique \"raytraced\" takes"), std::string::npos) << r.err;
+    r = run("validate scene.json --set render.technique=spheres --set render.transparency=kbuffer");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("technique \"spheres\" takes \"opaque\" or \"object_order\", got \"kbuffer\""),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(run("validate scene.json --set render.technique=spheres --set render.transparency=object_order").code, 0);
+}
+
 TEST_F(Cli, MissingDatasetFileIsExit2NamingThePath) {
     writeText(dir / "scene.json", R"({"dataset": {"path": "data/missing.vtp"}, "image": {"width": 16, "height": 16}})");
     RunResult r = run("render scene.json");

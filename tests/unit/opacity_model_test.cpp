@@ -419,9 +419,6 @@ TEST(OpacityScene, keys_parse_with_defaults_and_located_errors) {
             << bad;
     EXPECT_NE(renderError(R"({"opacity": {"segment_per_line": 4}})").find("render.opacity.segment_per_line"),
               std::string::npos);
-    EXPECT_NE(renderError(R"({"technique": "raytraced", "transparency": "opacity_optimization"})")
-                  .find("render.transparency"),
-              std::string::npos);
 }
 
 }  // namespace

@@ -256,7 +256,6 @@ TEST(SceneSpheres, keys_are_validated) {
     fails("render.spheres.inner_radius=1.5", "render.spheres.inner_radius");
     fails("render.spheres.density=\"l3\"", "render.spheres.density");
     fails("render.spheres.primitive=\"triangles\"", "render.spheres.primitive");
-    fails("render.transparency=kbuffer", "technique \"spheres\" takes");
     fails("dataset.lines=5", "dataset.lines");
 }
 
