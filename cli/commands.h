@@ -19,6 +19,7 @@ void addCompareCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
 void addMergeTimingsCommand(CLI::App& app);  // cli/batch_commands.cpp
 void addTechniquesCommand(CLI::App& app);
+void addSceneCommand(CLI::App& app);
 
 // The technique table of `tubecast techniques --markdown` (README.md's).
 std::string techniquesMarkdown(const TechniqueRegistry& registry);

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     tc::cli::addConvertCommand(app);
     tc::cli::addMergeTimingsCommand(app);
     tc::cli::addTechniquesCommand(app);
+    tc::cli::addSceneCommand(app);
 
     try {
         app.parse(argc, argv);

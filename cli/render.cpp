@@ -18,12 +18,14 @@
 #include "cli/progress.h"
 #include "cli/render_plan.h"
 #include "cli/run_manifest.h"
+#include "cli/scene_input.h"
 #include "cli/technique_registry.h"
 #include "core/animation.h"
 #include "core/error.h"
 #include "core/opacity_system.h"
 #include "core/particle_series.h"
 #include "core/scene.h"
+#include "core/style_sources.h"
 #include "core/styling.h"
 #include "core/technique_registry.h"
 #include "core/tiled_technique.h"
@@ -70,6 +72,7 @@ struct RenderOptions {
 // The scene, this process's frames and their outputs.
 struct RenderJob {
     Scene scene;
+    std::optional<DatasetLoad> data;  // a dataset given alone: read already
     std::optional<Shard> shard;
     std::vector<int> frames;  // of this process, before --resume
     std::string hash;
@@ -78,11 +81,22 @@ struct RenderJob {
 
 RenderJob planJob(const RenderOptions& o) {
     RenderJob job;
-    job.scene = loadScene(o.scene, o.overrides);
+    SceneInput input = loadSceneInput(o.scene, o.overrides);
+    job.scene = std::move(input.scene);
+    job.data = std::move(input.data);
     Scene& scene = job.scene;
     loadStylePresets(scene.style, scene.file);   // a bad preset file fails before any output,
     techniqueRegistry().validateWithoutData(scene);  // and so does a technique that cannot take the settings
     if (!o.outDir.empty()) scene.output.dir = o.outDir;
+    // Only an EXR holds the depth / normal / id / AO AOVs: without one they are not computed (for
+    // the transparent modes that is a whole G-buffer pass), and a scene that lists them hears why.
+    OutputSpec& out = scene.output;
+    if (!out.exr && (out.aovDepth || out.aovNormal || out.aovId || out.aovAo)) {
+        if (scene.resolved.contains("output") && scene.resolved["output"].contains("aovs"))
+            std::cerr << "warning: " << scene.file << ": output.aovs: only EXR files hold AOVs and output.formats has "
+                      << "no \"exr\": not computed\n";
+        out.aovDepth = out.aovNormal = out.aovId = out.aovAo = false;
+    }
     const std::vector<int> selected = parseFrameList(o.frames, scene.frameCount());
     if (o.resume && o.overwrite) throw InputError("--resume and --overwrite exclude each other");
     if (o.placeholderTimeout <= 0) throw InputError("--placeholder-timeout must be > 0 seconds");
@@ -163,10 +177,31 @@ struct LoadedData {
     double seconds = 0;  // loading and styling
 };
 
-LoadedData loadData(const Scene& scene) {
+// What the dataset holds, for the log: "20 polylines, 580 segments", "50000 particles",
+// "30 frames of 800-1200 particles".
+std::string describeData(const DatasetLoad& data) {
+    if (!data.isParticles())
+        return std::to_string(data.lines.polylineCount()) + " polylines, " + std::to_string(data.lines.segmentCount()) +
+               " segments";
+    std::size_t lo = data.particles.maxParticles(), hi = 0;
+    for (const ParticleSet& f : data.particles.frames) {
+        lo = std::min(lo, f.size());
+        hi = std::max(hi, f.size());
+    }
+    const std::size_t frames = data.particles.frameCount();
+    if (frames == 1) return std::to_string(hi) + " particles";
+    return std::to_string(frames) + " frames of " + (lo == hi ? std::to_string(hi) : std::to_string(lo) + "-" + std::to_string(hi)) +
+           " particles";
+}
+
+// `preloaded`: the dataset given alone, read for its default scene (unless --set changed it).
+LoadedData loadData(const Scene& scene, std::optional<DatasetLoad> preloaded) {
     LoadedData d;
     const auto t0 = std::chrono::steady_clock::now();
-    d.load = loadDataset(scene.dataset);
+    if (preloaded && preloaded->source == scene.dataset.path && scene.dataset.generate.empty() && !scene.dataset.trace)
+        d.load = std::move(*preloaded);
+    else
+        d.load = loadDataset(scene.dataset);
     if (d.load.cleaned.any()) std::cerr << "warning: " << d.load.source << ": " << d.load.cleaned.summary() << "\n";
     d.kind = d.load.isParticles() ? DataKind::Particles : DataKind::Lines;
     if (d.kind == DataKind::Lines) d.styled = styleLines(d.load.lines, scene.style, scene.file);
@@ -175,11 +210,23 @@ LoadedData loadData(const Scene& scene) {
     return d;
 }
 
+// An empty dataset's frames: the background only (what every technique would draw; no technique
+// needs a special case for no data).
+class BackgroundOnly final : public Technique {
+public:
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& sink) override {
+        sink.begin("background");
+        out.allocate(setup.width, setup.height);
+        sink.end();
+    }
+    nlohmann::json describe() const override { return {{"technique", "none"}, {"reason", "the dataset is empty"}}; }
+};
+
 // The technique of the frames and the reference, wrapped in their tiles.
 struct Techniques {
     std::unique_ptr<Technique> main, reference;
     std::string referenceName;
-    std::string choice;  // render.technique "auto": what was chosen and why
+    std::string choice;  // render.technique / render.transparency "auto": what was chosen and why
     TilePlan tiles;
 };
 
@@ -213,7 +260,7 @@ TechniqueHooks techniqueHooks(const Scene& scene) {
     return hooks;
 }
 
-// Resolves render.technique "auto" (in `scene`), checks the technique against the data, plans
+// Resolves render.technique and render.transparency "auto" (in `scene`), checks the technique against the data, plans
 // the tiles (image.tiles, or render.memory_budget_mb over the technique's per-pixel buffers;
 // core/tiling.h) and makes the technique for the largest tile, wrapped to render every tile and
 // sample, and the reference.
@@ -221,11 +268,26 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
                           const gl::ContextInfo& gl) {
     const TechniqueRegistry& registry = techniqueRegistry();
     Techniques t;
+    auto note = [&](const std::string& why) {
+        t.choice += (t.choice.empty() ? "" : "; ") + why;
+        if (!o.quiet) std::cerr << "tubecast: " << why << "\n";
+    };
     if (scene.render.technique.isAuto()) {
         const TechniqueRegistry::AutoChoice choice = registry.resolveAuto(scene, data.kind, gl.renderer);
         scene.render.technique = RenderTechnique(choice.descriptor->name);
-        t.choice = choice.why;
-        if (!o.quiet) std::cerr << "tubecast: " << choice.why << "\n";
+        note(choice.why);
+    }
+    const bool translucent = data.kind == DataKind::Lines ? anyTranslucent(data.styled)
+                                                          : anyTranslucent(scene.style, data.load.particles);
+    if (const TechniqueDescriptor* d = registry.find(scene.render.technique.name());
+        d && scene.render.transparency == Transparency::Auto) {
+        const TransparencyChoice choice = resolveTransparency(*d, translucent);
+        scene.render.transparency = choice.mode;
+        note(choice.why);
+    } else if (scene.render.transparency == Transparency::Opaque && translucent) {
+        std::cerr << "warning: " << scene.file
+                  << ": render.transparency: \"opaque\" draws every opacity below 1 as 1 (leave the key out, or "
+                     "\"auto\", for the exact transparent mode)\n";
     }
     const TechniqueDescriptor& descriptor = registry.validate(scene, data.kind);
     const PixelBuffers buffers = descriptor.pixelBuffersFor(scene, data.kind);
@@ -234,6 +296,7 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     Scene techniqueScene = scene;
     techniqueScene.image.width = t.tiles.largestTileWidth;
     techniqueScene.image.height = t.tiles.largestTileHeight;
+
     TechniqueData input;
     input.kind = data.kind;
     input.lines = &data.styled;
@@ -242,15 +305,17 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     input.firstFrame = firstFrame;
     const OutputSpec& out = scene.output;
     const KeptAovs kept{out.exr && out.aovDepth, out.exr && out.aovNormal, out.exr && out.aovId};
-    t.main = wrapInTiles(descriptor.create(techniqueScene, input, techniqueHooks(scene)), t.tiles, scene.image.samples,
-                         kept);
+    const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
+    t.main = wrapInTiles(empty ? std::make_unique<BackgroundOnly>()
+                               : descriptor.create(techniqueScene, input, techniqueHooks(scene)),
+                         t.tiles, scene.image.samples, kept);
     if (!o.quiet && (t.tiles.tiles.size() > 1 || scene.image.samples > 1))
         std::cerr << "tubecast: " << t.tiles.tiles.size() << " tile(s) (" << t.tiles.nx << "x" << t.tiles.ny
                   << (t.tiles.automatic ? ", for render.memory_budget_mb" : "") << "), largest "
                   << t.tiles.largestTileWidth << "x" << t.tiles.largestTileHeight << " with "
                   << (t.tiles.largestTileBytes >> 20) << " MB of per-pixel buffers, " << scene.image.samples
                   << " sample(s) per pixel\n";
-    if (scene.render.referenceDepthPeeling || scene.render.referenceRaytraced) {
+    if ((scene.render.referenceDepthPeeling || scene.render.referenceRaytraced) && !empty) {
         const Scene ref = referenceScene(techniqueScene);
         t.referenceName = scene.render.referenceRaytraced ? "raytraced" : "depth_peeling";
         t.reference = wrapInTiles(registry.validate(ref, data.kind).create(ref, input, {}), t.tiles,
@@ -267,13 +332,23 @@ void runRender(const RenderOptions& o) {
     const std::vector<FramePlan>& todo = job.plan.todo;
     setLlvmpipeThreads(o);
 
-    const LoadedData data = loadData(scene);  // per dataset, once per process
+    const LoadedData data = loadData(scene, std::move(job.data));  // per dataset, once per process
+    if (data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0)
+        std::cerr << "warning: " << data.load.source << ": the dataset holds no polylines: the frames show the "
+                  << "background only\n";
     gl::Context context = makeContext(o);
     const gl::ContextInfo& info = context.info();
     if (!o.quiet)
         std::cerr << "tubecast: " << info.backend << (info.device.empty() ? "" : " (" + info.device + ")") << ", "
-                  << info.renderer << ", " << data.styled.segmentCount() << " segments, " << todo.size()
+                  << info.renderer << ", " << describeData(data.load) << ", " << todo.size()
                   << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
+    const std::vector<std::string> sources =
+        styleSources(scene.style, data.kind == DataKind::Particles ? &data.load.particles : nullptr);
+    if (!o.quiet) {
+        std::cerr << "tubecast: style:";
+        for (std::size_t i = 0; i < sources.size(); ++i) std::cerr << (i ? "; " : " ") << sources[i];
+        std::cerr << "\n";
+    }
     Techniques techniques = makeTechniques(o, scene, data, todo.front().frame, info);
 
     const Camera base = fitCamera(scene.camera, data.styled.bounds, float(scene.image.width) / float(scene.image.height));
@@ -281,6 +356,7 @@ void runRender(const RenderOptions& o) {
     manifest.setDataset(data.load, data.seconds);
     manifest.setGl(info);
     manifest.setTechnique(techniques.main->describe(), techniques.choice);
+    manifest.setStyleSources(sources);
     manifest.setFrames(job.frames, job.shard, o.shard);
     manifest.setFirstCamera(cameraAtFrame(scene.animation, base, todo.front().frame));
     if (out.timings) manifest.write(job.plan.runPath);
@@ -314,6 +390,7 @@ void runRender(const RenderOptions& o) {
     in.width = scene.image.width;
     in.height = scene.image.height;
     in.bounds = data.styled.bounds;
+    if (in.bounds.empty()) in.bounds.extend(glm::vec3(0.0f), 1.0f);  // an empty dataset: any finite depth range
     in.background = scene.image.background;
     in.pngText = {{"tubecast:version", TUBECAST_VERSION}, {"tubecast:renderer", info.renderer}, {kSceneHashKey, job.hash}};
     in.exr.depth = out.aovDepth;
@@ -324,7 +401,7 @@ void runRender(const RenderOptions& o) {
     in.csv = csv.get();
     in.placeholders = placeholders.get();
     in.progress = &progress;
-    in.items = data.styled.segmentCount();
+    in.items = data.kind == DataKind::Lines ? data.styled.segmentCount() : data.load.particles.maxParticles();
     in.keepGoing = o.keepGoing;
     // Not with --placeholders (one claim at a time), image tiles (the memory budget was planned for
     // one full-size frame) or --serial-writes.
@@ -350,7 +427,10 @@ void runRender(const RenderOptions& o) {
 void addRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene's frames to PNG/EXR with timings");
-    cmd->add_option("scene", o->scene, "Scene JSON file (docs/scene-spec.md)")->required();
+    cmd->add_option("scene", o->scene,
+                    "Scene JSON file (docs/scene-spec.md), or a dataset file alone: its default scene "
+                    "(`tubecast scene DATASET` prints it)")
+        ->required();
     cmd->add_option("-o,--output", o->outDir, "Output directory (overrides output.dir)");
     cmd->add_option("--frames", o->frames, "Frames to render: 0..99, 0..99:5, 3,7,12..20 (inclusive; default all)");
     cmd->add_option("--set", o->overrides, "Override a scene key: key.path=value (repeatable, type-checked)");

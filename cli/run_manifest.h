@@ -33,6 +33,8 @@ public:
     // The technique's own description (Technique::describe) and, for render.technique "auto", the
     // log line saying what was chosen and why.
     void setTechnique(const nlohmann::json& description, const std::string& chosenBecause);
+    // Where radius, colour and opacity come from (core/style_sources.h).
+    void setStyleSources(const std::vector<std::string>& sources) { m_json["style_sources"] = sources; }
     void setFrames(const std::vector<int>& planned, const std::optional<Shard>& shard, const std::string& shardSpec);
     // The camera of the first frame to render (after fit), so other tools can match the view.
     void setFirstCamera(const Camera& camera);

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "cli/scene_input.h"
 #include "cli/technique_registry.h"
 #include "core/error.h"
 #include "core/scene.h"
@@ -21,7 +22,7 @@ void addValidateCommand(CLI::App& app) {
     cmd->add_option("scene", options->scene, "Scene JSON file")->required();
     cmd->add_option("--set", options->overrides, "Override a scene key: key.path=value (repeatable)");
     cmd->callback([options] {
-        Scene scene = loadScene(options->scene, options->overrides);
+        Scene scene = loadSceneInput(options->scene, options->overrides).scene;
         loadStylePresets(scene.style, scene.file);
         techniqueRegistry().validateWithoutData(scene);
         if (!scene.dataset.path.empty() && !std::filesystem::exists(scene.dataset.path))

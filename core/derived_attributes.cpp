@@ -131,11 +131,15 @@ void localDensity(const LineSet& lines, std::vector<float>& out) {
 }
 
 void speed(const LineSet& lines, std::vector<float>& out) {
-    if (const Attribute* m = lines.attribute("velocity_magnitude")) {
-        out = m->values;
-        return;
-    }
-    for (const char* base : {"velocity", "vel", "v"}) {
+    std::vector<std::string> bases;
+    if (!lines.velocity.empty()) bases.push_back(lines.velocity);  // the vector the lines were traced along
+    for (const char* base : {"velocity", "vel", "v"}) bases.push_back(base);
+    for (const std::string& base : bases)
+        if (const Attribute* m = lines.attribute(base + "_magnitude")) {
+            out = m->values;
+            return;
+        }
+    for (const std::string& base : bases) {
         const Attribute* x = lines.attribute(std::string(base) + "_x");
         const Attribute* y = lines.attribute(std::string(base) + "_y");
         const Attribute* z = lines.attribute(std::string(base) + "_z");

@@ -16,7 +16,8 @@
 //                  kLocalDensityResolution cubic voxels along the longest axis of the bounds
 //                  (segments are walked in quarter-voxel steps, so long segments count in every
 //                  voxel they cross)
-//   speed          |velocity| from a "velocity_magnitude" attribute or from x/y/z components
+//   speed          |velocity|: of the vector the lines were traced along (LineSet::velocity),
+//                  else from a "velocity_magnitude" attribute or from x/y/z components
 //                  named velocity_*, vel_* or v_* (as the VTK readers split vectors)
 #include <string>
 #include <vector>

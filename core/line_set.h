@@ -39,6 +39,9 @@ struct LineSet {
     std::vector<std::uint32_t> offsets{0};
     std::vector<Attribute> attributes;
     Bounds bounds;  // of the positions (radii are added by styling)
+    // The vector attribute the lines follow (split into NAME_x/_y/_z and NAME_magnitude), when the
+    // reader knows it: dataset.trace's vector. The derived attribute "speed" is its magnitude.
+    std::string velocity;
 
     std::size_t polylineCount() const { return offsets.size() - 1; }
     std::size_t vertexCount() const { return positions.size(); }

@@ -9,7 +9,7 @@ namespace tc {
 Bounds particleSeriesBounds(const Scene& scene, const ParticleData& data) {
     const RadiusSpec& radius = scene.style.radius;
     float maxRadius = radius.attribute.empty() ? radius.constant : std::max(radius.radiusLo, radius.radiusHi);
-    if (radius.attribute.empty())
+    if (radius.attribute.empty() && !radius.fromScene)
         for (const ParticleSet& f : data.frames)
             for (float r : f.radii) maxRadius = std::max(maxRadius, r);
     Bounds out;
@@ -19,6 +19,21 @@ Bounds particleSeriesBounds(const Scene& scene, const ParticleData& data) {
         out.extend(b.hi, maxRadius);
     }
     return out;
+}
+
+bool anyTranslucent(const StyleSpec& style, const ParticleData& data) {
+    const OpacitySpec& o = style.opacity;
+    if (o.constant < 1.0f) return true;
+    if (!o.attribute.empty()) {
+        if (o.pointsFromColormap) return true;
+        for (const glm::vec2& p : o.points)
+            if (p.y < 1.0f) return true;
+    }
+    if (style.color.attribute.empty() && !style.color.fromScene)
+        for (const ParticleSet& f : data.frames)
+            for (const glm::vec4& c : f.colors)
+                if (c.w < 1.0f) return true;
+    return false;
 }
 
 ParticleSeriesTechnique::ParticleSeriesTechnique(const Scene& scene, const ParticleData& data, int firstFrame,

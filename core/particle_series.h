@@ -18,6 +18,11 @@ namespace tc {
 // by the largest radius the style or the data can give (for the camera fit and depth range).
 Bounds particleSeriesBounds(const Scene& scene, const ParticleData& data);
 
+// Whether any particle of any data frame can get an opacity below 1 (render.transparency "auto"),
+// from the style and the data's colours without styling every frame: a constant below 1, an
+// opacity mapping whose transfer function goes below 1, or data colours with alpha below 1.
+bool anyTranslucent(const StyleSpec& style, const ParticleData& data);
+
 class ParticleSeriesTechnique final : public Technique {
 public:
     // Replaces the renderer's particles; reports its own stages (e.g. "upload") to the sink.

@@ -3,6 +3,7 @@
 // scalar attributes, one frame or a time series of frames. What particle readers and the
 // droplets generator produce and particle styling (core/particle_styling.h) consumes.
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,11 @@
 #include "core/line_set.h"
 
 namespace tc {
+
+// Where a frame's radii or colours come from: a column or array of the file, or the chemical
+// element of each atom (van der Waals radii, CPK colours). Both lose to an explicit style entry;
+// docs/scene-spec.md "Precedence".
+enum class Provenance { None, File, Elements };
 
 // One time step. Every per-particle array is either empty or has positions.size() entries.
 struct ParticleSet {
@@ -21,6 +27,8 @@ struct ParticleSet {
     // Colours the data carries (PDB CPK colours, MMPLD colours), sRGB in [0, 1] with straight
     // alpha; empty when the data has none and style.color decides.
     std::vector<glm::vec4> colors;
+    Provenance radiiFrom = Provenance::None, colorsFrom = Provenance::None;
+    std::map<std::string, float> elementRadii;  // Provenance::Elements: each element's radius
     std::vector<Attribute> attributes;  // one value per particle
     Bounds bounds;                      // of the positions (radii are added by styling)
 

@@ -3,12 +3,16 @@
 #include <algorithm>
 
 #include "core/color.h"
+#include "core/error.h"
 #include "core/styling.h"
 
 namespace tc {
 
 StyledParticles styleParticles(const ParticleSet& particles, const StyleSpec& style, const std::string& sceneFile) {
     particles.checkConsistent();
+    if (style.color.direction)
+        throw InputError((sceneFile.empty() ? std::string("scene") : sceneFile) +
+                         ": style.color: \"direction\" colours lines by their direction; particles have none");
     StyledParticles out;
     const std::size_t n = particles.size();
     if (n == 0) return out;
@@ -23,8 +27,10 @@ StyledParticles styleParticles(const ParticleSet& particles, const StyleSpec& st
     asLine.bounds = particles.bounds;
     StyledLines styled = styleLines(asLine, style, sceneFile);
 
-    const bool dataRadii = !particles.radii.empty() && style.radius.attribute.empty();
-    const bool dataColors = !particles.colors.empty() && style.color.attribute.empty();
+    // Precedence (docs/scene-spec.md): what the scene states wins; radii and colours the data
+    // carries or implies (element radii and colours) win over the defaults.
+    const bool dataRadii = !particles.radii.empty() && !style.radius.fromScene && style.radius.attribute.empty();
+    const bool dataColors = !particles.colors.empty() && !style.color.fromScene && style.color.attribute.empty();
     out.centerRadius = std::move(styled.positionRadius);
     out.color = std::move(styled.color);
     out.id.resize(n);

@@ -156,6 +156,9 @@ void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& over
 }
 
 void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridden) {
+    s.radius.fromScene = r.has("radius");
+    s.color.fromScene = r.has("color");
+    s.opacity.fromScene = r.has("opacity");
     if (r.has("radius")) {
         const json& v = r.raw("radius");
         if (v.is_object()) {
@@ -207,6 +210,8 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
             }
             s.color.range = readRange(m, "range");
             m.finish();
+        } else if (v.is_string() && v.get<std::string>() == "direction") {
+            s.color.direction = true;
         } else {
             // getColor takes RGBA too; an alpha here would be dropped silently.
             if (v.is_array() && v.size() == 4)
@@ -422,7 +427,7 @@ void readVrc(SpecReader r, VrcSpec& v) {
 void readRender(SpecReader r, RenderSpec& rs) {
     // Any identifier: the registry (core/technique_registry.h) knows which names exist and which
     // combinations with the keys below it takes.
-    rs.technique = RenderTechnique(r.getString("technique", rs.technique.name()));
+    rs.technique = RenderTechnique(r.getString("technique", "auto"));
     if (rs.technique.name().empty() ||
         rs.technique.name().find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
         r.fail("technique", "expected a technique name (tubecast techniques lists them), got \"" +
@@ -435,8 +440,10 @@ void readRender(SpecReader r, RenderSpec& rs) {
         rt.finish();
     }
     std::string transparency =
-        r.getEnum("transparency", "opaque", {"opaque", "kbuffer", "depth_peeling", "object_order", "opacity_optimization"});
-    rs.transparency = transparency == "kbuffer"                ? Transparency::KBuffer
+        r.getEnum("transparency", "auto",
+                  {"auto", "opaque", "kbuffer", "depth_peeling", "object_order", "opacity_optimization"});
+    rs.transparency = transparency == "auto"                   ? Transparency::Auto
+                      : transparency == "kbuffer"              ? Transparency::KBuffer
                       : transparency == "depth_peeling"        ? Transparency::DepthPeeling
                       : transparency == "object_order"         ? Transparency::ObjectOrder
                       : transparency == "opacity_optimization" ? Transparency::OpacityOptimization
@@ -565,6 +572,9 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
 
     Scene scene;
     scene.file = file;
+    // A scene file's defaults (RenderSpec's own serve code that builds scenes).
+    scene.render.technique = RenderTechnique::Auto;
+    scene.render.transparency = Transparency::Auto;
     SpecReader top(doc, file, "", &overridden);
     if (!top.has("dataset")) top.fail("dataset", "missing required key (\"path\" to a file or \"generate\": \"tornado\")");
     readDataset(top.child("dataset"), scene.dataset, overridden);

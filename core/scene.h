@@ -51,7 +51,11 @@ struct RangeSpec {
 };
 
 // style.radius: a constant, or an attribute mapped linearly from `range` to `radius_range`.
+// Every style entry knows whether the scene stated it (`fromScene`, also through --set): what the
+// scene states wins over radii and colours the data carries or implies (docs/scene-spec.md,
+// "Precedence"); the defaults lose to them.
 struct RadiusSpec {
+    bool fromScene = false;
     float constant = 0.01f;
     std::string attribute;  // empty = constant
     RangeSpec range;
@@ -60,6 +64,10 @@ struct RadiusSpec {
 
 // style.color: a constant sRGB colour, or an attribute through a colormap.
 struct ColorSpec {
+    bool fromScene = false;
+    // "direction": direction-encoded colour, RGB = (|dx|, |dy|, |dz|) of the unit line tangent
+    // (the tractography convention, Pajevic & Pierpaoli 1999); lines only.
+    bool direction = false;
     glm::vec3 constant{0.85f, 0.55f, 0.25f};  // sRGB
     std::string attribute;
     std::string colormap = "viridis";  // a built-in name, or a ParaView preset .json (path resolved)
@@ -71,6 +79,7 @@ struct ColorSpec {
 // style.opacity: a constant, or an attribute through a piecewise linear transfer function over
 // the normalised attribute value t in [0,1]: points [[t0, a0], [t1, a1], ...], t ascending.
 struct OpacitySpec {
+    bool fromScene = false;
     float constant = 1.0f;
     std::string attribute;
     RangeSpec range;
@@ -131,7 +140,9 @@ private:
 std::ostream& operator<<(std::ostream& out, const RenderTechnique& t);
 
 
-enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling, OpacityOptimization };
+// Auto (the scene file's default): opaque when every opacity is 1, else the technique's exact-order
+// transparent mode (TechniqueRegistry::resolveTransparency). Techniques never see Auto.
+enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling, OpacityOptimization, Auto };
 
 // Where the rasterized path builds each segment's billboard: a compute pre-pass (default), the
 // vertex shader (vertex pulling, once per quad corner) or a geometry shader (the paper's layout).
@@ -228,6 +239,8 @@ struct VrcSpec {
     int shadowLevel = 1;             // hard: LoD level of the representative lines (voxels of 2^level)
 };
 
+// The defaults here are what code that builds a Scene gets (tests, benchmarks); a scene file's
+// defaults are "auto" for both technique and transparency (parseScene), resolved by the frame loop.
 struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;

@@ -91,6 +91,20 @@ struct Normalizer {
     float operator()(float v) const { return std::isnan(v) ? v : std::clamp((v - lo) * scale, 0.0f, 1.0f); }
 };
 
+// style.color "direction": |t| of the unit tangent at each vertex (the chord through its two
+// neighbours; the one segment at polyline ends) as an sRGB colour, the alpha kept.
+void directionColors(const LineSet& lines, std::vector<glm::vec4>& color) {
+    tbb::parallel_for(std::size_t(0), lines.polylineCount(), [&](std::size_t p) {
+        const std::uint32_t begin = lines.offsets[p], end = lines.offsets[p + 1];
+        for (std::uint32_t v = begin; v < end; ++v) {
+            const glm::vec3 d = lines.positions[std::min(v + 1, end - 1)] - lines.positions[v > begin ? v - 1 : v];
+            const float length = glm::length(d);
+            const glm::vec3 rgb = length > 0.0f ? glm::abs(d / length) : glm::vec3(0.5f);
+            color[v] = glm::vec4(srgbToLinear(rgb), color[v].w);
+        }
+    });
+}
+
 }  // namespace
 
 StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::string& sceneFile) {
@@ -162,6 +176,7 @@ StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::
         out.positionRadius[i] = glm::vec4(lines.positions[i], radius);
         out.color[i] = glm::vec4(rgb, alpha);
     });
+    if (style.color.direction) directionColors(lines, out.color);
     for (std::size_t i = 0; i < n; ++i) {
         out.bounds.extend(lines.positions[i], out.positionRadius[i].w);
         out.maxRadius = std::max(out.maxRadius, out.positionRadius[i].w);
@@ -179,6 +194,12 @@ StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::
         }
     }
     return out;
+}
+
+bool anyTranslucent(const StyledLines& lines) {
+    for (const glm::vec4& c : lines.color)
+        if (c.w < 1.0f) return true;
+    return false;
 }
 
 }  // namespace tc

@@ -25,6 +25,9 @@ namespace tc {
 // cannot be derived.
 StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::string& sceneFile);
 
+// Whether any vertex has an opacity below 1 (render.transparency "auto").
+bool anyTranslucent(const StyledLines& lines);
+
 // The piecewise linear transfer function of style.opacity at normalised t: held constant
 // outside the points, the lower value exactly at a step, the first value for NaN; 1 without points.
 float evaluateTransferFunction(const std::vector<glm::vec2>& points, float t);

@@ -38,6 +38,7 @@ const char* transparencyName(Transparency t) {
     case Transparency::KBuffer: return "kbuffer";
     case Transparency::DepthPeeling: return "depth_peeling";
     case Transparency::OpacityOptimization: return "opacity_optimization";
+    case Transparency::Auto: return "auto";
     }
     return "?";
 }
@@ -60,7 +61,7 @@ std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Sc
                                                    dataKindName(kind)};
     }
     const RenderSpec& r = scene.render;
-    if (!contains(d.transparency, r.transparency)) {
+    if (r.transparency != Transparency::Auto && !contains(d.transparency, r.transparency)) {
         std::vector<std::string> modes;
         for (Transparency t : d.transparency) modes.push_back(transparencyName(t));
         return SpecProblem{"render.transparency",
@@ -88,6 +89,12 @@ bool isSoftwareRasterizer(const std::string& glRenderer) {
     for (const char* software : {"llvmpipe", "softpipe", "swrast"})
         if (lower.find(software) != std::string::npos) return true;
     return false;
+}
+
+TransparencyChoice resolveTransparency(const TechniqueDescriptor& d, bool translucent) {
+    if (!translucent) return {Transparency::Opaque, "render.transparency auto: opaque (every opacity is 1)"};
+    return {d.exactTransparency, std::string("render.transparency auto: ") + transparencyName(d.exactTransparency) +
+                                     " (opacity below 1; the exact-order transparent mode of " + d.name + ")"};
 }
 
 void TechniqueRegistry::add(TechniqueDescriptor d) {

@@ -91,10 +91,18 @@ struct TechniqueDescriptor {
 };
 
 // What is wrong with rendering `scene` (as `kind`) with `d`, or nothing: the data kind, the
-// transparency mode, the AO method, then the descriptor's own check.
+// transparency mode (any, while it is "auto"), the AO method, then the descriptor's own check.
 std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind);
 // The same as an InputError "file: key: message" (for renderers that guard their create()).
 void requireTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind);
+
+// render.transparency "auto" for technique `d`: opaque when no opacity is below 1 (`translucent`
+// false), else the technique's exact-order transparent mode; `why` is the log line.
+struct TransparencyChoice {
+    Transparency mode = Transparency::Opaque;
+    std::string why;
+};
+TransparencyChoice resolveTransparency(const TechniqueDescriptor& d, bool translucent);
 
 // Whether GL_RENDERER names a software rasterizer (llvmpipe, softpipe, swrast).
 bool isSoftwareRasterizer(const std::string& glRenderer);

@@ -101,6 +101,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     }
     case Transparency::Opaque:
     case Transparency::OpacityOptimization:  // gl/opacity_renderer.cpp
+    case Transparency::Auto:                 // resolved before any technique is made
         TC_CHECK(false);
     }
     if (r->m_mode != Transparency::DepthPeeling)
@@ -199,7 +200,8 @@ void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     case Transparency::KBuffer: renderKBuffer(setup, timer); break;
     case Transparency::DepthPeeling: renderDepthPeeling(setup, timer); break;
     case Transparency::Opaque:
-    case Transparency::OpacityOptimization: TC_CHECK(false);
+    case Transparency::OpacityOptimization:
+    case Transparency::Auto: TC_CHECK(false);
     }
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);

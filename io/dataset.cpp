@@ -1,9 +1,12 @@
 #include "io/dataset.h"
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 
 #include "core/error.h"
 #include "core/generators.h"
+#include "io/line_formats.h"
 #include "io/line_reader.h"
 #include "io/particle_reader.h"
 #include "io/stream_tracer.h"
@@ -37,11 +40,18 @@ DatasetLoad loadDataset(const DatasetSpec& spec) {
         load.lines = readLineSet(spec.path, &load.cleaned);
         load.source = spec.path;
     }
-    if (!load.isParticles() && load.lines.polylineCount() == 0)
-        throw InputError(load.source + ": no polylines to render" +
-                         (load.cleaned.any() ? " (" + load.cleaned.summary() + ")" : std::string()));
+    // Empty is valid (the frames show the background, with a warning: cli/render.cpp); emptied by
+    // cleaning is not.
+    if (!load.isParticles() && load.lines.polylineCount() == 0 && load.cleaned.any())
+        throw InputError(load.source + ": no polylines to render (" + load.cleaned.summary() + ")");
     load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return load;
+}
+
+bool isDatasetFile(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext != ".json" && (isNativeLineFormat(ext) || isVtkFile(path) || isParticleFile(path));
 }
 
 }  // namespace tc

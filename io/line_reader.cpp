@@ -220,6 +220,8 @@ ParticleSet extractPoints(const std::string& path, vtkDataSet* data) {
             set.colors.push_back(c);
         }
     }
+    if (radius) set.radiiFrom = Provenance::File;
+    if (color) set.colorsFrom = Provenance::File;
     set.update();
     return set;
 }
@@ -306,7 +308,9 @@ vtkSmartPointer<vtkDataObject> readVtkObject(const std::string& path) {
 LineSet cleanedLines(const std::string& path, LineSet lines, CleanReport* report) {
     CleanReport cleaned = cleanLineSet(lines);
     if (report) *report = cleaned;
-    if (lines.polylineCount() == 0)
+    // An empty file is a valid empty dataset (a tractogram with 0 tracks); one whose every
+    // polyline was unusable is an error.
+    if (lines.polylineCount() == 0 && cleaned.any())
         throw InputError(path + ": no polylines left after cleaning (" + cleaned.summary() + ")");
     return lines;
 }

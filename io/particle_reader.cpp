@@ -104,6 +104,8 @@ void addElement(ParticleSet& f, const std::string& symbol) {
     ElementStyle e = elementStyle(symbol);
     f.radii.push_back(e.radius);
     f.colors.push_back(glm::vec4(e.color, 1.0f));
+    f.radiiFrom = f.colorsFrom = Provenance::Elements;
+    f.elementRadii.try_emplace(symbol, e.radius);
 }
 
 Attribute& attributeNamed(ParticleSet& f, const std::string& name) {
@@ -186,9 +188,14 @@ ParticleData readXyz(const std::string& path, const std::string& text) {
                 if (c.type == 'S') {
                     if (c.name == "species" || c.name == "element") {
                         ElementStyle e = elementStyle(t[k]);
-                        if (!hadRadius) f.radii.push_back(e.radius), hadRadius = true;
+                        if (!hadRadius) {
+                            f.radii.push_back(e.radius), hadRadius = true;
+                            f.radiiFrom = Provenance::Elements;
+                            f.elementRadii.try_emplace(t[k], e.radius);
+                        }
                         color = glm::vec4(e.color, 1.0f);
                         hadColor = true;
+                        if (f.colorsFrom == Provenance::None) f.colorsFrom = Provenance::Elements;
                     }
                     k += std::size_t(c.cols);
                     continue;
@@ -201,9 +208,11 @@ ParticleData readXyz(const std::string& path, const std::string& text) {
                     else if (c.name == "radius" && c.cols == 1) {
                         if (hadRadius) f.radii.back() = float(v);
                         else f.radii.push_back(float(v)), hadRadius = true;
+                        f.radiiFrom = Provenance::File;
                     } else if ((c.name == "color" || c.name == "colour") && (c.cols == 3 || c.cols == 4)) {
                         color[j] = float(v);
                         hadColor = true;
+                        f.colorsFrom = Provenance::File;
                     } else {
                         static const char* xyz[3] = {"_x", "_y", "_z"};
                         std::string name = c.cols == 1 ? c.name : c.cols == 3 ? c.name + xyz[j] : c.name + "_" + std::to_string(j);
@@ -458,6 +467,7 @@ ParticleData readLammps(const std::string& path, const std::string& text) {
                     f.positions.push_back(p);
                     if (iRadius >= 0) f.radii.push_back(float(number(lines, t[std::size_t(iRadius)], "radius")));
                     else if (iDiameter >= 0) f.radii.push_back(0.5f * float(number(lines, t[std::size_t(iDiameter)], "diameter")));
+                    if (iRadius >= 0 || iDiameter >= 0) f.radiiFrom = Provenance::File;
                     for (std::size_t k = 0; k < names.size(); ++k) {
                         if (int(k) == ix || int(k) == iy || int(k) == iz || int(k) == iRadius || int(k) == iDiameter ||
                             names[k] == "id" || names[k] == "element")

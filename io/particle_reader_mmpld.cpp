@@ -164,6 +164,7 @@ ParticleData readMmpld(const std::string& path, const std::string& bytes) {
                 f.positions.push_back(pos);
                 f.radii.push_back(radius);
                 f.colors.push_back(glm::clamp(color, glm::vec4(0.0f), glm::vec4(1.0f)));
+                f.radiiFrom = f.colorsFrom = Provenance::File;
                 intensity.values.push_back(value);
                 list.values.push_back(float(li));
             }

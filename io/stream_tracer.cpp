@@ -301,6 +301,7 @@ LineSet traceStreamlines(const std::string& path, const TraceSpec& spec, CleanRe
         out.offsets.push_back(std::uint32_t(out.positions.size()));
     }
     addAttributes(traced, order, out);
+    out.velocity = vectorName;  // "speed" is the magnitude of the traced vector, whatever its name
     CleanReport cleaned = cleanLineSet(out);
     if (report) *report = cleaned;
     if (out.polylineCount() == 0)

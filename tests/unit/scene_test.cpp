@@ -83,8 +83,9 @@ TEST(Scene, MinimalSceneParsesWithTheDocumentedDefaults) {
     EXPECT_EQ(s.image.height, 480);
     EXPECT_EQ(s.image.background, glm::vec4(0));
 
-    EXPECT_EQ(s.render.technique, RenderTechnique::Rasterized);
-    EXPECT_EQ(s.render.transparency, Transparency::Opaque);
+    // Both resolved per run: the technique by the GL at hand, the transparency by the opacities.
+    EXPECT_EQ(s.render.technique, RenderTechnique::Auto);
+    EXPECT_EQ(s.render.transparency, Transparency::Auto);
 
     EXPECT_EQ(s.lighting.direction, glm::vec3(0.3f, 0.5f, 1.0f));
     EXPECT_FLOAT_EQ(s.lighting.ambient, 0.25f);
