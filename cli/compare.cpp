@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "core/error.h"
 #include "io/image_io.h"
 
 namespace tc::cli {
@@ -19,12 +20,12 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("a", options->a, "Image (PNG or EXR)")->required();
     cmd->add_option("b", options->b, "Image (PNG or EXR)")->required();
     cmd->add_option("--threshold", options->threshold, "Per-channel error counted as a differing pixel (default 1/255)");
-    cmd->add_option("--fail", options->failPsnr, "Exit 1 if PSNR (dB) is below this");
+    cmd->add_option("--fail", options->failPsnr, "Exit 6 if the PSNR (dB) is below this");
     cmd->callback([options] {
         ImageDiff d = compareImages(options->a, options->b, options->threshold);
         std::cout << std::setprecision(6) << "rmse " << d.rmse << "\npsnr " << d.psnr << "\nmax_error " << d.maxError
                   << "\npixels_over_threshold_percent " << 100.0 * d.fractionOver << "\n";
-        if (options->failPsnr > 0 && !(d.psnr >= options->failPsnr)) g_exitCode = 1;
+        if (options->failPsnr > 0 && !(d.psnr >= options->failPsnr)) g_exitCode = int(ExitCode::ImagesDiffer);
     });
 }
 

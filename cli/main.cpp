@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
         "  2  invalid input: command line, scene spec or dataset\n"
         "  3  no usable OpenGL backend (EGL / OSMesa)\n"
         "  4  cannot write output (directory, permissions, existing files without --overwrite/--resume)\n"
-        "  5  some frames failed (render --keep-going: the others were written)\n");
+        "  5  some frames failed (render --keep-going: the others were written)\n"
+        "  6  compare --fail: the images differ (PSNR below the threshold)\n");
     tc::cli::addRenderCommand(app);
     tc::cli::addValidateCommand(app);
     tc::cli::addInfoCommand(app);

@@ -13,6 +13,7 @@ enum class ExitCode : int {
     NoGpuContext = 3,  // no usable OpenGL backend
     CannotWrite = 4,   // output directory or file cannot be written
     FramesFailed = 5,  // --keep-going: some frames failed
+    ImagesDiffer = 6,  // compare --fail: the PSNR is below the threshold
 };
 
 class Error : public std::runtime_error {

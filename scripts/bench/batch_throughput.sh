@@ -1,15 +1,17 @@
 #!/bin/bash
 # Usage: scripts/bench/batch_throughput.sh [FRAMES] (TUBECAST=path/to/tubecast; default build/cli/tubecast).
-# One process vs two --shard processes pinned to one CPU each vs two real Slurm array tasks with
-# --cpus-per-task=1 (a throw-away local Slurm, scripts/slurm/local_cluster.sh; needs root, skipped
-# otherwise) (docs/performance.md "M9").
-# M9 throughput: FRAMES-frame (default 36) orbit of configs/tornado_1m.json at 1280x720, PNG only.
+# Batch throughput: a FRAMES-frame (default 36) orbit of configs/tornado_1m.json at 1280x720, PNG
+# only, rendered by one process vs two --shard processes pinned to one CPU each vs two real Slurm
+# array tasks with --cpus-per-task=1 (a throw-away local Slurm, scripts/slurm/local_cluster.sh;
+# needs root, skipped otherwise or with BATCH_SLURM=0). EXTRA: more --set arguments.
 N=${1:-36}
 B=${TUBECAST:-build/cli/tubecast}
 S=$(realpath "$(dirname "$0")/../../configs/tornado_1m.json")
 B=$(realpath "$B")
 SET=(--set image.width=1280 --set image.height=720 --set 'output.formats=["png"]' --set 'output.aovs=[]'
      --set animation.type=orbit --set animation.frames=$N --set 'animation.axis=[0,0,1]' --set output.name=f.####)
+read -r -a EXTRA_SET <<<"${EXTRA:-}"
+SET+=("${EXTRA_SET[@]}")
 SRC=$(realpath "$(dirname "$0")/../..")
 mkdir -p /tmp/tubecast-bench/batch && cd /tmp/tubecast-bench/batch && rm -rf one two slurm cluster
 echo "load before: $(cat /proc/loadavg)"
@@ -29,7 +31,9 @@ for d in one two; do echo "$d load_and_style_s: $(grep -h load_and_style_s $d/ru
 # Two Slurm array tasks, one CPU each: submit.sh with a shard size of half the frames.
 source "$SRC/scripts/slurm/local_cluster.sh"
 mkdir -p cluster
-if local_cluster_start "$PWD/cluster"; then
+if [ "${BATCH_SLURM:-1}" = 0 ]; then
+    echo "Slurm run skipped: BATCH_SLURM=0"
+elif local_cluster_start "$PWD/cluster"; then
     trap local_cluster_stop EXIT
     t0=$(date +%s.%N)
     job=$(TUBECAST=$B "$SRC/scripts/slurm/submit.sh" --sbatch "--cpus-per-task=1 -o $PWD/cluster/task-%A_%a.log" \

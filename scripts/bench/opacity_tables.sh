@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# M7 tables (docs/performance.md, M7 "Session 7 (lead)"): opacity optimization on the generated
+# The opacity optimization table of docs/performance.md: opacity optimization on the generated
 # tornado at 1280x1024, per size one process rendering frame 0 (cold solve) and FRAMES - 1 more
 # frames of a 2-degree orbit, each warm started from the previous solution as the renderer does
 # in an animation. Prints the bench's frame-0 row (per-frame stages, product cost, cold/warm
@@ -7,6 +7,7 @@
 # solve (iterations, products, residual), resolve), plus the solves per second of each warm frame.
 #   FRAMES=8 SIZES="8000:assembled:1" scripts/bench/opacity_tables.sh
 # SIZES: parts:occlusion:occlusion_scale entries (occlusion auto|assembled|fragments).
+# BENCH_ARGS: more arguments for tubecast_opacity_bench (e.g. "--size 320x256").
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD_DIR=${BUILD_DIR:-build}
@@ -18,7 +19,7 @@ echo "## load $(cut -d' ' -f1-3 /proc/loadavg) $(date +%T) $(git rev-parse --sho
 for entry in $SIZES; do
     IFS=: read -r parts occlusion scale <<<"$entry"
     echo "### $parts parts, occlusion $occlusion, occlusion_scale $scale ($(cut -d' ' -f1-3 /proc/loadavg) $(date +%T))"
-    out=$("$B" --parts "$parts" --reps 1 --occlusion "$occlusion" --occlusion-scale "$scale" --frames "$FRAMES" 2>&1) || {
+    out=$("$B" --parts "$parts" --reps 1 --occlusion "$occlusion" --occlusion-scale "$scale" --frames "$FRAMES" ${BENCH_ARGS:-} 2>&1) || {
         echo "FAILED: $(tail -n 3 <<<"$out")"
         continue
     }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The visibility sort alone (M2): GPU radix sort vs tbb::parallel_sort vs std::sort on the same
+# The visibility sort alone: GPU radix sort vs tbb::parallel_sort vs std::sort on the same
 # 10^5, 10^6, 10^7 random (key, value) pairs; prints the Markdown table for docs/performance.md.
 # Extra arguments go to the benchmark (--sizes 100000,1000000 --reps 5 --digit-bits 8 ...).
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# M10 benchmark of render.technique "raytraced" (CPU, Embree): per-frame times of the 1M-segment
+# Benchmark of render.technique "raytraced" (CPU, Embree): per-frame times of the 1M-segment
 # tornado at 1920x1080, opaque / transparent (opacity 0.3, alpha_cutoff 0.99) / exact (cutoff 1),
 # then BVH build time and memory for 1e5..1e7 segments (from run.json, tiny images).
 #   scripts/bench/raytraced.sh [FRAMES] [MAX_SEGMENTS_EXPONENT] [PARTS]

@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
-# M2's performance table: the 1M-segment tornado (configs/tornado_1m.json) at 1920x1080, opacity
-# 0.3: opaque, object order, k-buffer k = 2/4/8/16 and depth peeling (layers peeled), and the same
-# data through VTK (vtkTubeFilter, 8 sides, depth peeling without limit) under Xvfb on the same
-# llvmpipe. Quality (PSNR vs depth peeling) on a 480x270 view of the same scene.
+# The transparency modes of render.technique "rasterized" on the 1M-segment tornado
+# (configs/tornado_1m.json) at 1920x1080, opacity 0.3: opaque, object order, the k-buffer with
+# k = 1, 2, 4, 8, 16 and depth peeling (the exact reference; one frame, it peels every layer),
+# each with its PSNR against depth peeling on a 480x270 view of the same scene.
 #   scripts/install-deps.sh --bench && scripts/build.sh && scripts/bench/transparency.sh [FRAMES]
-# Writes a Markdown table to stdout; raw outputs stay in $OUT (default /tmp/tubecast-bench).
+# FRAMES (default 3): a FRAMES-frame orbit over 10 degrees; ms = median `frame` of the frames
+# after the first. EXTRA: more --set arguments for every render (e.g. a smaller dataset).
+# Prints a Markdown table; raw outputs stay in $OUT (default /tmp/tubecast-bench/transparency).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 frames=${1:-3}
-OUT=${OUT:-/tmp/tubecast-bench}
+OUT=${OUT:-/tmp/tubecast-bench/transparency}
 mkdir -p "$OUT"
 scene=configs/tornado_1m.json
 tc=${TUBECAST:-build/cli/tubecast}
+read -r -a extra <<<"${EXTRA:-}"
 common=(--set 'style.opacity=0.3' --set 'output.aovs=[]' --set 'output.formats=["png"]')
 
 # mawk (Debian's awk) has no asort: sort with sort(1), then pick the median.
@@ -24,58 +27,32 @@ median_frame() {  # median "frame" wall time (ms) over the frames after the firs
 stage() {  # median of a stage's cpu_ms over the frames after the first
   awk -F, -v s="$2" '$2 == s && $1 > 0 { print $4 }' "$1" | median_of
 }
-
 run() {  # name, frames, extra args...
   local name=$1 n=$2; shift 2
-  rm -rf "$OUT/$name"
+  rm -rf "${OUT:?}/$name"
   "$tc" render "$scene" -o "$OUT/$name" -q --overwrite "${common[@]}" \
-    --set "animation={\"type\":\"orbit\",\"frames\":$n,\"degrees\":10}" --set 'output.name=f.####' "$@"
+    --set "animation={\"type\":\"orbit\",\"frames\":$n,\"degrees\":10}" --set 'output.name=f.####' "${extra[@]}" "$@"
+}
+psnr() {  # PSNR (dB) against depth peeling at 480x270, from quality.csv
+  local name=q$1; shift
+  rm -rf "${OUT:?}/$name"
+  "$tc" render "$scene" -o "$OUT/$name" -q --overwrite "${common[@]}" --set image.width=480 --set image.height=270 \
+    "${extra[@]}" "$@" --set render.reference=depth_peeling
+  awk -F, 'NR == 2 { printf "%.1f", $4 }' "$OUT/$name/quality.csv"
 }
 
-echo "| configuration | ms/frame (median) | notes |"
-echo "|---|---|---|"
+echo "| configuration | ms/frame | sort ms | PSNR vs depth peeling (dB, 480x270) |"
+echo "|---|---:|---:|---:|"
 run opaque "$frames" --set render.transparency=opaque
-echo "| opaque | $(median_frame "$OUT/opaque/timings.csv") | |"
+echo "| opaque | $(median_frame "$OUT/opaque/timings.csv") | | |"
 run object_order "$frames" --set render.transparency=object_order
-echo "| object order | $(median_frame "$OUT/object_order/timings.csv") | sort $(stage "$OUT/object_order/timings.csv" sort) ms |"
-for k in 2 4 8 16; do
+echo "| object order | $(median_frame "$OUT/object_order/timings.csv") | $(stage "$OUT/object_order/timings.csv" sort) |" \
+     "$(psnr oo --set render.transparency=object_order) |"
+for k in 1 2 4 8 16; do
   run "kbuffer$k" "$frames" --set render.transparency=kbuffer --set "render.kbuffer.k=$k"
-  echo "| k-buffer k=$k | $(median_frame "$OUT/kbuffer$k/timings.csv") | sort $(stage "$OUT/kbuffer$k/timings.csv" sort) ms |"
+  echo "| k-buffer k=$k | $(median_frame "$OUT/kbuffer$k/timings.csv") | $(stage "$OUT/kbuffer$k/timings.csv" sort) |" \
+       "$(psnr "$k" --set render.transparency=kbuffer --set "render.kbuffer.k=$k") |"
 done
 run peel 1 --set render.transparency=depth_peeling
 layers=$(awk -F, '$2 == "peel" { print $5 }' "$OUT/peel/timings.csv")
-echo "| depth peeling | $(median_frame "$OUT/peel/timings.csv") | $layers layers, 1 frame |"
-
-# Quality against depth peeling on a 480x270 view of the same scene.
-for k in 2 4 8 16; do
-  rm -rf "$OUT/q$k"
-  "$tc" render "$scene" -o "$OUT/q$k" -q --overwrite "${common[@]}" --set image.width=480 --set image.height=270 \
-    --set render.transparency=kbuffer --set "render.kbuffer.k=$k" --set render.reference=depth_peeling
-  echo "| quality 480x270, k-buffer k=$k | | PSNR $(awk -F, 'NR == 2 { printf "%.1f", $4 }' "$OUT/q$k/quality.csv") dB vs depth peeling |"
-done
-rm -rf "$OUT/qoo"
-"$tc" render "$scene" -o "$OUT/qoo" -q --overwrite "${common[@]}" --set image.width=480 --set image.height=270 \
-  --set render.transparency=object_order --set render.reference=depth_peeling
-echo "| quality 480x270, object order | | PSNR $(awk -F, 'NR == 2 { printf "%.1f", $4 }' "$OUT/qoo/quality.csv") dB vs depth peeling |"
-
-# VTK, as a ParaView user renders it. Depth peeling without a peel limit takes minutes per frame
-# (one geometry pass per two layers): one frame. SetMaximumNumberOfPeels(0) is VTK's zero peels +
-# one unsorted alpha-blending pass (scripts/bench/vtk_bench_common.py): reported separately.
-if command -v xvfb-run >/dev/null && /usr/bin/python3 -c "import vtk" 2>/dev/null; then
-  "$tc" convert "$scene" "$OUT/tornado_1m.vtp" 2>/dev/null
-  vtk_run() {  # output name, args...
-    local name=$1; shift
-    xvfb-run -a -s "-screen 0 1920x1080x24" /usr/bin/python3 scripts/bench/vtk_tubes.py "$OUT/tornado_1m.vtp" \
-      "$OUT/kbuffer8/run.json" --radius 0.0025 "$@" > "$OUT/$name.txt" 2>&1 || true
-  }
-  vtk_ms() { awk '/median/ { printf "%.0f", $(NF - 1) * 1000 }' "$OUT/$1.txt"; }
-  vtk_passes() { awk '/^frame/ { sub(/^frame [0-9]+: [0-9.]+ s, /, ""); p = $0 } END { print p }' "$OUT/$1.txt"; }
-  vtk_run vtk_opaque --opaque --frames "$frames"
-  vtk_run vtk_peel --opacity 0.3 --frames 1
-  vtk_run vtk_blend --opacity 0.3 --frames "$frames" --max-peels 0
-  echo "| VTK vtkTubeFilter opaque | $(vtk_ms vtk_opaque) | $OUT/vtk_opaque.txt |"
-  echo "| VTK vtkTubeFilter + depth peeling (no limit), 1 frame | $(vtk_ms vtk_peel) | $(vtk_passes vtk_peel) |"
-  echo "| VTK vtkTubeFilter, SetMaximumNumberOfPeels(0) (unsorted blending) | $(vtk_ms vtk_blend) | $(vtk_passes vtk_blend) |"
-else
-  echo "| VTK | - | not run: scripts/install-deps.sh --bench installs python3-vtk9 and xvfb |"
-fi
+echo "| depth peeling ($layers layers, 1 frame) | $(median_frame "$OUT/peel/timings.csv") | | exact |"

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# M3's voxelization table: the density volume for line AO (core/voxel_density.h) built from the
-# tornado at 10^5, 10^6, 10^7 segments (200 / 2000 / 20000 lines x 501 points) at resolution 256;
-# prints the Markdown table for docs/performance.md.
-# Extra arguments go to the benchmark (--lines 200,2000 --points 501 --resolution 256 --reps 3
-# --threads N).
+# The density volume behind line AO (core/voxel_density.h) built from the tornado at 10^5, 10^6
+# and 10^7 segments (lines of 501 points) at resolution 256; prints the Markdown table for
+# docs/performance.md.
+# Extra arguments go to the benchmark (--segments 100000,1000000 --points 501 --resolution 256
+# --reps 3 --threads N).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD_DIR=${BUILD_DIR:-build}

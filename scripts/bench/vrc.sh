@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# M8: voxel-based line ray casting (VRC). Short runs (the machine is shared; the 1080p tables on
-# the bench sets are scripts/bench/vrc_tables.sh):
+# Voxel-based line ray casting (VRC), short runs (the 1080p tables on the bench sets are
+# scripts/bench/vrc_tables.sh):
 #   1. model build time and memory at 10^5 and 10^6 segments (tubecast_vrc_bench, Markdown table);
 #   2. frame time at 1920x1080 on configs/tornado_1m.json (10^6 segments): VRC opaque and
 #      semi-transparent (opacity 0.2) against the rasterized opaque and k-buffer (k = 8) paths,

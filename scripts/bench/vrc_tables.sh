@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# M8 tables at 1920x1080 on the bench sets (docs/performance.md, M8 "Session 6 (lead)"):
-# per set, rasterized opaque, VRC opaque, k-buffer k=8 and VRC transparent (opacity 0.3), each one
+# The voxel ray casting tables of docs/performance.md: at 1920x1080 on the bench sets, per set,
+# rasterized opaque, VRC opaque, k-buffer k=8 and VRC transparent (opacity 0.3), each one
 # process rendering two frames of the same view; prints frame 1's stage rows and the VRC model
 # statistics from run.json. Depth peeling only on the smallest set (minutes per frame otherwise).
 #   SETS="propeller_120k brain_2m" EXTRA="--set dataset.lines=20050" scripts/bench/vrc_tables.sh
@@ -29,7 +29,7 @@ run() {  # set, name, then --set overrides
     echo -n "$set $name user/sys/wall s $(cat "$d.time") :: "
     awk -F, '$2=="frame"{printf "frame%s=%s ", $1, $4} $1==1&&$2!="frame"&&$2!="frame_interval"{printf "%s=%s ", $2, $4}' "$d/timings.csv"
     python3 -c "import json; t=json.load(open('$d/run.json'))['technique']; \
-print(' || ' + ', '.join(f'{k}={t[k]}' for k in ('pieces','copies','copies_did_not_fit','piece_blocks','bytes_per_piece','model_mb','raw_lines_mb','build_ms','upload_ms') if k in t))"
+print(' || segments=' + str(json.load(open('$d/run.json'))['dataset']['segments']) + ', ' + ', '.join(f'{k}={t[k]}' for k in ('pieces','copies','copies_did_not_fit','piece_blocks','bytes_per_piece','model_mb','raw_lines_mb','build_ms','upload_ms') if k in t))"
 }
 for set in $SETS; do
     run "$set" raster_opaque

@@ -8,8 +8,7 @@ or when a peel's occlusion query counts <= OcclusionRatio x pixels; whatever is 
 last peel is alpha blended in one unsorted pass. So vtkRenderer::SetMaximumNumberOfPeels(0),
 documented as "no limit" for the older single-layer vtkDepthPeelingPass, means *zero peels* with
 dual depth peeling: one depth-initialisation pass plus one unsorted alpha-blending pass, i.e.
-not depth peeling at all (this script used 0 until session 4; the numbers measured with it are
-unsorted blending). No limit is therefore a large limit with occlusion ratio 0: peel until a peel
+not depth peeling at all (numbers measured with 0 are unsorted blending). No limit is therefore a large limit with occlusion ratio 0: peel until a peel
 writes no pixel. The frames report how many geometry passes VTK really drew, counted with an
 observer on the mapper's StartEvent (fired once per pass the mapper draws), and the peels that
 implies.

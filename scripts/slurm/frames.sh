@@ -1,4 +1,4 @@
-# Helpers shared by submit.sh and check.sh (sourced, not run).
+# Functions shared by submit.sh and check.sh (sourced, not run).
 
 # Number of frames in a list as printed by `tubecast render --dry-run` ("3,5..7,10" -> 5).
 count_frames() {

@@ -6,7 +6,7 @@
 #   sbatch ...        # SLURM_CONF is exported
 #
 # Starts its own munged (private socket), slurmctld and slurmd with a generated minimal slurm.conf
-# in DIR (no cgroups, SlurmUser root; the configuration verified in ../shared/notes/slurm.md), on
+# in DIR (no cgroups: proctrack/pgid and task/none; SlurmUser root), on
 # ports away from the defaults and from concurrent runs. local_cluster_stop cancels the jobs and
 # stops the daemons by the pids it knows, never by name.
 
