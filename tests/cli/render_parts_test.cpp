@@ -338,3 +338,17 @@ TEST(TechniquesCommand, markdown_lists_every_registered_technique) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(TechniquesCommand, the_readme_table_is_the_markdown_output) {
+    const std::string readme = tc::test::readText(fs::path(TUBECAST_SOURCE_DIR) / "README.md");
+    const std::string begin = "<!-- techniques:begin -->\n", end = "<!-- techniques:end -->";
+    const std::size_t a = readme.find(begin), b = readme.find(end);
+    ASSERT_NE(a, std::string::npos);
+    ASSERT_NE(b, std::string::npos);
+    EXPECT_EQ(readme.substr(a + begin.size(), b - a - begin.size()), techniquesMarkdown(techniqueRegistry()))
+        << "README.md's table: paste `tubecast techniques --markdown` between the markers";
+}
+
+}  // namespace
