@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/tangent_frame.h"
+#include "gl/gl_util.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/hierarchical_culling.h"
 #include "gl/segment_order.h"

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/segment_order.h"
 #include "gl/shader_library.h"

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 #include "gl/view_window.h"
@@ -22,16 +22,10 @@ Buffer upload(const std::vector<T>& v) {
 
 }  // namespace
 
-GLint uniformLocation(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
-
-void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
-                        std::size_t bytesPerComponent, void* dst) {
-    const std::size_t row = std::size_t(width) * components * bytesPerComponent;
-    std::vector<unsigned char> tmp(row * std::size_t(height));
-    glGetTextureImage(texture, 0, format, type, GLsizei(tmp.size()), tmp.data());
-    auto* out = static_cast<unsigned char*>(dst);
-    for (int y = 0; y < height; ++y)
-        std::memcpy(out + std::size_t(height - 1 - y) * row, tmp.data() + std::size_t(y) * row, row);
+std::size_t LineGeometry::uploadBytes(const StyledLines& lines) {
+    auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    return bytes(lines.positionRadius) + bytes(lines.color) + bytes(lines.polylineId) + bytes(lines.flags) +
+           bytes(lines.segmentVertices);
 }
 
 LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) {

@@ -19,6 +19,9 @@ public:
     // Uploads positions+radius, colours, polyline ids, vertex flags and the segment index
     // buffer. Needs a current context.
     static LineGeometry create(const StyledLines& lines, BillboardPath path);
+    // Bytes create() uploads for `lines` besides the per-frame billboard buffers: positions +
+    // radius, colours, polyline ids and flags per vertex, two vertex indices per segment.
+    static std::size_t uploadBytes(const StyledLines& lines);
 
     std::size_t segmentCount() const { return m_segmentCount; }
     BillboardPath billboardPath() const { return m_path; }
@@ -75,11 +78,5 @@ constexpr GLuint kBillboardCornerBinding = 4;
 constexpr GLuint kDrawOrderBinding = 5;
 constexpr GLuint kVertexFlagBinding = 6;
 constexpr GLuint kSegmentRecordBinding = 16;  // shaders/segment_varyings.glsl
-
-GLint uniformLocation(GLuint program, const char* name);
-
-// Reads a texture level into `dst`, flipping rows: GL's row 0 is the bottom, FrameImages' the top.
-void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
-                        std::size_t bytesPerComponent, void* dst);
 
 }  // namespace tc::gl

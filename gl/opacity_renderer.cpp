@@ -14,6 +14,7 @@
 #include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
 #include "core/shading.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 

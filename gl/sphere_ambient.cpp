@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "gl/density_volume.h"
-#include "gl/line_geometry.h"
+#include "gl/gl_util.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {

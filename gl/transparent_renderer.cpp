@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/shading.h"
 #include "gl/context.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 

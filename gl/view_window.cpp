@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gl/line_geometry.h"
+#include "gl/gl_util.h"
 
 namespace tc::gl {
 

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/shading.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "core/voxel_density.h"
 #include "core/vrc_representative.h"
@@ -107,7 +108,7 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
         throw InputError("render.vrc: the voxel model would hold " + std::to_string(total) +
                          " pieces, more than 2^31; lower render.vrc.resolution");
 
-    const std::size_t pieceBytes = quantized ? sizeof(VrcCompactPiece) : sizeof(VrcExactPiece);
+    const std::size_t pieceBytes = model.bytesPerPiece();
     const Buffer keys = makeBuffer(std::size_t(total) * 4), values = makeBuffer(std::size_t(total) * 4);
     const Buffer raw = makeBuffer(std::size_t(total) * pieceBytes);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
@@ -214,9 +215,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     r->m_modelBytes = model.bytes();
     r->m_lodBytes = model.lodBytes();
     r->m_segments = lines.segmentCount();
-    // What the rasterized paths upload: position+radius, colour, polyline id, flags per vertex and
-    // two indices per segment (gl/line_geometry.h).
-    r->m_rawBytes = lines.vertexCount() * (16 + 16 + 4 + 4) + lines.segmentCount() * 8;
+    r->m_rawBytes = LineGeometry::uploadBytes(lines);  // what the rasterized paths upload
 
     const auto t0 = std::chrono::steady_clock::now();
     if (model.voxels.empty()) {
