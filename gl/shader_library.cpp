@@ -8,7 +8,6 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "gl/embedded_shaders.h"
 
 namespace tc::gl {
 
@@ -23,13 +22,18 @@ void ShaderLibrary::setOverrideDir(std::string dir) {
     m_overrideDir = std::move(dir);
 }
 
-namespace {
+void ShaderLibrary::addEmbedded(const std::vector<EmbeddedShader>& shaders) { m_added.push_back(&shaders); }
 
-const EmbeddedShader* findEmbedded(std::string_view name) {
+const EmbeddedShader* ShaderLibrary::findEmbedded(std::string_view name) const {
     for (const EmbeddedShader& shader : embeddedShaders())
         if (shader.name == name) return &shader;
+    for (const std::vector<EmbeddedShader>* set : m_added)
+        for (const EmbeddedShader& shader : *set)
+            if (shader.name == name) return &shader;
     return nullptr;
 }
+
+namespace {
 
 // The override file for `name`, or "" if there is none.
 std::string overridePath(const std::string& dir, std::string_view name) {

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "gl/embedded_shaders.h"
 #include "gl/objects.h"
 
 namespace tc::gl {
@@ -34,15 +35,24 @@ public:
     void setOverrideDir(std::string dir);
     const std::string& overrideDir() const { return m_overrideDir; }
 
+    // Adds embedded files looked up after the binary's own: a test binary's shaders
+    // (tests/gl/test_shaders.h). `shaders` must outlive the library; their names must not repeat
+    // the binary's.
+    void addEmbedded(const std::vector<EmbeddedShader>& shaders);
+
     // The text of shader file `name` ("rounded_cone.frag"). Throws tc::Error(ExitCode::Internal)
-    // if neither the override directory nor the embedded set has it.
+    // if neither the override directory nor an embedded set has it.
     std::string source(std::string_view name) const;
-    // Where `name` is read from, as messages should name it: "<dir>/name" or "shaders/name".
+    // Where `name` is read from, as messages should name it: "<dir>/name", or "shaders/name" for
+    // an embedded file (the shaders/ directory of the binary's or the test's sources).
     std::string displayPath(std::string_view name) const;
 
 private:
     ShaderLibrary() = default;
+    const EmbeddedShader* findEmbedded(std::string_view name) const;
+
     std::string m_overrideDir;
+    std::vector<const std::vector<EmbeddedShader>*> m_added;
 };
 
 // #line numbers of file N (N >= 1) start at N * kShaderLineStride; files have fewer lines.
