@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/hierarchical_culling.h"
@@ -70,7 +71,7 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
     geometry.setCameraUniforms(a, setup);
     glUseProgram(a);
     geometry.bind();
-    glBindTextureUnit(0, m_segments.id());
+    glBindTextureUnit(binding::kVisibilitySegments, m_segments.id());
     glBindVertexArray(m_emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     timer.end();

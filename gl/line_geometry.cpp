@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
@@ -49,13 +50,13 @@ LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) 
 }
 
 void LineGeometry::bind() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionRadiusBinding, m_positionRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kColorBinding, m_colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPolylineIdBinding, m_polylineIds.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentVertexBinding, m_segmentVertices.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexFlagBinding, m_flags.id());
-    if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBillboardCornerBinding, m_billboardCorners.id());
-    if (m_segmentRecords) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentRecordBinding, m_segmentRecords.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPositionRadius, m_positionRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexColors, m_colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPolylineIds, m_polylineIds.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSegmentVertices, m_segmentVertices.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexFlags, m_flags.id());
+    if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kBillboardCorners, m_billboardCorners.id());
+    if (m_segmentRecords) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSegmentRecords, m_segmentRecords.id());
 }
 
 const char* LineGeometry::describeBillboards() const {

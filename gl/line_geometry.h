@@ -31,7 +31,7 @@ public:
     const Buffer& positionRadiusBuffer() const { return m_positionRadius; }
     const Buffer& segmentVerticesBuffer() const { return m_segmentVertices; }
 
-    // Binds the line SSBOs (bindings 0-4, 6, 16).
+    // Binds the line SSBOs (gl/bindings.h, the line group).
     void bind() const;
     // Whether the transparent fragment shaders clip at the joint planes (render.cap_clipping):
     // the planes are built once per segment with the billboard (shaders/segment_varyings.glsl),
@@ -52,7 +52,7 @@ public:
     // the draw slots [firstSlot, firstSlot + count); the caller adds the memory barrier.
     void buildBillboards(GLuint program, std::size_t firstSlot, std::size_t count) const;
     // Draws `count` segments starting at draw slot `first` with the bound program. When the
-    // program was compiled with DRAW_ORDER, slot i draws segment drawOrder[i] (binding 5).
+    // program was compiled with DRAW_ORDER, slot i draws segment drawOrder[i] (binding::kDrawOrder).
     void draw(std::size_t first, std::size_t count) const;
 
 private:
@@ -68,15 +68,5 @@ private:
     Program m_billboardProgram;
     VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
 };
-
-// SSBO bindings shared with the shaders.
-constexpr GLuint kPositionRadiusBinding = 0;
-constexpr GLuint kColorBinding = 1;
-constexpr GLuint kPolylineIdBinding = 2;
-constexpr GLuint kSegmentVertexBinding = 3;
-constexpr GLuint kBillboardCornerBinding = 4;
-constexpr GLuint kDrawOrderBinding = 5;
-constexpr GLuint kVertexFlagBinding = 6;
-constexpr GLuint kSegmentRecordBinding = 16;  // shaders/segment_varyings.glsl
 
 }  // namespace tc::gl

@@ -14,6 +14,7 @@
 #include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
 #include "core/shading.h"
+#include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
@@ -21,15 +22,6 @@
 namespace tc::gl {
 
 namespace {
-
-constexpr GLuint kVertexPartWBinding = 11;
-constexpr GLuint kListHeadBinding = 12;
-constexpr GLuint kFragmentDepthBinding = 13;
-constexpr GLuint kFragmentNextBinding = 14;
-constexpr GLuint kFragmentCounterBinding = 15;
-constexpr GLuint kFragmentPartBinding = 17;
-constexpr GLuint kFragmentFracBinding = 18;
-constexpr GLuint kFragmentColorBinding = 19;
 
 // Depth, part, fraction, colour and the next link, each a 4-byte array (shaders/opacity_common.glsl).
 constexpr std::size_t kNodeBytes = 5 * 4;
@@ -239,14 +231,14 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     glProgramUniform1ui(b, uniformLocation(b, "uCapacity"), GLuint(m_capacity));
     glProgramUniform1ui(b, uniformLocation(b, "uPartsPerLine"), GLuint(m_parts.partsPerLine));
     glUseProgram(b);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexPartWBinding, m_vertexPartW.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListHeadBinding, m_heads.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentDepthBinding, m_nodeDepth.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentPartBinding, m_nodePart.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentFracBinding, m_nodeFrac.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentColorBinding, m_nodeColor.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNextBinding, m_next.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCounterBinding, m_counter.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexPartW, m_vertexPartW.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kListHeads, m_heads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentDepths, m_nodeDepth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentParts, m_nodePart.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentFracs, m_nodeFrac.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentColors, m_nodeColor.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentNext, m_next.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentCounter, m_counter.id());
     m_geometry.draw(0, m_geometry.segmentCount());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     GLuint produced = 0;

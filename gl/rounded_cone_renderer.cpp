@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/shading.h"
+#include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
@@ -65,9 +66,9 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     glProgramUniform4f(s, uniformLocation(s, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
                        m_lighting.specular, m_lighting.shininess);
     if (m_ao) m_ao->apply(s);
-    glBindTextureUnit(0, m_gbuffer.albedo().id());
-    glBindTextureUnit(1, m_gbuffer.normalDepth().id());
-    glBindTextureUnit(2, m_gbuffer.segments().id());
+    glBindTextureUnit(binding::kGBufferAlbedo, m_gbuffer.albedo().id());
+    glBindTextureUnit(binding::kGBufferNormalDepth, m_gbuffer.normalDepth().id());
+    glBindTextureUnit(binding::kVisibilitySegments, m_gbuffer.segments().id());
     m_geometry.bind();
     glDrawArrays(GL_TRIANGLES, 0, 3);
     timer.end();

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "gl/bindings.h"
 
 namespace tc::gl {
 
@@ -224,10 +225,13 @@ Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>
                        const std::vector<std::string>& defines, bool verbose) {
     TC_CHECK(stages.size() > 0);
     const std::string defineList = defines.empty() ? "" : " (defines: " + joined(defines) + ")";
+    std::vector<std::string> allDefines;
+    for (const ShaderBinding& b : kShaderBindings) allDefines.push_back(std::string(b.define) + " " + std::to_string(b.point));
+    allDefines.insert(allDefines.end(), defines.begin(), defines.end());
     std::vector<Shader> shaders;
     std::vector<std::string> stageFiles;
     for (const auto& [stage, name] : stages) {
-        const ExpandedShader expanded = expandShader(name, defines);
+        const ExpandedShader expanded = expandShader(name, allDefines);
         stageFiles.push_back(expanded.files.at(1));
         if (verbose) printNumbered(expanded, stageName(stage));
 

@@ -82,7 +82,8 @@ std::string rewriteShaderLog(std::string_view log, const std::vector<std::string
 // Compiles and links a program from (stage, file name) pairs, e.g.
 //     compileProgram({{GL_VERTEX_SHADER, "lines.vert"}, {GL_FRAGMENT_SHADER, "lines.frag"}},
 //                    {"KBUFFER_K 8", "USE_INTERLOCK"});
-// Each define is "NAME" or "NAME VALUE". Needs a current context. Throws tc::Error(Internal) with
+// Each define is "NAME" or "NAME VALUE"; every stage gets the binding points of gl/bindings.h
+// (kShaderBindings) as defines before them. Needs a current context. Throws tc::Error(Internal) with
 // the rewritten log on a compile or link failure. With `verbose`, prints each stage's numbered
 // source (and any compiler warnings) to stderr.
 Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>> stages,

@@ -2,6 +2,7 @@
 
 #include "core/particle_series.h"
 #include "core/particle_styling.h"
+#include "gl/bindings.h"
 #include "gl/techniques.h"
 
 #include <algorithm>
@@ -21,13 +22,6 @@ namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kSphereCenterRadiusBinding = 0;
-constexpr GLuint kSphereColorBinding = 1;
-constexpr GLuint kSphereIdBinding = 2;
-constexpr GLuint kSphereKeysBinding = 2;    // sort key pass only
-constexpr GLuint kSphereValuesBinding = 3;  // sort key pass only
-constexpr GLuint kSphereOrderBinding = 5;
-constexpr GLuint kSphereOversizedBinding = 7;  // POINTS programs of shaders/sphere_billboard.vert
 constexpr GLuint kSortGroupSize = 64;  // local_size_x of shaders/sphere_sort_keys.comp
 constexpr std::size_t kMaxGroups = 65535;
 
@@ -181,12 +175,12 @@ void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
 void SphereRenderer::drawRange(const Programs& programs, std::size_t first, std::size_t count) const {
     if (count == 0) return;
     glBindVertexArray(m_emptyVao.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereColorBinding, m_colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereIdBinding, m_ids.id());
-    if (m_order) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOrderBinding, m_order.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, m_centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereColors, m_colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereIds, m_ids.id());
+    if (m_order) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereDrawOrder, m_order.id());
     if (programs.points) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOversizedBinding, m_oversized.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereOversized, m_oversized.id());
         glEnable(GL_PROGRAM_POINT_SIZE);
         glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
         glDisable(GL_PROGRAM_POINT_SIZE);
@@ -205,9 +199,9 @@ void SphereRenderer::sort(const FrameSetup& setup, StageSink& timer) {
     glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
     glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereKeysBinding, m_keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereValuesBinding, m_order.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, m_centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereSortKeys, m_keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereSortValues, m_order.id());
     const std::size_t perDispatch = kMaxGroups * kSortGroupSize;
     for (std::size_t first = 0; first < m_count; first += perDispatch) {
         const std::size_t n = std::min(perDispatch, m_count - first);
@@ -313,7 +307,7 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& 
             glDepthMask(GL_TRUE);
             glDepthFunc(GL_ALWAYS);
             glUseProgram(mark);
-            glBindTextureUnit(0, m_color.id());
+            glBindTextureUnit(binding::kEarlyZAccumulated, m_color.id());
             glBindVertexArray(m_emptyVao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             glDepthFunc(GL_LESS);

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/shading.h"
+#include "gl/bindings.h"
 #include "gl/context.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
@@ -13,12 +14,6 @@
 namespace tc::gl {
 
 namespace {
-
-constexpr GLuint kKBufferBinding = 7;
-constexpr GLuint kKBufferHeaderBinding = 17;  // shaders/kbuffer_common.glsl
-constexpr GLuint kPreviousLayerBinding = 8;
-constexpr GLuint kCurrentLayerBinding = 9;
-constexpr GLuint kCandidatesBinding = 10;
 
 void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
     glClearNamedBufferData(buffer.id(), GL_RG32UI, GL_RG_INTEGER, GL_UNSIGNED_INT, &value);
@@ -237,8 +232,8 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageSink& time
     timer.begin("kbuffer");
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferHeaderBinding, m_kbufferHeaders.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBuffer, m_kbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBufferHeaders, m_kbufferHeaders.id());
     drawSorted(p, setup);
     timer.setItems(m_geometry.segmentCount());
     timer.end();
@@ -249,8 +244,8 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageSink& time
     const GLuint r = m_resolveProgram.id();
     glProgramUniform1ui(r, uniformLocation(r, "uImageWidth"), GLuint(setup.width));
     glUseProgram(r);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferHeaderBinding, m_kbufferHeaders.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBuffer, m_kbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBufferHeaders, m_kbufferHeaders.id());
     glBindVertexArray(m_emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -265,11 +260,11 @@ void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageSink&
     int previous = 0;
     clearBuffer64(m_peelKeys[previous], 0);  // every fragment's key is > 0 (depth > 0)
     clearBuffer64(m_peelKeys[1 - previous], ~std::uint64_t(0));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCandidatesBinding, m_candidates.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPeelCandidates, m_candidates.id());
     int layers = 0;
     while (m_maxPeelLayers == 0 || layers < m_maxPeelLayers) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPreviousLayerBinding, m_peelKeys[previous].id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCurrentLayerBinding, m_peelKeys[1 - previous].id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPeelPrevious, m_peelKeys[previous].id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPeelCurrent, m_peelKeys[1 - previous].id());
         const GLuint zeroCount = 0;
         glNamedBufferSubData(m_candidates.id(), 0, sizeof(GLuint), &zeroCount);
         glUseProgram(pMin);

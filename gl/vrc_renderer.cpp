@@ -1,5 +1,6 @@
 #include "gl/vrc_renderer.h"
 
+#include "gl/bindings.h"
 #include "gl/techniques.h"
 
 #include <chrono>
@@ -23,12 +24,6 @@ namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kHeaderBinding = 0;
-constexpr GLuint kPieceBinding = 1;      // block 0 of the piece array
-constexpr GLuint kPieceBlockBinding = 4;  // blocks 1.. at 4, 5, ... (shaders/vrc_raycast.comp)
-constexpr GLuint kPieceTextureUnit = 10;  // texture buffer over the quantized pieces (the AO volume is at 8)
-constexpr GLuint kShadowLineBinding = 2;
-constexpr GLuint kBrickBinding = 3;
 constexpr int kBrick = 4;  // kBrick of shaders/vrc_raycast.comp
 constexpr int kGroupSize = 8;  // local_size of shaders/vrc_raycast.comp
 
@@ -80,11 +75,11 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
     const Buffer ids = makeBuffer(lines.polylineId.size() * sizeof(std::uint32_t), lines.polylineId.data());
     const Buffer rangeBuffer = makeBuffer(ranges.size() * sizeof(glm::uvec2), ranges.data());
     const Buffer counts = makeBuffer((polylines + 1) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ids.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, rangeBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, counts.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPositionRadius, positions.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexColors, colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPolylineIds, ids.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcPolylines, rangeBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcCounts, counts.id());
     const glm::dvec3 origin(grid.origin);
     for (GLuint p : {count.id(), write.id()}) {
         glProgramUniform1ui(p, uniformLocation(p, "uPolylines"), GLuint(polylines));
@@ -111,9 +106,9 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
     const std::size_t pieceBytes = model.bytesPerPiece();
     const Buffer keys = makeBuffer(std::size_t(total) * 4), values = makeBuffer(std::size_t(total) * 4);
     const Buffer raw = makeBuffer(std::size_t(total) * pieceBytes);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, values.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, raw.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcKeys, keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcValues, values.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcRawPieces, raw.id());
     glUseProgram(write.id());
     glDispatchCompute(polylineGroups, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -126,14 +121,14 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
     glClearNamedBufferData(headerBuffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glClearNamedBufferData(runEnd.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     const Buffer pieces = makeBuffer(std::size_t(total) * pieceBytes), pieceVoxel = makeBuffer(std::size_t(total) * 4);
-    // The radix sort rebinds 0..4.
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, headerBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, runEnd.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, values.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, raw.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, pieces.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, pieceVoxel.id());
+    // The radix sort rebinds its own points (gl/bindings.h), so every gather buffer is bound anew.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, headerBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcRunEnd, runEnd.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcKeys, keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcValues, values.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcRawPieces, raw.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcGatheredPieces, pieces.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcPieceVoxel, pieceVoxel.id());
     for (GLuint p : {gather.id(), header.id(), neighbours.id()})
         glProgramUniform3i(p, uniformLocation(p, "uGridSize"), grid.size.x, grid.size.y, grid.size.z);
     dispatch1D(gather.id(), total);
@@ -390,26 +385,26 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         glProgramUniform3i(p, uniformLocation(p, "uShadowGridSize"), m_shadowGridSize.x, m_shadowGridSize.y,
                            m_shadowGridSize.z);
         glProgramUniform1f(p, uniformLocation(p, "uShadowVoxelSize"), m_shadowVoxelSize);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kShadowLineBinding, m_shadowLines.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcShadowLines, m_shadowLines.id());
     }
     glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y, m_brickGridSize.z);
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBrickBinding, m_bricks.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeaderBinding, m_header.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcBricks, m_bricks.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, m_header.id());
     {
         const std::size_t perBlock = std::size_t(1) << m_blockShift, bytesPerPiece = m_bytesPerPiece;
         for (std::size_t b = 0; b < m_pieceBlockCount; ++b) {
             const std::size_t first = std::min(b * perBlock, m_piecesInBuffer - 1);
             const std::size_t n = std::max<std::size_t>(1, std::min(perBlock, m_piecesInBuffer - first));
-            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b == 0 ? kPieceBinding : kPieceBlockBinding + GLuint(b - 1),
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b == 0 ? binding::kVrcPieces : binding::kVrcPieceBlocks + GLuint(b - 1),
                               m_pieceBuffer.id(), GLintptr(first * bytesPerPiece), GLsizeiptr(n * bytesPerPiece));
         }
     }
-    if (m_pieceTexture.id() != 0) glBindTextureUnit(kPieceTextureUnit, m_pieceTexture.id());
-    glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
-    glBindImageTexture(3, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    if (m_pieceTexture.id() != 0) glBindTextureUnit(binding::kVrcPieceTexels, m_pieceTexture.id());
+    glBindImageTexture(binding::kVrcColor, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kVrcNormalDepth, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kVrcId, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+    glBindImageTexture(binding::kVrcAo, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glDispatchCompute(GLuint((w + kGroupSize - 1) / kGroupSize), GLuint((h + kGroupSize - 1) / kGroupSize), 1);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glUseProgram(0);

@@ -11,7 +11,7 @@
 layout(local_size_x = 128) in;
 
 // Two vec4 per segment: (corner0, corner1), (corner2, corner3) in NDC, triangle-strip order.
-layout(std430, binding = 4) writeonly buffer BillboardCorners { vec4 billboardCorners[]; };
+layout(std430, binding = SSBO_BILLBOARD_CORNERS) writeonly buffer BillboardCorners { vec4 billboardCorners[]; };
 
 uniform mat4 uViewProj;
 uniform vec3 uEye;

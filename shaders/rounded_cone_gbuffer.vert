@@ -18,7 +18,7 @@ uniform vec2 uViewport;
 #include "hierarchical_culling.glsl"
 
 #ifdef BILLBOARDS_PRECOMPUTED
-layout(std430, binding = 4) readonly buffer BillboardCorners { vec4 billboardCorners[]; };
+layout(std430, binding = SSBO_BILLBOARD_CORNERS) readonly buffer BillboardCorners { vec4 billboardCorners[]; };
 #endif
 
 flat out uint vSegment;

@@ -55,7 +55,7 @@ SegmentVaryings loadSegmentVaryings(uint segment) {
 
 // Six vec4 per segment, in SegmentVaryings order.
 #ifdef SEGMENT_VARYINGS_COMPUTE
-layout(std430, binding = 16) writeonly buffer SegmentRecords { vec4 segmentRecord[]; };
+layout(std430, binding = SSBO_SEGMENT_RECORDS) writeonly buffer SegmentRecords { vec4 segmentRecord[]; };
 
 void storeSegmentRecord(uint segment, SegmentVaryings v) {
     uint r = 6u * segment;
@@ -67,7 +67,7 @@ void storeSegmentRecord(uint segment, SegmentVaryings v) {
     segmentRecord[r + 5u] = v.color1;
 }
 #else
-layout(std430, binding = 16) readonly buffer SegmentRecords { vec4 segmentRecord[]; };
+layout(std430, binding = SSBO_SEGMENT_RECORDS) readonly buffer SegmentRecords { vec4 segmentRecord[]; };
 
 SegmentVaryings readSegmentRecord(uint segment) {
     uint r = 6u * segment;

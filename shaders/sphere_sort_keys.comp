@@ -4,9 +4,9 @@
 // The GPU twin of tc::sphereSortKey.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
-layout(std430, binding = 2) writeonly buffer Keys { uint keys[]; };
-layout(std430, binding = 3) writeonly buffer Values { uint values[]; };
+layout(std430, binding = SSBO_SPHERE_CENTER_RADIUS) readonly buffer CenterRadius { vec4 centerRadius[]; };
+layout(std430, binding = SSBO_SPHERE_SORT_KEYS) writeonly buffer Keys { uint keys[]; };
+layout(std430, binding = SSBO_SPHERE_SORT_VALUES) writeonly buffer Values { uint values[]; };
 
 #include "sort_keys.glsl"
 
