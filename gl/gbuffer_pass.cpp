@@ -52,7 +52,6 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
     const GLuint p = m_visibilityProgram.id();
-    geometry.setCameraUniforms(p, setup);
     if (culling) {
         TC_CHECK(order);
         culling->drawSliced(geometry, *order, p, m_depth, setup);
@@ -68,7 +67,6 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
     timer.begin("surface");
     glBindFramebuffer(GL_FRAMEBUFFER, m_attributes.id());
     const GLuint a = m_attributesProgram.id();
-    geometry.setCameraUniforms(a, setup);
     glUseProgram(a);
     geometry.bind();
     glBindTextureUnit(binding::kVisibilitySegments, m_segments.id());

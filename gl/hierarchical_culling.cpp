@@ -118,10 +118,7 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
     reset();
     setUniforms(program);
     const GLuint billboards = m_billboards.id();
-    if (billboards) {
-        geometry.setCameraUniforms(billboards, setup);
-        setUniforms(billboards);
-    }
+    if (billboards) setUniforms(billboards);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kCullPyramid, m_pyramid.id());
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, binding::kCulledSegments, m_counter.id());
     // The slices are cut from the segments in view (the order's prefix, gl/segment_order.h); the

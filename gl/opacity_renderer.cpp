@@ -13,7 +13,6 @@
 #include "core/error.h"
 #include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
-#include "core/shading.h"
 #include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
@@ -195,7 +194,8 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
 
 void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
-    m_geometry.computeBillboards(setup, timer);
+    m_geometry.setFrame(setup, m_lighting);
+    m_geometry.computeBillboards(timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
     const std::size_t n = m_parts.partCount();
     m_stats = {};
@@ -221,12 +221,6 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     glNamedBufferSubData(m_counter.id(), 0, sizeof(GLuint), &zeroCount);
     glClearNamedBufferData(m_heads.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
     const GLuint b = m_buildProgram.id();
-    m_geometry.setCameraUniforms(b, setup);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(b, uniformLocation(b, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(b, uniformLocation(b, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
-    glProgramUniform1i(b, uniformLocation(b, "uCapClipping"), m_capClipping ? 1 : 0);
     glProgramUniform1ui(b, uniformLocation(b, "uImageWidth"), GLuint(setup.width));
     glProgramUniform1ui(b, uniformLocation(b, "uCapacity"), GLuint(m_capacity));
     glProgramUniform1ui(b, uniformLocation(b, "uPartsPerLine"), GLuint(m_parts.partsPerLine));

@@ -1,7 +1,6 @@
 #include "gl/rounded_cone_renderer.h"
 
 #include "core/error.h"
-#include "core/shading.h"
 #include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
@@ -46,11 +45,12 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
         m_aoFactor = makeTexture2D(GL_R32F, w, h);
         m_shaded = makeFramebuffer({&m_color, &m_aoFactor}, nullptr, "shading target");
     }
+    m_geometry.setFrame(setup, m_lighting);
     if (m_culling) {
         m_order->update(m_geometry, setup, timer);
         m_gbuffer.render(m_geometry, setup, timer, &*m_culling, &*m_order);
     } else {
-        m_geometry.computeBillboards(setup, timer);
+        m_geometry.computeBillboards(timer);
         m_gbuffer.render(m_geometry, setup, timer);
     }
 
@@ -59,12 +59,7 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     const float zero[4] = {0, 0, 0, 0};
     glClearNamedFramebufferfv(m_shaded.id(), GL_COLOR, 0, zero);
     const GLuint s = m_shadingProgram.id();
-    m_geometry.setCameraUniforms(s, setup);
     glUseProgram(s);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(s, uniformLocation(s, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(s, uniformLocation(s, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
     if (m_ao) m_ao->apply(s);
     glBindTextureUnit(binding::kGBufferAlbedo, m_gbuffer.albedo().id());
     glBindTextureUnit(binding::kGBufferNormalDepth, m_gbuffer.normalDepth().id());

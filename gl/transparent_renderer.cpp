@@ -4,7 +4,6 @@
 #include <limits>
 
 #include "core/error.h"
-#include "core/shading.h"
 #include "gl/bindings.h"
 #include "gl/context.h"
 #include "gl/gl_util.h"
@@ -160,20 +159,16 @@ void TransparentRenderer::drawSorted(GLuint program, const FrameSetup& setup) {
 }
 
 void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup) const {
-    m_geometry.setCameraUniforms(p, setup);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
     glProgramUniform1ui(p, uniformLocation(p, "uImageWidth"), GLuint(setup.width));
     if (m_ao) m_ao->apply(p);
 }
 
 void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
+    m_geometry.setFrame(setup, m_lighting);
     // With culling the billboards are built per depth slice; the G-buffer pass of the AOVs
     // needs them all.
-    if (!m_culling || m_gbuffer) m_geometry.computeBillboards(setup, timer);
+    if (!m_culling || m_gbuffer) m_geometry.computeBillboards(timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
     if (m_order) m_order->update(m_geometry, setup, timer);
 

@@ -1,6 +1,5 @@
 #include "gl/vrc_renderer.h"
 
-#include "gl/bindings.h"
 #include "gl/techniques.h"
 
 #include <chrono>
@@ -10,7 +9,8 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/shading.h"
+#include "gl/bindings.h"
+#include "gl/frame_uniforms.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "core/voxel_density.h"
@@ -18,7 +18,6 @@
 #include "gl/line_geometry.h"
 #include "gl/radix_sort.h"
 #include "gl/shader_library.h"
-#include "gl/view_window.h"
 
 namespace tc::gl {
 
@@ -362,17 +361,13 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
     resize(w, h);
 
     timer.begin("raycast");
+    uploadFrameUniforms(m_frameUniforms, frameUniforms(setup, m_lighting));
     const GLuint p = m_program.id();
-    setFrameCameraUniforms(p, setup);
     glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
     glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
     glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
     glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), m_maxRadius);
     glProgramUniform1f(p, uniformLocation(p, "uOpacityThreshold"), m_spec.opacityThreshold);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
     if (m_ao) {
         m_ao->apply(p);
         glProgramUniform1f(p, uniformLocation(p, "uShadowTanHalfAperture"),

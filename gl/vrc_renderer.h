@@ -95,6 +95,7 @@ private:
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};
     Program m_program;
+    Buffer m_frameUniforms;  // gl/frame_uniforms.h, set per frame
     int m_width = 0, m_height = 0;
     Texture m_color, m_normalDepth, m_id, m_aoImage;
 };

@@ -9,8 +9,6 @@
 layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2D uAlbedo;
 layout(binding = TEXTURE_GBUFFER_NORMAL_DEPTH) uniform sampler2D uNormalDepth;
 layout(binding = TEXTURE_VISIBILITY_SEGMENTS) uniform usampler2D uSegments;  // the visibility buffer (cached AO reads it)
-uniform vec3 uLightDir;    // world space, toward the light
-uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out float outAo;

@@ -13,9 +13,8 @@
 // odd size leaves over, so a pixel p lies in texel min(p >> L, size - 1) at every level.
 // (A buffer, not a mip-mapped texture: on llvmpipe 22.3, texelFetch of levels >= 1 of an R32F
 // texture written with imageStore did not return what glGetTextureImage read back.)
-// GLSL 4.50 chunk; needs uEye, uForward and view_window.glsl included by the including shader and CULLING
-// plus one of CULL_MAX_DEPTH / CULL_MIN_OPACITY defined.
-#include "view_window.glsl"
+// GLSL 4.50 chunk; needs CULLING plus one of CULL_MAX_DEPTH / CULL_MIN_OPACITY defined.
+#include "frame_uniforms.glsl"
 #ifndef TC_HIERARCHICAL_CULLING_GLSL
 #define TC_HIERARCHICAL_CULLING_GLSL
 #ifdef CULLING

@@ -8,12 +8,7 @@
 #define SEGMENT_VARYINGS_OUT
 #include "segment_varyings.glsl"
 
-uniform mat4 uViewProj;
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform bool uOrthographic;
-uniform vec2 uViewport;
-#include "view_window.glsl"
+#include "frame_uniforms.glsl"
 
 #include "hierarchical_culling.glsl"
 

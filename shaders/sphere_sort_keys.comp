@@ -9,12 +9,10 @@ layout(std430, binding = SSBO_SPHERE_SORT_KEYS) writeonly buffer Keys { uint key
 layout(std430, binding = SSBO_SPHERE_SORT_VALUES) writeonly buffer Values { uint values[]; };
 
 #include "sort_keys.glsl"
+#include "frame_uniforms.glsl"
 
 uniform uint uFirst;
 uniform uint uCount;
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform bool uOrthographic;
 
 void main() {
     uint i = uFirst + gl_GlobalInvocationID.x;

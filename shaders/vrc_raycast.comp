@@ -146,8 +146,6 @@ uniform vec3 uGridOrigin;
 uniform float uVoxelSize;
 uniform float uMaxRadius;
 uniform float uOpacityThreshold;
-uniform vec3 uLightDir;    // world space, toward the light
-uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 
 layout(rgba32f, binding = IMAGE_VRC_COLOR) uniform writeonly image2D uColor;       // premultiplied linear RGBA
 layout(rgba32f, binding = IMAGE_VRC_NORMAL_DEPTH) uniform writeonly image2D uNormalDepth; // world normal, view depth
