@@ -61,6 +61,13 @@ public:
 private:
     VrcRenderer() = default;
     void resize(int width, int height);
+    // The parts of create(): the brick occupancy of empty space skipping, the piece array in
+    // blocks (throws tc::InputError past kMaxPieceBlocks), the hard shadows' representative
+    // lines, and the ray caster's defines for what was uploaded.
+    void uploadBricks(const VrcModel& model);
+    void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
+    void uploadShadowLines(const VrcModel& model);
+    std::vector<std::string> rayCasterDefines() const;
 
     VrcSpec m_spec;
     bool m_transparent = false;

@@ -34,7 +34,7 @@ uniform float uShadowStrength;
 uniform float uShadowStartOffset;
 #endif
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = VRC_GROUP_SIZE, local_size_y = VRC_GROUP_SIZE) in;  // gl/vrc_renderer.cpp
 
 // Header: (offset, count | neighbourhood bit) per voxel, x fastest.
 layout(std430, binding = SSBO_VRC_HEADER) readonly buffer VrcHeader { uvec2 vrcVoxels[]; };
@@ -137,7 +137,7 @@ VRC_PIECE_T vrcFetchPiece(uint i) {
 
 #ifdef BRICK_SKIP
 // Per brick of kBrick^3 voxels: 0 when no voxel in it can hold a surface (gl/vrc_renderer.cpp).
-const int kBrick = 4;
+const int kBrick = VRC_BRICK;
 layout(std430, binding = SSBO_VRC_BRICKS) readonly buffer VrcBricks { uint vrcBricks[]; };
 uniform ivec3 uBrickGridSize;
 #endif
