@@ -35,7 +35,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         r->m_gbuffer = GBufferPass::create(r->m_geometry);
 
     // Per-pixel read-modify-write must be ordered: interlock where the GPU has it, llvmpipe's
-    // in-order per-pixel shading with blending on (../shared/notes/llvmpipe.md), else a warning.
+    // in-order per-pixel shading with blending on, else a warning.
     std::vector<std::string> syncDefines;
     if (rs.ao.enabled) {
         r->m_ao = AmbientOcclusion::create(rs.ao, lines);
