@@ -92,7 +92,7 @@ inline constexpr GLuint kVrcGatheredPieces = 8;
 inline constexpr GLuint kVrcPieceVoxel = 9;
 // The VRC model, built (vrc_gather.comp) and ray cast (shaders/vrc_raycast.comp).
 inline constexpr GLuint kVrcHeader = 0;
-inline constexpr GLuint kVrcPieces = 1;  // block 0 of the piece array
+inline constexpr GLuint kVrcPieces = 1;       // block 0 of the piece array
 inline constexpr GLuint kVrcPieceBlocks = 4;  // blocks 1 .. VrcRenderer::kMaxPieceBlocks - 1 at 4, 5, ...
 inline constexpr GLuint kVrcShadowLines = 2;
 inline constexpr GLuint kVrcBricks = 3;
@@ -102,8 +102,8 @@ inline constexpr GLuint kFrameUniforms = 0;   // gl/frame_uniforms.h
 inline constexpr GLuint kCulledSegments = 0;  // atomic counter of hierarchical culling
 
 // --- Image units ---------------------------------------------------------------------------------
-inline constexpr GLuint kMipSource = 0;  // shaders/density_mip.comp: level L
-inline constexpr GLuint kMipTarget = 1;  // level L + 1
+inline constexpr GLuint kMipSource = 0;        // shaders/density_mip.comp: level L
+inline constexpr GLuint kMipTarget = 1;        // level L + 1
 inline constexpr GLuint kSphereVolumeOut = 0;  // shaders/sphere_volume_resolve.comp
 inline constexpr GLuint kVrcColor = 0;         // shaders/vrc_raycast.comp outputs
 inline constexpr GLuint kVrcNormalDepth = 1;

@@ -266,7 +266,8 @@ std::string describeDevice(const std::vector<EglDevice>& devices, size_t i) {
     const EglDevice& d = devices[i];
     return std::to_string(i) + " (" +
            (!d.drmNode.empty() ? d.drmNode
-                               : d.software ? std::string("Mesa software device") : std::string("no DRM node")) +
+            : d.software       ? std::string("Mesa software device")
+                               : std::string("no DRM node")) +
            (d.cuda >= 0 ? ", CUDA device " + std::to_string(d.cuda) : std::string()) + ")";
 }
 
@@ -290,9 +291,9 @@ int chooseEglDevice(const ContextConfig& config, const std::vector<EglDevice>& d
                 info.cudaDevice = config.cudaDevice;
                 return static_cast<int>(i);
             }
-        throw BackendFailure{"CUDA device " + std::to_string(config.cudaDevice) + " has no EGL device" +
-                                 deviceList(devices),
-                             "check CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS, or unset them and pick --device"};
+        throw BackendFailure{
+            "CUDA device " + std::to_string(config.cudaDevice) + " has no EGL device" + deviceList(devices),
+            "check CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS, or unset them and pick --device"};
     }
     if (config.device >= 0) {
         if (static_cast<size_t>(config.device) >= devices.size())
@@ -404,8 +405,7 @@ void createEgl(const ContextConfig& config, BackendContext& impl) {
     const bool hasPlatformBase = hasToken(clientExtensions, "EGL_EXT_platform_base");
     const bool hasDevices =
         hasPlatformBase && hasToken(clientExtensions, "EGL_EXT_platform_device") &&
-        (hasToken(clientExtensions, "EGL_EXT_device_enumeration") ||
-         hasToken(clientExtensions, "EGL_EXT_device_base"));
+        (hasToken(clientExtensions, "EGL_EXT_device_enumeration") || hasToken(clientExtensions, "EGL_EXT_device_base"));
     const std::vector<EglDevice> devices = hasDevices ? eglDevices() : std::vector<EglDevice>{};
     const int chosen = chooseEglDevice(config, devices, hasDevices, impl.info);
     const auto [eglMajor, eglMinor] = openEglDisplay(devices, chosen, clientExtensions, hasPlatformBase, impl);

@@ -28,15 +28,15 @@ struct alignas(16) FrameUniforms {
     float orthoHalfHeight = 0;            // uOrthoHalfHeight
     alignas(16) glm::vec3 right{0.0f};    // uRight
     // Linear depth scale of the passes that write gl_FragDepth = view depth / farDepth.
-    float farDepth = 1;                   // uFarDepth
-    alignas(16) glm::vec3 up{0.0f};       // uUp
-    std::uint32_t orthographic = 0;       // uOrthographic
+    float farDepth = 1;              // uFarDepth
+    alignas(16) glm::vec3 up{0.0f};  // uUp
+    std::uint32_t orthographic = 0;  // uOrthographic
     // Blinn-Phong (shaders/shading.glsl): unit world direction toward the light, and ambient,
     // diffuse, specular, shininess.
     alignas(16) glm::vec3 lightDir{0.0f};  // uLightDir
     // Rasterized lines: clip at the joint planes (render.cap_clipping; gl/line_geometry.h).
-    std::uint32_t capClipping = 0;             // uCapClipping
-    alignas(16) glm::vec4 lightTerms{0.0f};    // uLightTerms
+    std::uint32_t capClipping = 0;           // uCapClipping
+    alignas(16) glm::vec4 lightTerms{0.0f};  // uLightTerms
     // The view window (gl/view_window.h): full-image NDC -> target NDC, the full image's size,
     // the target origin's full-image window coordinate and the target's size, in pixels.
     alignas(16) glm::vec4 ndcToTarget{1.0f, 1.0f, 0.0f, 0.0f};  // uNdcToTarget

@@ -5,7 +5,9 @@
 
 namespace tc::gl {
 
-GLint uniformLocation(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+GLint uniformLocation(GLuint program, const char* name) {
+    return glGetUniformLocation(program, name);
+}
 
 void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
                         std::size_t bytesPerComponent, void* dst) {

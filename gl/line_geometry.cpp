@@ -55,7 +55,8 @@ void LineGeometry::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPolylineIds, m_polylineIds.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSegmentVertices, m_segmentVertices.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexFlags, m_flags.id());
-    if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kBillboardCorners, m_billboardCorners.id());
+    if (m_billboardCorners)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kBillboardCorners, m_billboardCorners.id());
     if (m_segmentRecords) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSegmentRecords, m_segmentRecords.id());
     if (m_frameUniforms) bindFrameUniforms(m_frameUniforms);
 }

@@ -68,7 +68,7 @@ private:
     Bounds m_bounds;
     Buffer m_positionRadius, m_colors, m_polylineIds, m_flags, m_segmentVertices, m_billboardCorners;
     Buffer m_segmentRecords;  // BillboardPath::Compute: what the fragment shaders need per segment
-    Buffer m_frameUniforms;  // gl/frame_uniforms.h, set per frame
+    Buffer m_frameUniforms;   // gl/frame_uniforms.h, set per frame
     Program m_billboardProgram;
     VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
 };

@@ -287,10 +287,12 @@ std::uint64_t OpacityRenderer::buildFragmentLists(const FrameSetup& setup, Stage
     return produced;
 }
 
-OpacityWeights OpacityRenderer::weights() const { return {m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda}; }
+OpacityWeights OpacityRenderer::weights() const {
+    return {m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
+}
 
-void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameSetup& setup,
-                                        FrameOcclusion& occlusion, StageSink& timer) {
+void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
+                                        StageSink& timer) {
     // render.opacity.occlusion_scale < 1: H from the lists of a subsample of the pixels, as if
     // rasterized at that fraction of the width and height (core/occlusion_matrix.h,
     // subsampleLists). The resolve still blends all full-size lists: it needs them sorted
@@ -320,11 +322,10 @@ void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameS
     // (docs/performance.md M7); at 2k parts (2.4) the two are about even.
     constexpr double kAssembleBelowPairsPerFragment = 4;
     using Occlusion = OpacityOptimizationSpec::Occlusion;
-    occlusion.fromFragments =
-        m_spec.occlusion == Occlusion::Fragments ||
-        (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
-         double(pairs) >
-             kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
+    occlusion.fromFragments = m_spec.occlusion == Occlusion::Fragments ||
+                              (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
+                               double(pairs) > kAssembleBelowPairsPerFragment *
+                                                   double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
     m_stats.fromFragments = occlusion.fromFragments;
     if (occlusion.fromFragments) {
         m_assembler.release();

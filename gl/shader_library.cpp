@@ -23,7 +23,9 @@ void ShaderLibrary::setOverrideDir(std::string dir) {
     m_overrideDir = std::move(dir);
 }
 
-void ShaderLibrary::addEmbedded(const std::vector<EmbeddedShader>& shaders) { m_added.push_back(&shaders); }
+void ShaderLibrary::addEmbedded(const std::vector<EmbeddedShader>& shaders) {
+    m_added.push_back(&shaders);
+}
 
 const EmbeddedShader* ShaderLibrary::findEmbedded(std::string_view name) const {
     for (const EmbeddedShader& shader : embeddedShaders())
@@ -226,7 +228,8 @@ Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>
     TC_CHECK(stages.size() > 0);
     const std::string defineList = defines.empty() ? "" : " (defines: " + joined(defines) + ")";
     std::vector<std::string> allDefines;
-    for (const ShaderBinding& b : kShaderBindings) allDefines.push_back(std::string(b.define) + " " + std::to_string(b.point));
+    for (const ShaderBinding& b : kShaderBindings)
+        allDefines.push_back(std::string(b.define) + " " + std::to_string(b.point));
     allDefines.insert(allDefines.end(), defines.begin(), defines.end());
     std::vector<Shader> shaders;
     std::vector<std::string> stageFiles;

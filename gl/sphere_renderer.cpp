@@ -1,14 +1,12 @@
 #include "gl/sphere_renderer.h"
 
-#include "core/particle_series.h"
-#include "core/particle_styling.h"
-#include "gl/techniques.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/error.h"
+#include "core/particle_series.h"
+#include "core/particle_styling.h"
 #include "core/sphere_glyph.h"
 #include "gl/bindings.h"
 #include "gl/frame_uniforms.h"
@@ -16,6 +14,7 @@
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 #include "gl/sphere_ambient.h"
+#include "gl/techniques.h"
 
 namespace tc::gl {
 

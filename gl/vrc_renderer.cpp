@@ -1,23 +1,22 @@
 #include "gl/vrc_renderer.h"
 
-#include "gl/techniques.h"
-
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "core/error.h"
+#include "core/voxel_density.h"
+#include "core/vrc_representative.h"
 #include "gl/bindings.h"
 #include "gl/frame_uniforms.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
-#include "core/voxel_density.h"
-#include "core/vrc_representative.h"
 #include "gl/line_geometry.h"
 #include "gl/radix_sort.h"
 #include "gl/shader_library.h"
+#include "gl/techniques.h"
 
 namespace tc::gl {
 
@@ -291,8 +290,9 @@ void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes)
                          " pieces, more than " + std::to_string(kMaxPieceBlocks) +
                          "; lower render.vrc.resolution or turn render.vrc.neighbors on");
     while ((std::size_t(1) << m_blockShift) < perBlock) ++m_blockShift;
-    const auto* bytes = model.quantization > 0 ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
-                                               : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
+    const auto* bytes = model.quantization > 0
+                            ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
+                            : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
     // One buffer; the blocks are ranges of it (their offsets, multiples of 2^shift pieces, are
     // aligned). An empty model still binds one valid (one-piece, zero) buffer.
     m_pieceBlockCount = blocks;
@@ -408,7 +408,8 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         for (std::size_t b = 0; b < m_pieceBlockCount; ++b) {
             const std::size_t first = std::min(b * perBlock, m_piecesInBuffer - 1);
             const std::size_t n = std::max<std::size_t>(1, std::min(perBlock, m_piecesInBuffer - first));
-            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b == 0 ? binding::kVrcPieces : binding::kVrcPieceBlocks + GLuint(b - 1),
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER,
+                              b == 0 ? binding::kVrcPieces : binding::kVrcPieceBlocks + GLuint(b - 1),
                               m_pieceBuffer.id(), GLintptr(first * bytesPerPiece), GLsizeiptr(n * bytesPerPiece));
         }
     }
