@@ -74,7 +74,8 @@ TEST_F(GlTest, frame_uniform_block_reads_every_member_as_the_cpp_struct_wrote_it
     FrameUniforms u;
     std::vector<float> values(64);
     for (std::size_t i = 0; i < values.size(); ++i) values[i] = 0.5f + float(i) * 1.25f;
-    std::memcpy(&u.viewProj, values.data(), sizeof u.viewProj);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) u.viewProj[c][r] = values[std::size_t(4 * c + r)];
     u.eye = {values[16], values[17], values[18]};
     u.tanHalfFov = values[19];
     u.forward = {values[20], values[21], values[22]};
