@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "core/voxel_density.h"
+#include "gl/gl_util.h"
 #include "gl/line_geometry.h"
 
 namespace tc::gl {

@@ -10,6 +10,8 @@
 
 #include "core/error.h"
 #include "core/tangent_frame.h"
+#include "gl/bindings.h"
+#include "gl/gl_util.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
@@ -62,8 +64,8 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
     const GLuint p = program.id();
     setAoUniforms(p);
     geometry.bind();
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOffsetBinding, cache.m_offsets.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBuildOutputBinding, cache.m_samples.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kAoCacheSegments, cache.m_offsets.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kAoCacheOut, cache.m_samples.id());
     glUseProgram(p);
     glProgramUniform1ui(p, uniformLocation(p, "uSegmentCount"), GLuint(segments));
     // Chunks keep each dispatch within the 65535 work groups per dimension GL guarantees.
@@ -81,8 +83,8 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
 }
 
 void AoLineCache::bind() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCacheBinding, m_samples.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOffsetBinding, m_offsets.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kAoCache, m_samples.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kAoCacheSegments, m_offsets.id());
 }
 
 nlohmann::json AoLineCache::describe() const {

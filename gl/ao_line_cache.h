@@ -21,8 +21,6 @@ namespace tc::gl {
 
 class AoLineCache {
 public:
-    // SSBO bindings shared with shaders/ao_line_cache.glsl and ao_line_cache_build.comp.
-    static constexpr GLuint kCacheBinding = 24, kOffsetBinding = 25, kBuildOutputBinding = 26;
     // Normals cached around each segment's axis (unorm8 each, 4 per word): AO_CACHE_AZIMUTHS.
     static constexpr int kAzimuths = 8;
     static std::string define() { return "AO_CACHE_AZIMUTHS " + std::to_string(kAzimuths); }
@@ -37,7 +35,7 @@ public:
     static AoLineCache build(const LineGeometry& geometry, const StyledLines& lines, float spacing,
                              const std::function<void(GLuint)>& setAoUniforms);
 
-    // Binds the cache SSBOs (kCacheBinding, kOffsetBinding).
+    // Binds the cache SSBOs (binding::kAoCache, binding::kAoCacheSegments).
     void bind() const;
     nlohmann::json describe() const;
 

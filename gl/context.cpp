@@ -10,6 +10,8 @@
 #include <cstring>
 #include <map>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "gl/gl_api.h"
@@ -228,97 +230,95 @@ BackendContext::~BackendContext() {
 
 namespace {
 
-// Makes an EGL context for config.device (or the first hardware device, else Mesa's surfaceless
-// platform) and leaves `impl` owning what it created, so a throw cleans up through ~BackendContext.
-void createEgl(const ContextConfig& config, BackendContext& impl) {
-    impl.backend = Backend::Egl;
-    // Null when libEGL lacks EGL_EXT_client_extensions (or has no vendor at all); treat as empty.
-    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    const bool hasPlatformBase = hasToken(clientExtensions, "EGL_EXT_platform_base");
-    const bool hasDevices =
-        hasPlatformBase && hasToken(clientExtensions, "EGL_EXT_platform_device") &&
-        (hasToken(clientExtensions, "EGL_EXT_device_enumeration") ||
-         hasToken(clientExtensions, "EGL_EXT_device_base"));
-    auto getPlatformDisplay =
-        eglProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+struct EglDevice {
+    EGLDeviceEXT handle;
+    std::string drmNode;  // empty for devices without a DRM node (Mesa's software device)
+    bool software;
+    int cuda = -1;  // CUDA device ordinal (EGL_NV_device_cuda), -1 = not an NVIDIA device
+};
 
-    struct Device {
-        EGLDeviceEXT handle;
-        std::string drmNode;  // empty for devices without a DRM node (Mesa's software device)
-        bool software;
-        int cuda = -1;  // CUDA device ordinal (EGL_NV_device_cuda), -1 = not an NVIDIA device
-    };
-    std::vector<Device> devices;
-    if (hasDevices) {
-        auto queryDevices = eglProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
-        auto queryDeviceString =
-            eglProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
-        auto queryDeviceAttrib = eglProc<PFNEGLQUERYDEVICEATTRIBEXTPROC>("eglQueryDeviceAttribEXT");
-        EGLint count = 0;
-        if (queryDevices && queryDeviceString && queryDevices(0, nullptr, &count) && count > 0) {
-            std::vector<EGLDeviceEXT> handles(static_cast<size_t>(count));
-            queryDevices(count, handles.data(), &count);
-            handles.resize(static_cast<size_t>(std::max(count, 0)));
-            for (EGLDeviceEXT handle : handles) {
-                const char* extensions = queryDeviceString(handle, EGL_EXTENSIONS);
-                const char* node = hasToken(extensions, "EGL_EXT_device_drm")
-                                       ? queryDeviceString(handle, EGL_DRM_DEVICE_FILE_EXT)
-                                       : nullptr;
-                devices.push_back({handle, node ? node : "",
-                                   hasToken(extensions, "EGL_MESA_device_software")});
-                EGLAttrib cuda = -1;
-                if (queryDeviceAttrib && hasToken(extensions, "EGL_NV_device_cuda") &&
-                    queryDeviceAttrib(handle, EGL_CUDA_DEVICE_NV, &cuda))
-                    devices.back().cuda = static_cast<int>(cuda);
-            }
-        }
+// The EGL devices libEGL enumerates (EGL_EXT_device_enumeration / _base).
+std::vector<EglDevice> eglDevices() {
+    std::vector<EglDevice> devices;
+    auto queryDevices = eglProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+    auto queryDeviceString = eglProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+    auto queryDeviceAttrib = eglProc<PFNEGLQUERYDEVICEATTRIBEXTPROC>("eglQueryDeviceAttribEXT");
+    EGLint count = 0;
+    if (!queryDevices || !queryDeviceString || !queryDevices(0, nullptr, &count) || count <= 0) return devices;
+    std::vector<EGLDeviceEXT> handles(static_cast<size_t>(count));
+    queryDevices(count, handles.data(), &count);
+    handles.resize(static_cast<size_t>(std::max(count, 0)));
+    for (EGLDeviceEXT handle : handles) {
+        const char* extensions = queryDeviceString(handle, EGL_EXTENSIONS);
+        const char* node =
+            hasToken(extensions, "EGL_EXT_device_drm") ? queryDeviceString(handle, EGL_DRM_DEVICE_FILE_EXT) : nullptr;
+        devices.push_back({handle, node ? node : "", hasToken(extensions, "EGL_MESA_device_software")});
+        EGLAttrib cuda = -1;
+        if (queryDeviceAttrib && hasToken(extensions, "EGL_NV_device_cuda") &&
+            queryDeviceAttrib(handle, EGL_CUDA_DEVICE_NV, &cuda))
+            devices.back().cuda = static_cast<int>(cuda);
     }
-    auto describe = [&](size_t i) {
-        const Device& d = devices[i];
-        return std::to_string(i) + " (" +
-               (!d.drmNode.empty() ? d.drmNode
-                                   : d.software ? std::string("Mesa software device")
-                                                : std::string("no DRM node")) +
-               (d.cuda >= 0 ? ", CUDA device " + std::to_string(d.cuda) : std::string()) + ")";
-    };
+    return devices;
+}
 
-    int chosen = -1;
+// "2 (/dev/dri/card1, CUDA device 0)": device i as messages and ContextInfo::device name it.
+std::string describeDevice(const std::vector<EglDevice>& devices, size_t i) {
+    const EglDevice& d = devices[i];
+    return std::to_string(i) + " (" +
+           (!d.drmNode.empty() ? d.drmNode
+            : d.software       ? std::string("Mesa software device")
+                               : std::string("no DRM node")) +
+           (d.cuda >= 0 ? ", CUDA device " + std::to_string(d.cuda) : std::string()) + ")";
+}
+
+std::string deviceList(const std::vector<EglDevice>& devices) {
+    std::string list;
+    for (size_t i = 0; i < devices.size(); ++i) list += (i ? ", " : ": ") + describeDevice(devices, i);
+    return list;
+}
+
+// The device to open: the job's CUDA device, config.device, or the first hardware device; -1 for
+// none (Mesa's surfaceless platform then). Throws BackendFailure for a device that is not there.
+int chooseEglDevice(const ContextConfig& config, const std::vector<EglDevice>& devices, bool hasDevices,
+                    ContextInfo& info) {
     // The job's CUDA device (CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS): EGL enumerates every GPU of
     // the node whatever the job was given, so match the ordinal NVIDIA's driver reports. Devices
     // without EGL_NV_device_cuda (Mesa, other vendors) have nothing to match: fall through.
-    const bool anyCuda = std::any_of(devices.begin(), devices.end(), [](const Device& d) { return d.cuda >= 0; });
+    const bool anyCuda = std::any_of(devices.begin(), devices.end(), [](const EglDevice& d) { return d.cuda >= 0; });
     if (config.cudaDevice >= 0 && anyCuda) {
-        for (size_t i = 0; i < devices.size() && chosen < 0; ++i)
-            if (devices[i].cuda == config.cudaDevice) chosen = static_cast<int>(i);
-        if (chosen < 0) {
-            std::string list;
-            for (size_t i = 0; i < devices.size(); ++i) list += (i ? ", " : ": ") + describe(i);
-            throw BackendFailure{"CUDA device " + std::to_string(config.cudaDevice) + " has no EGL device" + list,
-                                 "check CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS, or unset them and pick --device"};
-        }
-        impl.info.cudaDevice = config.cudaDevice;
-    } else if (config.device >= 0) {
-        if (static_cast<size_t>(config.device) >= devices.size()) {
-            std::string list;
-            for (size_t i = 0; i < devices.size(); ++i) list += (i ? ", " : ": ") + describe(i);
-            throw BackendFailure{"EGL device " + std::to_string(config.device) +
-                                     " does not exist; there are " +
-                                     std::to_string(devices.size()) + " EGL devices" + list +
+        for (size_t i = 0; i < devices.size(); ++i)
+            if (devices[i].cuda == config.cudaDevice) {
+                info.cudaDevice = config.cudaDevice;
+                return static_cast<int>(i);
+            }
+        throw BackendFailure{
+            "CUDA device " + std::to_string(config.cudaDevice) + " has no EGL device" + deviceList(devices),
+            "check CUDA_VISIBLE_DEVICES / SLURM_JOB_GPUS, or unset them and pick --device"};
+    }
+    if (config.device >= 0) {
+        if (static_cast<size_t>(config.device) >= devices.size())
+            throw BackendFailure{"EGL device " + std::to_string(config.device) + " does not exist; there are " +
+                                     std::to_string(devices.size()) + " EGL devices" + deviceList(devices) +
                                      (hasDevices ? "" : " (libEGL lacks EGL_EXT_platform_device)"),
                                  "pick a device index below " + std::to_string(devices.size()) +
                                      ", or omit the device to choose automatically"};
-        }
-        chosen = config.device;
-    } else {
-        for (size_t i = 0; i < devices.size() && chosen < 0; ++i)
-            if (!devices[i].drmNode.empty() && !devices[i].software) chosen = static_cast<int>(i);
+        return config.device;
     }
+    for (size_t i = 0; i < devices.size(); ++i)
+        if (!devices[i].drmNode.empty() && !devices[i].software) return static_cast<int>(i);
+    return -1;
+}
 
+// Opens and initialises the display of device `chosen` (-1: Mesa's surfaceless platform) into
+// `impl`; returns the EGL version.
+std::pair<EGLint, EGLint> openEglDisplay(const std::vector<EglDevice>& devices, int chosen,
+                                         const char* clientExtensions, bool hasPlatformBase, BackendContext& impl) {
+    auto getPlatformDisplay = eglProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
     if (chosen >= 0) {
-        impl.display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT,
-                                          devices[static_cast<size_t>(chosen)].handle, nullptr);
+        impl.display =
+            getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(chosen)].handle, nullptr);
         impl.info.backend = "egl-device";
-        impl.info.device = describe(static_cast<size_t>(chosen));
+        impl.info.device = describeDevice(devices, static_cast<size_t>(chosen));
         if (impl.display == EGL_NO_DISPLAY)
             throw BackendFailure{"device " + impl.info.device + ": " +
                                      eglFailure("eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT)"),
@@ -347,7 +347,11 @@ void createEgl(const ContextConfig& config, BackendContext& impl) {
                              "install libgl1-mesa-dri (Mesa's drivers), or use --backend osmesa"};
     }
     ++eglDisplayUsers()[impl.display];
+    return {eglMajor, eglMinor};
+}
 
+// Creates the OpenGL 4.5 core context on the initialised display of `impl` (EGL eglMajor.eglMinor).
+void createEglContext(const ContextConfig& config, EGLint eglMajor, EGLint eglMinor, BackendContext& impl) {
     const char* displayExtensions = eglQueryString(impl.display, EGL_EXTENSIONS);
     const bool egl15 = eglMajor > 1 || (eglMajor == 1 && eglMinor >= 5);
     if (!egl15 && !hasToken(displayExtensions, "EGL_KHR_create_context"))
@@ -390,6 +394,22 @@ void createEgl(const ContextConfig& config, BackendContext& impl) {
                                                          : ""),
                              "update the GPU driver or Mesa (>= 20), or use --backend osmesa"};
     }
+}
+
+// Makes an EGL context for config.device (or the first hardware device, else Mesa's surfaceless
+// platform) and leaves `impl` owning what it created, so a throw cleans up through ~BackendContext.
+void createEgl(const ContextConfig& config, BackendContext& impl) {
+    impl.backend = Backend::Egl;
+    // Null when libEGL lacks EGL_EXT_client_extensions (or has no vendor at all); treat as empty.
+    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    const bool hasPlatformBase = hasToken(clientExtensions, "EGL_EXT_platform_base");
+    const bool hasDevices =
+        hasPlatformBase && hasToken(clientExtensions, "EGL_EXT_platform_device") &&
+        (hasToken(clientExtensions, "EGL_EXT_device_enumeration") || hasToken(clientExtensions, "EGL_EXT_device_base"));
+    const std::vector<EglDevice> devices = hasDevices ? eglDevices() : std::vector<EglDevice>{};
+    const int chosen = chooseEglDevice(config, devices, hasDevices, impl.info);
+    const auto [eglMajor, eglMinor] = openEglDisplay(devices, chosen, clientExtensions, hasPlatformBase, impl);
+    createEglContext(config, eglMajor, eglMinor, impl);
 }
 
 void createOsMesa(const ContextConfig&, BackendContext& impl) {

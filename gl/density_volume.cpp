@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/mip_pyramid.h"
+#include "gl/bindings.h"
 #include "gl/gl_api.h"
 #include "gl/shader_library.h"
 
@@ -70,15 +71,15 @@ DensityVolume DensityVolume::create(const DensityGrid& grid, const Config& confi
             const glm::ivec3 target = volume.levelSize(level + 1);
             setIvec3(program.id(), "uSourceSize", source);
             setIvec3(program.id(), "uTargetSize", target);
-            glBindImageTexture(0, tex, level, GL_TRUE, 0, GL_READ_ONLY, internalFormat);
-            glBindImageTexture(1, tex, level + 1, GL_TRUE, 0, GL_WRITE_ONLY, internalFormat);
+            glBindImageTexture(binding::kMipSource, tex, level, GL_TRUE, 0, GL_READ_ONLY, internalFormat);
+            glBindImageTexture(binding::kMipTarget, tex, level + 1, GL_TRUE, 0, GL_WRITE_ONLY, internalFormat);
             glDispatchCompute(divUp(target.x, kMipGroup.x), divUp(target.y, kMipGroup.y),
                               divUp(target.z, kMipGroup.z));
             // The next level reads what this one wrote.
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
-        glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, internalFormat);
-        glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, internalFormat);
+        glBindImageTexture(binding::kMipSource, 0, 0, GL_FALSE, 0, GL_READ_ONLY, internalFormat);
+        glBindImageTexture(binding::kMipTarget, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, internalFormat);
         glUseProgram(0);
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);

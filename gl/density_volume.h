@@ -18,6 +18,7 @@
 #include <glm/glm.hpp>
 
 #include "core/voxel_density.h"
+#include "gl/bindings.h"
 #include "gl/objects.h"
 
 namespace tc::gl {
@@ -47,7 +48,7 @@ public:
     };
 
     // The texture unit the shaders' `uDensity` sampler uses unless the caller picks another.
-    static constexpr GLuint kDefaultUnit = 8;
+    static constexpr GLuint kDefaultUnit = binding::kDensityVolume;
 
     DensityVolume() = default;
 

@@ -3,6 +3,8 @@
 #include <limits>
 
 #include "core/error.h"
+#include "gl/bindings.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/hierarchical_culling.h"
 #include "gl/segment_order.h"
@@ -50,7 +52,6 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
     const GLuint p = m_visibilityProgram.id();
-    geometry.setCameraUniforms(p, setup);
     if (culling) {
         TC_CHECK(order);
         culling->drawSliced(geometry, *order, p, m_depth, setup);
@@ -66,10 +67,9 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
     timer.begin("surface");
     glBindFramebuffer(GL_FRAMEBUFFER, m_attributes.id());
     const GLuint a = m_attributesProgram.id();
-    geometry.setCameraUniforms(a, setup);
     glUseProgram(a);
     geometry.bind();
-    glBindTextureUnit(0, m_segments.id());
+    glBindTextureUnit(binding::kVisibilitySegments, m_segments.id());
     glBindVertexArray(m_emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     timer.end();

@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "gl/bindings.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/segment_order.h"
 #include "gl/shader_library.h"
@@ -11,10 +13,8 @@ namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kPyramidBinding = 20;     // layout(binding = 20) in hierarchical_culling.glsl
-constexpr std::size_t kMaxLevels = 32;     // TC_CULL_MAX_LEVELS
-constexpr GLuint kCounterBinding = 0;      // atomic counter binding
-constexpr GLuint kPyramidGroupSize = 8;    // local size of cull_pyramid.comp
+constexpr std::size_t kMaxLevels = 32;   // TC_CULL_MAX_LEVELS
+constexpr GLuint kPyramidGroupSize = 8;  // local size of cull_pyramid.comp
 
 const char* targetDefine(HierarchicalCulling::Target t) {
     return t == HierarchicalCulling::Target::MaxDepth ? "CULL_MAX_DEPTH" : "CULL_MIN_OPACITY";
@@ -83,13 +83,13 @@ std::vector<float> HierarchicalCulling::readLevel(int level, glm::ivec2& size) c
 void HierarchicalCulling::rebuild(const Texture& source, float farDepth) {
     // Framebuffer writes of the last slice are visible to texture fetches issued after them.
     auto groups = [](int n) { return GLuint((n + int(kPyramidGroupSize) - 1) / int(kPyramidGroupSize)); };
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPyramidBinding, m_pyramid.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kCullPyramid, m_pyramid.id());
     const GLuint s = m_fromSource.id();
     glProgramUniform1f(s, uniformLocation(s, "uFarDepth"), farDepth);
     glProgramUniform1i(s, uniformLocation(s, "uLevelOffset"), m_levelOffsets[0]);
     glProgramUniform2i(s, uniformLocation(s, "uLevelSize"), m_levelSizes[0].x, m_levelSizes[0].y);
     glUseProgram(s);
-    glBindTextureUnit(0, source.id());
+    glBindTextureUnit(binding::kCullSource, source.id());
     glDispatchCompute(groups(m_levelSizes[0].x), groups(m_levelSizes[0].y), 1);
     const GLuint l = m_fromLevel.id();
     glUseProgram(l);
@@ -118,12 +118,9 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
     reset();
     setUniforms(program);
     const GLuint billboards = m_billboards.id();
-    if (billboards) {
-        geometry.setCameraUniforms(billboards, setup);
-        setUniforms(billboards);
-    }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPyramidBinding, m_pyramid.id());
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, kCounterBinding, m_counter.id());
+    if (billboards) setUniforms(billboards);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kCullPyramid, m_pyramid.id());
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, binding::kCulledSegments, m_counter.id());
     // The slices are cut from the segments in view (the order's prefix, gl/segment_order.h); the
     // rest cannot rasterize in the view the order was sorted for, and is one more slice when the
     // order is reused for another view (opaque culling re-sorts only after large changes).

@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
+#include "gl/bindings.h"
+#include "gl/frame_uniforms.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
-#include "gl/view_window.h"
 
 namespace tc::gl {
 
@@ -22,16 +23,10 @@ Buffer upload(const std::vector<T>& v) {
 
 }  // namespace
 
-GLint uniformLocation(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
-
-void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
-                        std::size_t bytesPerComponent, void* dst) {
-    const std::size_t row = std::size_t(width) * components * bytesPerComponent;
-    std::vector<unsigned char> tmp(row * std::size_t(height));
-    glGetTextureImage(texture, 0, format, type, GLsizei(tmp.size()), tmp.data());
-    auto* out = static_cast<unsigned char*>(dst);
-    for (int y = 0; y < height; ++y)
-        std::memcpy(out + std::size_t(height - 1 - y) * row, tmp.data() + std::size_t(y) * row, row);
+std::size_t LineGeometry::uploadBytes(const StyledLines& lines) {
+    auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    return bytes(lines.positionRadius) + bytes(lines.color) + bytes(lines.polylineId) + bytes(lines.flags) +
+           bytes(lines.segmentVertices);
 }
 
 LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) {
@@ -55,13 +50,15 @@ LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) 
 }
 
 void LineGeometry::bind() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionRadiusBinding, m_positionRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kColorBinding, m_colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPolylineIdBinding, m_polylineIds.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentVertexBinding, m_segmentVertices.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexFlagBinding, m_flags.id());
-    if (m_billboardCorners) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBillboardCornerBinding, m_billboardCorners.id());
-    if (m_segmentRecords) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSegmentRecordBinding, m_segmentRecords.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPositionRadius, m_positionRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexColors, m_colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPolylineIds, m_polylineIds.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSegmentVertices, m_segmentVertices.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexFlags, m_flags.id());
+    if (m_billboardCorners)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kBillboardCorners, m_billboardCorners.id());
+    if (m_segmentRecords) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSegmentRecords, m_segmentRecords.id());
+    if (m_frameUniforms) bindFrameUniforms(m_frameUniforms);
 }
 
 const char* LineGeometry::describeBillboards() const {
@@ -79,15 +76,15 @@ float LineGeometry::farDepth(const FrameSetup& setup) const {
     return glm::distance(setup.camera.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
 }
 
-void LineGeometry::setCameraUniforms(GLuint p, const FrameSetup& setup) const {
+void LineGeometry::setFrame(const FrameSetup& setup, const LightingSpec& lighting) {
     const Camera& cam = setup.camera;
     const float aspect = float(fullWidthOf(setup.window, setup.width)) / float(fullHeightOf(setup.window, setup.height));
     const float far = farDepth(setup);
-    const glm::mat4 viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
-    glProgramUniformMatrix4fv(p, uniformLocation(p, "uViewProj"), 1, GL_FALSE, &viewProj[0][0]);
-    setFrameCameraUniforms(p, setup);
-    glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
-    glProgramUniform1i(p, uniformLocation(p, "uCapClipping"), m_capClipping ? 1 : 0);
+    FrameUniforms u = frameUniforms(setup, lighting);
+    u.viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
+    u.farDepth = far;
+    u.capClipping = m_capClipping ? 1 : 0;
+    uploadFrameUniforms(m_frameUniforms, u);
 }
 
 Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {
@@ -108,10 +105,9 @@ Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector
     return {};
 }
 
-void LineGeometry::computeBillboards(const FrameSetup& setup, StageSink& timer) const {
+void LineGeometry::computeBillboards(StageSink& timer) const {
     if (m_path != BillboardPath::Compute) return;
     timer.begin("billboards");
-    setCameraUniforms(m_billboardProgram.id(), setup);
     buildBillboards(m_billboardProgram.id(), 0, m_segmentCount);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     timer.setItems(m_segmentCount);

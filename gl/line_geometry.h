@@ -1,7 +1,7 @@
 #pragma once
 // The line set on the GPU and the one way every rasterized line pass draws it: SSBOs for
 // per-vertex data and the segment index buffer (bindings in shaders/line_buffers.glsl), the
-// per-frame camera uniforms (shaders/frame_uniforms.glsl) and the billboard pre-pass
+// frame uniform block (gl/frame_uniforms.h) and the billboard pre-pass
 // (shaders/billboard_pass.comp). Passes own their programs and targets; this owns the data.
 #include <cstddef>
 
@@ -9,8 +9,8 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
-#include "gl/objects.h"
 #include "core/technique.h"
+#include "gl/objects.h"
 
 namespace tc::gl {
 
@@ -19,6 +19,9 @@ public:
     // Uploads positions+radius, colours, polyline ids, vertex flags and the segment index
     // buffer. Needs a current context.
     static LineGeometry create(const StyledLines& lines, BillboardPath path);
+    // Bytes create() uploads for `lines` besides the per-frame billboard buffers: positions +
+    // radius, colours, polyline ids and flags per vertex, two vertex indices per segment.
+    static std::size_t uploadBytes(const StyledLines& lines);
 
     std::size_t segmentCount() const { return m_segmentCount; }
     BillboardPath billboardPath() const { return m_path; }
@@ -28,14 +31,16 @@ public:
     const Buffer& positionRadiusBuffer() const { return m_positionRadius; }
     const Buffer& segmentVerticesBuffer() const { return m_segmentVertices; }
 
-    // Binds the line SSBOs (bindings 0-4, 6, 16).
+    // Binds the line SSBOs (gl/bindings.h, the line group) and this geometry's frame uniforms.
     void bind() const;
     // Whether the transparent fragment shaders clip at the joint planes (render.cap_clipping):
     // the planes are built once per segment with the billboard (shaders/segment_varyings.glsl),
-    // so every program of this geometry gets uCapClipping from setCameraUniforms.
+    // so every program of this geometry reads uCapClipping of the frame uniforms.
     void setCapClipping(bool enabled) { m_capClipping = enabled; }
-    // Sets the camera uniforms of `program` for this frame; uniforms the program lacks are skipped.
-    void setCameraUniforms(GLuint program, const FrameSetup& setup) const;
+    // Uploads this frame's (or tile's) uniform block: frameUniforms(setup, lighting) with the
+    // lines' uViewProj, uFarDepth and uCapClipping, and binds it. Every pass of the frame reads it,
+    // so call it first.
+    void setFrame(const FrameSetup& setup, const LightingSpec& lighting);
     // Linear depth scale: gl_FragDepth = view depth / farDepth(setup).
     float farDepth(const FrameSetup& setup) const;
 
@@ -43,13 +48,14 @@ public:
     // geometry's billboard path; `defines` go to every stage.
     Program compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines = {}) const;
     // Builds this frame's billboards (BillboardPath::Compute; no-op otherwise) as stage
-    // "billboards" of `timer`.
-    void computeBillboards(const FrameSetup& setup, StageSink& timer) const;
-    // Dispatches the billboard compute `program` (billboard_pass.comp, camera uniforms set) over
-    // the draw slots [firstSlot, firstSlot + count); the caller adds the memory barrier.
+    // "billboards" of `timer`, for the camera of setFrame.
+    void computeBillboards(StageSink& timer) const;
+    // Dispatches the billboard compute `program` (billboard_pass.comp) over the draw slots
+    // [firstSlot, firstSlot + count), for the camera of setFrame; the caller adds the memory
+    // barrier.
     void buildBillboards(GLuint program, std::size_t firstSlot, std::size_t count) const;
     // Draws `count` segments starting at draw slot `first` with the bound program. When the
-    // program was compiled with DRAW_ORDER, slot i draws segment drawOrder[i] (binding 5).
+    // program was compiled with DRAW_ORDER, slot i draws segment drawOrder[i] (binding::kDrawOrder).
     void draw(std::size_t first, std::size_t count) const;
 
 private:
@@ -62,24 +68,9 @@ private:
     Bounds m_bounds;
     Buffer m_positionRadius, m_colors, m_polylineIds, m_flags, m_segmentVertices, m_billboardCorners;
     Buffer m_segmentRecords;  // BillboardPath::Compute: what the fragment shaders need per segment
+    Buffer m_frameUniforms;   // gl/frame_uniforms.h, set per frame
     Program m_billboardProgram;
     VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
 };
-
-// SSBO bindings shared with the shaders.
-constexpr GLuint kPositionRadiusBinding = 0;
-constexpr GLuint kColorBinding = 1;
-constexpr GLuint kPolylineIdBinding = 2;
-constexpr GLuint kSegmentVertexBinding = 3;
-constexpr GLuint kBillboardCornerBinding = 4;
-constexpr GLuint kDrawOrderBinding = 5;
-constexpr GLuint kVertexFlagBinding = 6;
-constexpr GLuint kSegmentRecordBinding = 16;  // shaders/segment_varyings.glsl
-
-GLint uniformLocation(GLuint program, const char* name);
-
-// Reads a texture level into `dst`, flipping rows: GL's row 0 is the bottom, FrameImages' the top.
-void readTextureFlipped(GLuint texture, GLenum format, GLenum type, int width, int height, int components,
-                        std::size_t bytesPerComponent, void* dst);
 
 }  // namespace tc::gl

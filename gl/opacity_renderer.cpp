@@ -13,22 +13,14 @@
 #include "core/error.h"
 #include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
-#include "core/shading.h"
+#include "gl/bindings.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
 
 namespace {
-
-constexpr GLuint kVertexPartWBinding = 11;
-constexpr GLuint kListHeadBinding = 12;
-constexpr GLuint kFragmentDepthBinding = 13;
-constexpr GLuint kFragmentNextBinding = 14;
-constexpr GLuint kFragmentCounterBinding = 15;
-constexpr GLuint kFragmentPartBinding = 17;
-constexpr GLuint kFragmentFracBinding = 18;
-constexpr GLuint kFragmentColorBinding = 19;
 
 // Depth, part, fraction, colour and the next link, each a 4-byte array (shaders/opacity_common.glsl).
 constexpr std::size_t kNodeBytes = 5 * 4;
@@ -202,15 +194,53 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
 
 void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
-    m_geometry.computeBillboards(setup, timer);
+    m_geometry.setFrame(setup, m_lighting);
+    m_geometry.computeBillboards(timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
-    const std::size_t n = m_parts.partCount();
     m_stats = {};
-    m_stats.parts = n;
+    m_stats.parts = m_parts.partCount();
     m_stats.capacity = m_capacity;
 
     // 1. Fragment lists.
+    const std::uint64_t produced = buildFragmentLists(setup, timer);
+
+    // 2. h_ij from the sorted lists.
     auto t0 = std::chrono::steady_clock::now();
+    timer.begin("lists_sort");
+    std::vector<std::uint32_t> colors;  // per sorted fragment, packUnorm4x8 straight RGBA
+    const FragmentLists lists =
+        readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity), colors);
+    timer.end();
+    m_stats.readbackMs = msSince(t0);
+    FrameOcclusion occlusion;
+    assembleOcclusion(lists, setup, occlusion, timer);
+
+    // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
+    solve(lists, setup, occlusion, timer);
+
+    // 4. Resolve (on the CPU), then the AOVs.
+    t0 = std::chrono::steady_clock::now();
+    timer.begin("resolve");
+    resolve(lists, colors, setup.width, setup.height, out);
+    timer.end();
+    glDepthMask(GL_TRUE);
+
+    timer.begin("readback");
+    if (m_gbuffer) {
+        m_gbuffer->readAovs(out);
+    } else {
+        const std::size_t pixels = std::size_t(setup.width) * setup.height;
+        out.depth.assign(pixels, std::numeric_limits<float>::infinity());
+        out.normal.assign(3 * pixels, 0.0f);
+        out.id.assign(pixels, kBackgroundId);
+    }
+    out.ao.clear();
+    timer.end();
+    m_stats.resolveMs = msSince(t0);
+}
+
+std::uint64_t OpacityRenderer::buildFragmentLists(const FrameSetup& setup, StageSink& timer) {
+    const auto t0 = std::chrono::steady_clock::now();
     timer.begin("fragment_lists");
     glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
     glViewport(0, 0, setup.width, setup.height);
@@ -219,8 +249,9 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     glDisable(GL_DEPTH_TEST);
     glDepthMask(GL_FALSE);
     glDisable(GL_CULL_FACE);
-    // Blending stays on while fragment shaders have side effects (../shared/notes/llvmpipe.md);
-    // the build pass writes 0, which "under" leaves unchanged.
+    // Blending stays on while fragment shaders have side effects: llvmpipe keeps a pixel's
+    // fragments in primitive order only then. The build pass writes 0, which "under" leaves
+    // unchanged.
     glEnable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
     glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
@@ -228,24 +259,18 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     glNamedBufferSubData(m_counter.id(), 0, sizeof(GLuint), &zeroCount);
     glClearNamedBufferData(m_heads.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
     const GLuint b = m_buildProgram.id();
-    m_geometry.setCameraUniforms(b, setup);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(b, uniformLocation(b, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(b, uniformLocation(b, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
-    glProgramUniform1i(b, uniformLocation(b, "uCapClipping"), m_capClipping ? 1 : 0);
     glProgramUniform1ui(b, uniformLocation(b, "uImageWidth"), GLuint(setup.width));
     glProgramUniform1ui(b, uniformLocation(b, "uCapacity"), GLuint(m_capacity));
     glProgramUniform1ui(b, uniformLocation(b, "uPartsPerLine"), GLuint(m_parts.partsPerLine));
     glUseProgram(b);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexPartWBinding, m_vertexPartW.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListHeadBinding, m_heads.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentDepthBinding, m_nodeDepth.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentPartBinding, m_nodePart.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentFracBinding, m_nodeFrac.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentColorBinding, m_nodeColor.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentNextBinding, m_next.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCounterBinding, m_counter.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexPartW, m_vertexPartW.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kListHeads, m_heads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentDepths, m_nodeDepth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentParts, m_nodePart.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentFracs, m_nodeFrac.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentColors, m_nodeColor.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentNext, m_next.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kFragmentCounter, m_counter.id());
     m_geometry.draw(0, m_geometry.segmentCount());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     GLuint produced = 0;
@@ -259,28 +284,30 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
         std::cerr << "warning: opacity optimization, frame " << setup.frame << ": " << m_stats.overflow << " of "
                   << produced << " fragments did not fit the fragment pool of " << m_capacity
                   << " nodes (render.memory_budget_mb) and were left out of h_ij and the image\n";
+    return produced;
+}
 
-    // 2. h_ij from the sorted lists.
-    t0 = std::chrono::steady_clock::now();
-    timer.begin("lists_sort");
-    std::vector<std::uint32_t> colors;  // per sorted fragment, packUnorm4x8 straight RGBA
-    FragmentLists lists =
-        readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity), colors);
-    timer.end();
-    m_stats.readbackMs = msSince(t0);
+OpacityWeights OpacityRenderer::weights() const {
+    return {m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
+}
+
+void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
+                                        StageSink& timer) {
     // render.opacity.occlusion_scale < 1: H from the lists of a subsample of the pixels, as if
     // rasterized at that fraction of the width and height (core/occlusion_matrix.h,
-    // subsampleLists). The resolve below still blends all full-size lists: it needs them sorted
+    // subsampleLists). The resolve still blends all full-size lists: it needs them sorted
     // anyway, so a second, smaller list pass would only add a GL pass and a read-back.
-    t0 = std::chrono::steady_clock::now();
-    std::clock_t c0 = std::clock();
+    const std::size_t n = m_parts.partCount();
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     timer.begin("h_assembly");
-    FragmentLists scaledLists;
-    const bool scaled = m_spec.occlusionScale < 1.0f;
-    if (scaled) scaledLists = subsampleLists(lists, setup.height, double(m_spec.occlusionScale));
-    const FragmentLists& occlusionLists = scaled ? scaledLists : lists;
-    m_stats.occlusionWidth = scaled ? scaledLists.width : setup.width;
-    m_stats.occlusionHeight = scaled ? int(scaledLists.pixelCount() / std::size_t(scaledLists.width)) : setup.height;
+    occlusion.scaled = m_spec.occlusionScale < 1.0f;
+    if (occlusion.scaled) occlusion.scaledLists = subsampleLists(lists, setup.height, double(m_spec.occlusionScale));
+    const FragmentLists& occlusionLists = occlusion.lists(lists);
+    const FragmentLists& scaledLists = occlusion.scaledLists;
+    m_stats.occlusionWidth = occlusion.scaled ? scaledLists.width : setup.width;
+    m_stats.occlusionHeight =
+        occlusion.scaled ? int(scaledLists.pixelCount() / std::size_t(scaledLists.width)) : setup.height;
     m_stats.occlusionFragments = occlusionLists.fragments.size();
     std::uint64_t pairs = 0;
     for (std::size_t p = 0; p < occlusionLists.pixelCount(); ++p) {
@@ -295,35 +322,36 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     // (docs/performance.md M7); at 2k parts (2.4) the two are about even.
     constexpr double kAssembleBelowPairsPerFragment = 4;
     using Occlusion = OpacityOptimizationSpec::Occlusion;
-    const bool fromFragments =
-        m_spec.occlusion == Occlusion::Fragments ||
-        (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
-         double(pairs) >
-             kAssembleBelowPairsPerFragment * double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
-    m_stats.fromFragments = fromFragments;
-    const OpacityWeights weights{m_spec.p, m_spec.q, m_spec.r, m_spec.s, m_spec.lambda};
-    SparseMatrixF h;  // handed to the energy in the solve stage (its arrays, not a copy)
-    std::optional<OpacityEnergy> energy;
-    if (fromFragments) {
+    occlusion.fromFragments = m_spec.occlusion == Occlusion::Fragments ||
+                              (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
+                               double(pairs) > kAssembleBelowPairsPerFragment *
+                                                   double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
+    m_stats.fromFragments = occlusion.fromFragments;
+    if (occlusion.fromFragments) {
         m_assembler.release();
         SparseMatrixF().swap(m_recycledH);
-        energy.emplace(std::make_shared<const FragmentOcclusion>(occlusionLists, n), m_importance, m_parts, weights);
+        occlusion.energy.emplace(std::make_shared<const FragmentOcclusion>(occlusionLists, n), m_importance, m_parts,
+                                 weights());
     } else {
         // Into the last frame's arrays (Eigen's SparseMatrix has no move assignment; swap is O(1)).
-        h.swap(m_recycledH);
-        m_assembler.assemble(occlusionLists, n, h);
-        m_stats.hNonZeros = std::size_t(h.nonZeros());
+        occlusion.h.swap(m_recycledH);
+        m_assembler.assemble(occlusionLists, n, occlusion.h);
+        m_stats.hNonZeros = std::size_t(occlusion.h.nonZeros());
     }
-    timer.setItems(fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
+    timer.setItems(occlusion.fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
     timer.end();
     m_stats.assemblyMs = msSince(t0);
     m_stats.assemblyCpuMs = cpuMsSince(c0);
+}
 
-    // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
-    t0 = std::chrono::steady_clock::now();
-    c0 = std::clock();
+void OpacityRenderer::solve(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
+                            StageSink& timer) {
+    const std::size_t n = m_parts.partCount();
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     timer.begin("solve");
-    if (!energy) energy.emplace(std::move(h), m_importance, m_parts, weights, m_spec.dropBelow);
+    std::optional<OpacityEnergy>& energy = occlusion.energy;
+    if (!energy) energy.emplace(std::move(occlusion.h), m_importance, m_parts, weights(), m_spec.dropBelow);
     m_stats.energyMs = msSince(t0);
     m_stats.energyCpuMs = cpuMsSince(c0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
@@ -340,7 +368,7 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
         // frames at 8k did not gain).
         const FragmentLists coarseLists = subsampleLists(lists, setup.height, double(m_spec.coarseScale));
         const OpacityEnergy coarse(std::make_shared<const FragmentOcclusion>(coarseLists, n), m_importance, m_parts,
-                                   weights);
+                                   weights());
         m_stats.coarse = solveBoundedQp(coarse, coarse.linearTerm(), lo, hi, m_solution, options);
         m_solution = m_stats.coarse.x;
     }
@@ -359,18 +387,19 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
                   << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
                   << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
     if (m_sink)
-        m_sink({setup.frame, &*energy, fromFragments ? nullptr : &energy->occlusion(), &occlusionLists, &m_parts,
-                &m_importance, &m_solution, &m_displayed, &m_stats.solve});
-    if (!fromFragments) energy->releaseOcclusion(m_recycledH);
+        m_sink({setup.frame, &*energy, occlusion.fromFragments ? nullptr : &energy->occlusion(),
+                &occlusion.lists(lists), &m_parts, &m_importance, &m_solution, &m_displayed, &m_stats.solve});
+    if (!occlusion.fromFragments) energy->releaseOcclusion(m_recycledH);
+}
 
-    // 4. Resolve: blend each sorted list front to back with the displayed opacities, on the CPU.
-    // The lists are in memory and sorted already; a full-screen GL pass walking them was what
-    // llvmpipe is slowest at (SSBO loads in a data-dependent loop: ~10 s for 0.57 M fragments at
-    // 1280x1024 under load, against ~0.1 s for the same pass without the loop), and this loop
-    // costs a few ns per fragment. Matches the shader arithmetic: unpackUnorm4x8, "under".
-    t0 = std::chrono::steady_clock::now();
-    timer.begin("resolve");
-    const int w = setup.width, hgt = setup.height;
+void OpacityRenderer::resolve(const FragmentLists& lists, const std::vector<std::uint32_t>& colors, int w, int hgt,
+                              FrameImages& out) const {
+    // Each sorted list blended front to back with the displayed opacities, on the CPU. The lists
+    // are in memory and sorted already; a full-screen GL pass walking them was what llvmpipe is
+    // slowest at (SSBO loads in a data-dependent loop: ~10 s for 0.57 M fragments at 1280x1024
+    // under load, against ~0.1 s for the same pass without the loop), and this loop costs a few
+    // ns per fragment. Matches the shader arithmetic: unpackUnorm4x8, "under".
+    const std::size_t n = m_parts.partCount();
     out.width = w;
     out.height = hgt;
     out.rgba.assign(4 * std::size_t(w) * hgt, 0.0f);
@@ -398,21 +427,6 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
                 for (int ch = 0; ch < 4; ++ch) o[ch] = sum[ch];
             }
     });
-    timer.end();
-    glDepthMask(GL_TRUE);
-
-    timer.begin("readback");
-    if (m_gbuffer) {
-        m_gbuffer->readAovs(out);
-    } else {
-        const std::size_t pixels = std::size_t(w) * hgt;
-        out.depth.assign(pixels, std::numeric_limits<float>::infinity());
-        out.normal.assign(3 * pixels, 0.0f);
-        out.id.assign(pixels, kBackgroundId);
-    }
-    out.ao.clear();
-    timer.end();
-    m_stats.resolveMs = msSince(t0);
 }
 
 nlohmann::json OpacityRenderer::describe() const {

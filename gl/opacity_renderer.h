@@ -80,9 +80,33 @@ public:
 private:
     explicit OpacityRenderer(LineGeometry geometry) : m_geometry(std::move(geometry)) {}
     void resize(int width, int height);
-    // Reads the lists back, sorts each front to back and returns them in compressed rows for
-    // Algorithm 1, with each sorted fragment's packed colour in `colors` for the resolve.
+    // The stages of render(), in order.
+    // "fragment_lists": the lines' transparent fragments into the per-pixel lists; returns how
+    // many were produced (stored + overflow).
+    std::uint64_t buildFragmentLists(const FrameSetup& setup, StageSink& timer);
+    // "lists_sort": reads the lists back, sorts each front to back and returns them in compressed
+    // rows for Algorithm 1, with each sorted fragment's packed colour in `colors` for the resolve.
     FragmentLists readAndSortLists(int width, int height, std::uint64_t stored, std::vector<std::uint32_t>& colors);
+    // One frame's occlusion: the lists H is formed from (the sorted lists, or their subsample at
+    // render.opacity.occlusion_scale) and either the assembled H or the energy over the lists.
+    struct FrameOcclusion {
+        bool scaled = false;
+        FragmentLists scaledLists;
+        bool fromFragments = false;  // products with H from the lists (render.opacity.occlusion)
+        SparseMatrixF h;             // assembled H, handed to the energy (its arrays, not a copy)
+        std::optional<OpacityEnergy> energy;
+        const FragmentLists& lists(const FragmentLists& sorted) const { return scaled ? scaledLists : sorted; }
+    };
+    // "h_assembly": H (or the energy over the lists) from the sorted lists.
+    void assembleOcclusion(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
+                           StageSink& timer);
+    // "solve": the bounded QP, warm started, and the displayed opacities; hands the system to the
+    // sink.
+    void solve(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion, StageSink& timer);
+    // "resolve": blends the sorted lists with the displayed opacities into out.rgba (w x hgt).
+    void resolve(const FragmentLists& lists, const std::vector<std::uint32_t>& colors, int w, int hgt,
+                 FrameImages& out) const;
+    OpacityWeights weights() const;
 
     OpacityOptimizationSpec m_spec;
     bool m_capClipping = true;

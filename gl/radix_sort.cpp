@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "gl/bindings.h"
 #include "gl/gl_api.h"
 #include "gl/shader_library.h"
 
@@ -93,8 +94,8 @@ void RadixSort::scan(GLuint data, std::size_t count, std::size_t level) {
         growBuffer(sums.sums, sums.count, blocks);
         setUint(m_scanReduce, "count", count);
         glUseProgram(m_scanReduce.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, sums.sums.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kScanData, data);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kScanBlockSums, sums.sums.id());
         glDispatchCompute(static_cast<GLuint>(blocks), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         scan(sums.sums.id(), blocks, level + 1);
@@ -102,9 +103,9 @@ void RadixSort::scan(GLuint data, std::size_t count, std::size_t level) {
     setUint(m_scan, "count", count);
     glProgramUniform1i(m_scan.id(), uniform(m_scan, "addBlockOffsets"), blocks > 1 ? 1 : 0);
     glUseProgram(m_scan.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data);
-    // Binding 1 must name a buffer even when the block offsets are not read.
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1,
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kScanData, data);
+    // The block sums binding must name a buffer even when the block offsets are not read.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kScanBlockSums,
                      blocks > 1 ? m_scanLevels[level].sums.id() : data);
     glDispatchCompute(static_cast<GLuint>(blocks), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -134,19 +135,19 @@ void RadixSort::sort(const Buffer& keys, const Buffer& values, std::size_t count
         setUint(m_scatter, "shift", shift);
 
         glUseProgram(m_histogram.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, keysA);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_histograms.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixKeysIn, keysA);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixHistograms, m_histograms.id());
         glDispatchCompute(static_cast<GLuint>(groups), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
         scan(m_histograms.id(), histogramEntries, 0);
 
         glUseProgram(m_scatter.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, keysA);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, valuesA);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, keysB);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, valuesB);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_histograms.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixKeysIn, keysA);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixValuesIn, valuesA);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixKeysOut, keysB);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixValuesOut, valuesB);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kRadixOffsets, m_histograms.id());
         glDispatchCompute(static_cast<GLuint>(groups), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 

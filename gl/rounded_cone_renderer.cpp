@@ -1,7 +1,8 @@
 #include "gl/rounded_cone_renderer.h"
 
 #include "core/error.h"
-#include "core/shading.h"
+#include "gl/bindings.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 
@@ -44,11 +45,12 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
         m_aoFactor = makeTexture2D(GL_R32F, w, h);
         m_shaded = makeFramebuffer({&m_color, &m_aoFactor}, nullptr, "shading target");
     }
+    m_geometry.setFrame(setup, m_lighting);
     if (m_culling) {
         m_order->update(m_geometry, setup, timer);
         m_gbuffer.render(m_geometry, setup, timer, &*m_culling, &*m_order);
     } else {
-        m_geometry.computeBillboards(setup, timer);
+        m_geometry.computeBillboards(timer);
         m_gbuffer.render(m_geometry, setup, timer);
     }
 
@@ -57,16 +59,11 @@ void RoundedConeRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     const float zero[4] = {0, 0, 0, 0};
     glClearNamedFramebufferfv(m_shaded.id(), GL_COLOR, 0, zero);
     const GLuint s = m_shadingProgram.id();
-    m_geometry.setCameraUniforms(s, setup);
     glUseProgram(s);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(s, uniformLocation(s, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(s, uniformLocation(s, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
     if (m_ao) m_ao->apply(s);
-    glBindTextureUnit(0, m_gbuffer.albedo().id());
-    glBindTextureUnit(1, m_gbuffer.normalDepth().id());
-    glBindTextureUnit(2, m_gbuffer.segments().id());
+    glBindTextureUnit(binding::kGBufferAlbedo, m_gbuffer.albedo().id());
+    glBindTextureUnit(binding::kGBufferNormalDepth, m_gbuffer.normalDepth().id());
+    glBindTextureUnit(binding::kVisibilitySegments, m_gbuffer.segments().id());
     m_geometry.bind();
     glDrawArrays(GL_TRIANGLES, 0, 3);
     timer.end();

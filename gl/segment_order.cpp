@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "gl/bindings.h"
 #include "gl/gpu_timer.h"
 
 namespace tc::gl {
@@ -71,6 +72,8 @@ bool SegmentOrder::update(const LineGeometry& geometry, const FrameSetup& setup,
     return true;
 }
 
-void SegmentOrder::bind() const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDrawOrderBinding, m_drawOrder.id()); }
+void SegmentOrder::bind() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kDrawOrder, m_drawOrder.id());
+}
 
 }  // namespace tc::gl

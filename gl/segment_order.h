@@ -1,7 +1,7 @@
 #pragma once
 // The front-to-back segment order of the rasterized line techniques (Groß & Gumhold 2020,
 // Sect. 4.1): per-segment distance keys (gl/sort_keys.h) sorted by the GPU radix sort
-// (gl/radix_sort.h) into the draw-order buffer that DRAW_ORDER programs read at binding 5.
+// (gl/radix_sort.h) into the draw-order buffer that DRAW_ORDER programs read (SSBO_DRAW_ORDER).
 //
 // When to sort again: transparent blending needs the order of the current eye, so any camera
 // change re-sorts (ResortPolicy::EveryChange). Opaque rendering with culling only uses the order
@@ -46,7 +46,7 @@ public:
     // Whether the last sort was for exactly this camera and full image size, so that segments
     // behind inViewCount() are outside this view.
     bool sortedForView(const FrameSetup& setup) const;
-    // Binds the draw order to binding 5 (kDrawOrderBinding).
+    // Binds the draw order to binding::kDrawOrder.
     void bind() const;
     const Buffer& drawOrder() const { return m_drawOrder; }
     // Sorts performed since creation (run.json, timings).

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "gl/embedded_shaders.h"
+#include "gl/bindings.h"
 
 namespace tc::gl {
 
@@ -23,13 +23,20 @@ void ShaderLibrary::setOverrideDir(std::string dir) {
     m_overrideDir = std::move(dir);
 }
 
-namespace {
+void ShaderLibrary::addEmbedded(const std::vector<EmbeddedShader>& shaders) {
+    m_added.push_back(&shaders);
+}
 
-const EmbeddedShader* findEmbedded(std::string_view name) {
+const EmbeddedShader* ShaderLibrary::findEmbedded(std::string_view name) const {
     for (const EmbeddedShader& shader : embeddedShaders())
         if (shader.name == name) return &shader;
+    for (const std::vector<EmbeddedShader>* set : m_added)
+        for (const EmbeddedShader& shader : *set)
+            if (shader.name == name) return &shader;
     return nullptr;
 }
+
+namespace {
 
 // The override file for `name`, or "" if there is none.
 std::string overridePath(const std::string& dir, std::string_view name) {
@@ -220,10 +227,14 @@ Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>
                        const std::vector<std::string>& defines, bool verbose) {
     TC_CHECK(stages.size() > 0);
     const std::string defineList = defines.empty() ? "" : " (defines: " + joined(defines) + ")";
+    std::vector<std::string> allDefines;
+    for (const ShaderBinding& b : kShaderBindings)
+        allDefines.push_back(std::string(b.define) + " " + std::to_string(b.point));
+    allDefines.insert(allDefines.end(), defines.begin(), defines.end());
     std::vector<Shader> shaders;
     std::vector<std::string> stageFiles;
     for (const auto& [stage, name] : stages) {
-        const ExpandedShader expanded = expandShader(name, defines);
+        const ExpandedShader expanded = expandShader(name, allDefines);
         stageFiles.push_back(expanded.files.at(1));
         if (verbose) printNumbered(expanded, stageName(stage));
 

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "gl/embedded_shaders.h"
 #include "gl/objects.h"
 
 namespace tc::gl {
@@ -34,15 +35,24 @@ public:
     void setOverrideDir(std::string dir);
     const std::string& overrideDir() const { return m_overrideDir; }
 
+    // Adds embedded files looked up after the binary's own: a test binary's shaders
+    // (tests/gl/test_shaders.h). `shaders` must outlive the library; their names must not repeat
+    // the binary's.
+    void addEmbedded(const std::vector<EmbeddedShader>& shaders);
+
     // The text of shader file `name` ("rounded_cone.frag"). Throws tc::Error(ExitCode::Internal)
-    // if neither the override directory nor the embedded set has it.
+    // if neither the override directory nor an embedded set has it.
     std::string source(std::string_view name) const;
-    // Where `name` is read from, as messages should name it: "<dir>/name" or "shaders/name".
+    // Where `name` is read from, as messages should name it: "<dir>/name", or "shaders/name" for
+    // an embedded file (the shaders/ directory of the binary's or the test's sources).
     std::string displayPath(std::string_view name) const;
 
 private:
     ShaderLibrary() = default;
+    const EmbeddedShader* findEmbedded(std::string_view name) const;
+
     std::string m_overrideDir;
+    std::vector<const std::vector<EmbeddedShader>*> m_added;
 };
 
 // #line numbers of file N (N >= 1) start at N * kShaderLineStride; files have fewer lines.
@@ -72,7 +82,8 @@ std::string rewriteShaderLog(std::string_view log, const std::vector<std::string
 // Compiles and links a program from (stage, file name) pairs, e.g.
 //     compileProgram({{GL_VERTEX_SHADER, "lines.vert"}, {GL_FRAGMENT_SHADER, "lines.frag"}},
 //                    {"KBUFFER_K 8", "USE_INTERLOCK"});
-// Each define is "NAME" or "NAME VALUE". Needs a current context. Throws tc::Error(Internal) with
+// Each define is "NAME" or "NAME VALUE"; every stage gets the binding points of gl/bindings.h
+// (kShaderBindings) as defines before them. Needs a current context. Throws tc::Error(Internal) with
 // the rewritten log on a compile or link failure. With `verbose`, prints each stage's numbered
 // source (and any compiler warnings) to stderr.
 Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>> stages,

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "gl/bindings.h"
 #include "gl/gl_api.h"
 #include "gl/shader_library.h"
 
@@ -56,11 +57,11 @@ void SegmentSortKeys::compute(const Buffer& positionRadius, const Buffer& segmen
     glProgramUniform1i(id, m_frustumTest, frustum ? 1 : 0);
     if (frustum) glProgramUniform4fv(id, m_frustumPlanes, 5, &frustum->planes[0].x);
     glUseProgram(id);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positionRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, segmentVertices.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, keysOut.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, segmentIdsOut.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_outside.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSortPositionRadius, positionRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSortSegmentVertices, segmentVertices.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSortKeys, keysOut.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSortSegmentIds, segmentIdsOut.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSortOutsideCount, m_outside.id());
     // 65535 is the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT; larger inputs take several dispatches.
     constexpr std::size_t kChunk = std::size_t(65535) * kLocalSize;
     for (std::size_t first = 0; first < segments; first += kChunk) {

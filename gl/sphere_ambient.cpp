@@ -5,17 +5,15 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "gl/bindings.h"
 #include "gl/density_volume.h"
-#include "gl/line_geometry.h"
+#include "gl/gl_util.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kVolumeUnit = 9;      // texture unit of uSphereVolume (8 is the line density volume's)
-constexpr GLuint kAccumulatorBinding = 4;
-constexpr GLuint kCacheBinding = 6;       // AmbientCube in shaders/sphere_billboard.vert
 constexpr GLuint kGroup = 64;          // local_size_x of the voxelize and resolve shaders
 constexpr std::size_t kMaxGroups = 65535;
 constexpr glm::ivec3 kMipGroup(8, 8, 1);  // shaders/density_mip.comp
@@ -75,9 +73,9 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), voxel);
     glProgramUniform3i(p, uniformLocation(p, "uSize"), size.x, size.y, size.z);
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, centerRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, m_accumulator.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereColors, colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereAccumulator, m_accumulator.id());
     const std::size_t perDispatch = kMaxGroups * kGroup;
     for (std::size_t first = 0; first < count; first += perDispatch) {
         const std::size_t n = std::min(perDispatch, count - first);
@@ -89,7 +87,7 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     p = m_resolve.id();
     glProgramUniform3i(p, uniformLocation(p, "uSize"), size.x, size.y, size.z);
     glUseProgram(p);
-    glBindImageTexture(0, m_volume.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kSphereVolumeOut, m_volume.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     const std::size_t groups = (voxels + kGroup - 1) / kGroup;
     const std::size_t groupsX = std::min(groups, kMaxGroups);
     glDispatchCompute(GLuint(groupsX), GLuint((groups + groupsX - 1) / groupsX), 1);
@@ -102,13 +100,13 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
         const glm::ivec3 dst = glm::max(size >> (level + 1), glm::ivec3(1));
         glProgramUniform3i(p, uniformLocation(p, "uSourceSize"), src.x, src.y, src.z);
         glProgramUniform3i(p, uniformLocation(p, "uTargetSize"), dst.x, dst.y, dst.z);
-        glBindImageTexture(0, m_volume.id(), level, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, m_volume.id(), level + 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(binding::kMipSource, m_volume.id(), level, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(binding::kMipTarget, m_volume.id(), level + 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glDispatchCompute(divUp(dst.x, kMipGroup.x), divUp(dst.y, kMipGroup.y), divUp(dst.z, kMipGroup.z));
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
-    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kMipSource, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kMipTarget, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     if (m_cached) buildCache(centerRadius, count);
@@ -125,8 +123,8 @@ void SphereAmbient::buildCache(const Buffer& centerRadius, std::size_t count) {
     apply(p);
     glProgramUniform1ui(p, uniformLocation(p, "uCount"), GLuint(items));
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, centerRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCacheBinding, m_cache.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereAmbientCube, m_cache.id());
     const std::size_t perDispatch = kMaxGroups * kGroup;
     for (std::size_t first = 0; first < items; first += perDispatch) {
         const std::size_t n = std::min(perDispatch, items - first);
@@ -144,8 +142,8 @@ std::vector<std::uint32_t> SphereAmbient::readCache() const {
 }
 
 void SphereAmbient::apply(GLuint p) const {
-    glBindTextureUnit(kVolumeUnit, m_volume.id());
-    glProgramUniform1i(p, uniformLocation(p, "uSphereVolume"), GLint(kVolumeUnit));
+    glBindTextureUnit(binding::kSphereVolume, m_volume.id());
+    glProgramUniform1i(p, uniformLocation(p, "uSphereVolume"), GLint(binding::kSphereVolume));
     glProgramUniform3fv(p, uniformLocation(p, "uSphereVolumeOrigin"), 1, &m_origin[0]);
     glProgramUniform1f(p, uniformLocation(p, "uSphereVolumeVoxel"), m_voxelSize);
     glProgramUniform3i(p, uniformLocation(p, "uSphereVolumeSize"), m_size.x, m_size.y, m_size.z);
@@ -156,7 +154,7 @@ void SphereAmbient::apply(GLuint p) const {
     glProgramUniform1f(p, uniformLocation(p, "uAoStrength"), m_spec.strength);
     // The shaded sphere deposited itself around the point: start one and a half voxels out.
     glProgramUniform1f(p, uniformLocation(p, "uAoStartOffset"), 1.5f * m_voxelSize);
-    if (m_cached && m_cache.id()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCacheBinding, m_cache.id());
+    if (m_cached && m_cache.id()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereAmbientCube, m_cache.id());
 }
 
 nlohmann::json SphereAmbient::describe() const {

@@ -1,33 +1,25 @@
 #include "gl/sphere_renderer.h"
 
-#include "core/particle_series.h"
-#include "core/particle_styling.h"
-#include "gl/techniques.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/error.h"
-#include "core/shading.h"
+#include "core/particle_series.h"
+#include "core/particle_styling.h"
 #include "core/sphere_glyph.h"
+#include "gl/bindings.h"
+#include "gl/frame_uniforms.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
-#include "gl/line_geometry.h"
 #include "gl/shader_library.h"
 #include "gl/sphere_ambient.h"
-#include "gl/view_window.h"
+#include "gl/techniques.h"
 
 namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kSphereCenterRadiusBinding = 0;
-constexpr GLuint kSphereColorBinding = 1;
-constexpr GLuint kSphereIdBinding = 2;
-constexpr GLuint kSphereKeysBinding = 2;    // sort key pass only
-constexpr GLuint kSphereValuesBinding = 3;  // sort key pass only
-constexpr GLuint kSphereOrderBinding = 5;
-constexpr GLuint kSphereOversizedBinding = 7;  // POINTS programs of shaders/sphere_billboard.vert
 constexpr GLuint kSortGroupSize = 64;  // local_size_x of shaders/sphere_sort_keys.comp
 constexpr std::size_t kMaxGroups = 65535;
 
@@ -159,16 +151,15 @@ void SphereRenderer::resize(int width, int height) {
     }
 }
 
-void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
+void SphereRenderer::setFrame(const FrameSetup& setup) {
     const Camera& cam = setup.camera;
-    setFrameCameraUniforms(p, setup);
+    FrameUniforms u = frameUniforms(setup, m_lighting);
     // Linear depth for the opaque depth test: beyond everything the data can reach.
-    const float far = glm::distance(cam.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
-    glProgramUniform1f(p, uniformLocation(p, "uFarDepth"), far);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, cam);
-    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
+    u.farDepth = glm::distance(cam.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
+    uploadFrameUniforms(m_frameUniforms, u);
+}
+
+void SphereRenderer::setUniforms(GLuint p) const {
     glProgramUniform1i(p, uniformLocation(p, "uDensityModel"), int(m_spheres.density));
     glProgramUniform1f(p, uniformLocation(p, "uInnerRatio"), m_spheres.innerRadius);
     glProgramUniform1f(p, uniformLocation(p, "uNormalisation"),
@@ -182,12 +173,12 @@ void SphereRenderer::setUniforms(GLuint p, const FrameSetup& setup) const {
 void SphereRenderer::drawRange(const Programs& programs, std::size_t first, std::size_t count) const {
     if (count == 0) return;
     glBindVertexArray(m_emptyVao.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereColorBinding, m_colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereIdBinding, m_ids.id());
-    if (m_order) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOrderBinding, m_order.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, m_centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereColors, m_colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereIds, m_ids.id());
+    if (m_order) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereDrawOrder, m_order.id());
     if (programs.points) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereOversizedBinding, m_oversized.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereOversized, m_oversized.id());
         glEnable(GL_PROGRAM_POINT_SIZE);
         glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
         glDisable(GL_PROGRAM_POINT_SIZE);
@@ -196,19 +187,14 @@ void SphereRenderer::drawRange(const Programs& programs, std::size_t first, std:
     }
 }
 
-void SphereRenderer::sort(const FrameSetup& setup, StageSink& timer) {
+void SphereRenderer::sort(StageSink& timer) {
     timer.begin("sort");
-    const Camera& cam = setup.camera;
     const GLuint p = m_sortKeyProgram.id();
-    const glm::vec3 fwd = cam.forward();
     glProgramUniform1ui(p, uniformLocation(p, "uCount"), GLuint(m_count));
-    glProgramUniform3fv(p, uniformLocation(p, "uEye"), 1, &cam.eye[0]);
-    glProgramUniform3fv(p, uniformLocation(p, "uForward"), 1, &fwd[0]);
-    glProgramUniform1i(p, uniformLocation(p, "uOrthographic"), cam.projection == Projection::Orthographic ? 1 : 0);
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereCenterRadiusBinding, m_centerRadius.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereKeysBinding, m_keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSphereValuesBinding, m_order.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, m_centerRadius.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereSortKeys, m_keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereSortValues, m_order.id());
     const std::size_t perDispatch = kMaxGroups * kSortGroupSize;
     for (std::size_t first = 0; first < m_count; first += perDispatch) {
         const std::size_t n = std::min(perDispatch, m_count - first);
@@ -240,7 +226,7 @@ void SphereRenderer::renderOpaque(const FrameSetup& setup, const Programs& progr
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     const GLuint p = programs.opaque.id();
-    setUniforms(p, setup);
+    setUniforms(p);
     glUseProgram(p);
     drawRange(programs, 0, m_count);
     glDisable(GL_DEPTH_TEST);
@@ -252,14 +238,14 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& 
                                        const std::string& suffix) {
     const int chunks = int(std::min<std::size_t>(std::size_t(m_spheres.chunks), std::max<std::size_t>(m_count, 1)));
     const GLuint p = programs.transparent.id();
-    setUniforms(p, setup);
+    setUniforms(p);
     const GLuint mark = m_earlyZProgram.id();
     glProgramUniform1f(mark, uniformLocation(mark, "uThreshold"), m_spheres.earlyZThreshold);
 
     std::uint64_t total = 0;
     if (programs.count) {
         // Every billboard fragment, for the skipped count: rasterization only, no colour, no depth.
-        setUniforms(programs.count.id(), setup);
+        setUniforms(programs.count.id());
         timer.begin("count_fragments" + suffix);
         // llvmpipe skips draws that write nothing (colour writes off) without counting their
         // samples: write, but blend with (ZERO, ONE) so the target does not change.
@@ -314,7 +300,7 @@ void SphereRenderer::renderTransparent(const FrameSetup& setup, const Programs& 
             glDepthMask(GL_TRUE);
             glDepthFunc(GL_ALWAYS);
             glUseProgram(mark);
-            glBindTextureUnit(0, m_color.id());
+            glBindTextureUnit(binding::kEarlyZAccumulated, m_color.id());
             glBindVertexArray(m_emptyVao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             glDepthFunc(GL_LESS);
@@ -353,6 +339,7 @@ void SphereRenderer::drawFrame(const FrameSetup& setup, const Programs& programs
 
 void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
+    setFrame(setup);
     const int w = setup.width, h = setup.height;
     if (m_ambient && m_voxelsStale) {
         // Once per data frame (the paper's dynamic-data timings voxelize every frame).
@@ -362,7 +349,7 @@ void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink
         timer.end();
         m_voxelsStale = false;
     }
-    if (!m_opaque && m_count > 0) sort(setup, timer);
+    if (!m_opaque && m_count > 0) sort(timer);
     const bool points = bool(m_pointPrograms.opaque);
     if (points) {
         const GLuint zero = 0;

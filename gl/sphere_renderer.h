@@ -53,8 +53,11 @@ private:
     SphereRenderer() = default;
     void uploadBuffers(const StyledParticles& particles);
     void resize(int width, int height);
-    void setUniforms(GLuint program, const FrameSetup& setup) const;
-    void sort(const FrameSetup& setup, StageSink& timer);
+    // Uploads the frame uniform block (gl/frame_uniforms.h) of `setup`, with the spheres' far depth.
+    void setFrame(const FrameSetup& setup);
+    // The density model, point size and AO uniforms of a draw program.
+    void setUniforms(GLuint program) const;
+    void sort(StageSink& timer);
     // The draw programs of one billboard primitive.
     struct Programs {
         bool points = false;
@@ -77,6 +80,7 @@ private:
     Bounds m_bounds;
     float m_maxRadius = 0;
     Buffer m_centerRadius, m_colors, m_ids, m_keys, m_order;
+    Buffer m_frameUniforms;
     std::vector<std::string> m_defines;  // AO defines shared by the draw programs
     Programs m_pointPrograms, m_quadPrograms;
     Program m_earlyZProgram, m_sortKeyProgram;

@@ -4,20 +4,15 @@
 #include <limits>
 
 #include "core/error.h"
-#include "core/shading.h"
+#include "gl/bindings.h"
 #include "gl/context.h"
+#include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/shader_library.h"
 
 namespace tc::gl {
 
 namespace {
-
-constexpr GLuint kKBufferBinding = 7;
-constexpr GLuint kKBufferHeaderBinding = 17;  // shaders/kbuffer_common.glsl
-constexpr GLuint kPreviousLayerBinding = 8;
-constexpr GLuint kCurrentLayerBinding = 9;
-constexpr GLuint kCandidatesBinding = 10;
 
 void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
     glClearNamedBufferData(buffer.id(), GL_RG32UI, GL_RG_INTEGER, GL_UNSIGNED_INT, &value);
@@ -40,7 +35,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         r->m_gbuffer = GBufferPass::create(r->m_geometry);
 
     // Per-pixel read-modify-write must be ordered: interlock where the GPU has it, llvmpipe's
-    // in-order per-pixel shading with blending on (../shared/notes/llvmpipe.md), else a warning.
+    // in-order per-pixel shading with blending on, else a warning.
     std::vector<std::string> syncDefines;
     if (rs.ao.enabled) {
         r->m_ao = AmbientOcclusion::create(rs.ao, lines);
@@ -165,20 +160,16 @@ void TransparentRenderer::drawSorted(GLuint program, const FrameSetup& setup) {
 }
 
 void TransparentRenderer::setFragmentUniforms(GLuint p, const FrameSetup& setup) const {
-    m_geometry.setCameraUniforms(p, setup);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
     glProgramUniform1ui(p, uniformLocation(p, "uImageWidth"), GLuint(setup.width));
     if (m_ao) m_ao->apply(p);
 }
 
 void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
+    m_geometry.setFrame(setup, m_lighting);
     // With culling the billboards are built per depth slice; the G-buffer pass of the AOVs
     // needs them all.
-    if (!m_culling || m_gbuffer) m_geometry.computeBillboards(setup, timer);
+    if (!m_culling || m_gbuffer) m_geometry.computeBillboards(timer);
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
     if (m_order) m_order->update(m_geometry, setup, timer);
 
@@ -238,8 +229,8 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageSink& time
     timer.begin("kbuffer");
     const GLuint p = m_blendProgram.id();
     setFragmentUniforms(p, setup);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferHeaderBinding, m_kbufferHeaders.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBuffer, m_kbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBufferHeaders, m_kbufferHeaders.id());
     drawSorted(p, setup);
     timer.setItems(m_geometry.segmentCount());
     timer.end();
@@ -250,8 +241,8 @@ void TransparentRenderer::renderKBuffer(const FrameSetup& setup, StageSink& time
     const GLuint r = m_resolveProgram.id();
     glProgramUniform1ui(r, uniformLocation(r, "uImageWidth"), GLuint(setup.width));
     glUseProgram(r);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferBinding, m_kbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKBufferHeaderBinding, m_kbufferHeaders.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBuffer, m_kbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kKBufferHeaders, m_kbufferHeaders.id());
     glBindVertexArray(m_emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -266,11 +257,11 @@ void TransparentRenderer::renderDepthPeeling(const FrameSetup& setup, StageSink&
     int previous = 0;
     clearBuffer64(m_peelKeys[previous], 0);  // every fragment's key is > 0 (depth > 0)
     clearBuffer64(m_peelKeys[1 - previous], ~std::uint64_t(0));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCandidatesBinding, m_candidates.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPeelCandidates, m_candidates.id());
     int layers = 0;
     while (m_maxPeelLayers == 0 || layers < m_maxPeelLayers) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPreviousLayerBinding, m_peelKeys[previous].id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCurrentLayerBinding, m_peelKeys[1 - previous].id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPeelPrevious, m_peelKeys[previous].id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPeelCurrent, m_peelKeys[1 - previous].id());
         const GLuint zeroCount = 0;
         glNamedBufferSubData(m_candidates.id(), 0, sizeof(GLuint), &zeroCount);
         glUseProgram(pMin);

@@ -1,35 +1,31 @@
 #include "gl/vrc_renderer.h"
 
-#include "gl/techniques.h"
-
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "core/error.h"
-#include "core/shading.h"
-#include "gl/gpu_timer.h"
 #include "core/voxel_density.h"
 #include "core/vrc_representative.h"
+#include "gl/bindings.h"
+#include "gl/frame_uniforms.h"
+#include "gl/gl_util.h"
+#include "gl/gpu_timer.h"
 #include "gl/line_geometry.h"
 #include "gl/radix_sort.h"
 #include "gl/shader_library.h"
-#include "gl/view_window.h"
+#include "gl/techniques.h"
 
 namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kHeaderBinding = 0;
-constexpr GLuint kPieceBinding = 1;      // block 0 of the piece array
-constexpr GLuint kPieceBlockBinding = 4;  // blocks 1.. at 4, 5, ... (shaders/vrc_raycast.comp)
-constexpr GLuint kPieceTextureUnit = 10;  // texture buffer over the quantized pieces (the AO volume is at 8)
-constexpr GLuint kShadowLineBinding = 2;
-constexpr GLuint kBrickBinding = 3;
-constexpr int kBrick = 4;  // kBrick of shaders/vrc_raycast.comp
-constexpr int kGroupSize = 8;  // local_size of shaders/vrc_raycast.comp
+// Bricks of empty space skipping are kBrick^3 voxels; the ray caster's work groups kGroupSize^2
+// pixels. Both reach shaders/vrc_raycast.comp as defines (VRC_BRICK, VRC_GROUP_SIZE).
+constexpr int kBrick = 4;
+constexpr int kGroupSize = 8;
 
 void dispatch1D(GLuint program, std::size_t count) {
     const std::size_t groups = (count + 63) / 64;
@@ -79,11 +75,11 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
     const Buffer ids = makeBuffer(lines.polylineId.size() * sizeof(std::uint32_t), lines.polylineId.data());
     const Buffer rangeBuffer = makeBuffer(ranges.size() * sizeof(glm::uvec2), ranges.data());
     const Buffer counts = makeBuffer((polylines + 1) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, colors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ids.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, rangeBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, counts.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPositionRadius, positions.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVertexColors, colors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kPolylineIds, ids.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcPolylines, rangeBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcCounts, counts.id());
     const glm::dvec3 origin(grid.origin);
     for (GLuint p : {count.id(), write.id()}) {
         glProgramUniform1ui(p, uniformLocation(p, "uPolylines"), GLuint(polylines));
@@ -107,12 +103,12 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
         throw InputError("render.vrc: the voxel model would hold " + std::to_string(total) +
                          " pieces, more than 2^31; lower render.vrc.resolution");
 
-    const std::size_t pieceBytes = quantized ? sizeof(VrcCompactPiece) : sizeof(VrcExactPiece);
+    const std::size_t pieceBytes = model.bytesPerPiece();
     const Buffer keys = makeBuffer(std::size_t(total) * 4), values = makeBuffer(std::size_t(total) * 4);
     const Buffer raw = makeBuffer(std::size_t(total) * pieceBytes);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, values.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, raw.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcKeys, keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcValues, values.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcRawPieces, raw.id());
     glUseProgram(write.id());
     glDispatchCompute(polylineGroups, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -125,14 +121,14 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
     glClearNamedBufferData(headerBuffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glClearNamedBufferData(runEnd.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     const Buffer pieces = makeBuffer(std::size_t(total) * pieceBytes), pieceVoxel = makeBuffer(std::size_t(total) * 4);
-    // The radix sort rebinds 0..4.
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, headerBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, runEnd.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, values.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, raw.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, pieces.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, pieceVoxel.id());
+    // The radix sort rebinds its own points (gl/bindings.h), so every gather buffer is bound anew.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, headerBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcRunEnd, runEnd.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcKeys, keys.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcValues, values.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcRawPieces, raw.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcGatheredPieces, pieces.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcPieceVoxel, pieceVoxel.id());
     for (GLuint p : {gather.id(), header.id(), neighbours.id()})
         glProgramUniform3i(p, uniformLocation(p, "uGridSize"), grid.size.x, grid.size.y, grid.size.z);
     dispatch1D(gather.id(), total);
@@ -214,9 +210,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     r->m_modelBytes = model.bytes();
     r->m_lodBytes = model.lodBytes();
     r->m_segments = lines.segmentCount();
-    // What the rasterized paths upload: position+radius, colour, polyline id, flags per vertex and
-    // two indices per segment (gl/line_geometry.h).
-    r->m_rawBytes = lines.vertexCount() * (16 + 16 + 4 + 4) + lines.segmentCount() * 8;
+    r->m_rawBytes = LineGeometry::uploadBytes(lines);  // what the rasterized paths upload
 
     const auto t0 = std::chrono::steady_clock::now();
     if (model.voxels.empty()) {
@@ -228,106 +222,18 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     } else {
         r->m_header = makeBuffer(model.voxels.size() * sizeof(VrcVoxel), model.voxels.data());
     }
-    {
-        // Brick occupancy for empty space skipping (shaders/vrc_raycast.comp, BRICK_SKIP): a brick
-        // of kBrick^3 voxels is empty when none of its voxels can hold a tube's surface: no pieces
-        // (with copies, those are all the tubes reaching in), or with neighbour tests none in the
-        // 3x3x3 block (the neighbourhood bit).
-        const glm::ivec3 bricks = (r->m_size + kBrick - 1) / kBrick;
-        std::vector<std::uint32_t> occupied(std::size_t(bricks.x) * bricks.y * bricks.z, 0u);
-        const std::uint32_t mask = r->m_spec.neighbors ? kNeighbourhoodBit : kCountMask;
-        for (std::size_t i = 0; i < model.voxels.size(); ++i) {
-            if (!(model.voxels[i].count & mask)) continue;
-            const glm::ivec3 b = model.coords(i) / kBrick;
-            occupied[(std::size_t(b.z) * bricks.y + b.y) * bricks.x + b.x] = 1u;
-        }
-        if (model.voxels.empty()) occupied.assign(1, 0u);
-        r->m_brickGridSize = bricks;
-        r->m_bricks = makeBuffer(occupied.size() * sizeof(std::uint32_t), occupied.data());
-    }
-    {
-        // The piece array in blocks of 2^m_blockShift pieces, one buffer each: the GL caps one
-        // shader storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe), not the
-        // total. A piece index i lives in block i >> shift at i & (2^shift - 1).
-        GLint64 glMax = 0;
-        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &glMax);
-        const std::size_t bytesPerPiece = model.bytesPerPiece();
-        const std::size_t limit = maxBlockBytes > 0 ? std::min(maxBlockBytes, std::size_t(glMax)) : std::size_t(glMax);
-        const std::size_t perBlock = piecesPerBlock(bytesPerPiece, limit);
-        const std::size_t pieces = model.pieceCount();
-        const std::size_t blocks = std::max<std::size_t>(1, (pieces + perBlock - 1) / perBlock);
-        if (blocks > std::size_t(kMaxPieceBlocks))
-            throw InputError("render.vrc: the voxel model's " + std::to_string(pieces) + " pieces need " +
-                             std::to_string(blocks) + " shader storage blocks of " + std::to_string(perBlock) +
-                             " pieces, more than " + std::to_string(kMaxPieceBlocks) +
-                             "; lower render.vrc.resolution or turn render.vrc.neighbors on");
-        while ((std::size_t(1) << r->m_blockShift) < perBlock) ++r->m_blockShift;
-        const auto* bytes = model.quantization > 0 ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
-                                                   : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
-        // One buffer; the blocks are ranges of it (their offsets, multiples of 2^shift pieces, are
-        // aligned). An empty model still binds one valid (one-piece, zero) buffer.
-        r->m_pieceBlockCount = blocks;
-        r->m_piecesInBuffer = std::max<std::size_t>(1, pieces);
-        if (pieces == 0) {
-            const std::vector<unsigned char> zero(bytesPerPiece, 0);
-            r->m_pieceBuffer = makeBuffer(zero.size(), zero.data());
-        } else {
-            r->m_pieceBuffer = makeBuffer(pieces * bytesPerPiece, bytes);
-        }
-        GLint alignment = 0;
-        glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
-        if (blocks > 1 && (perBlock * bytesPerPiece) % std::size_t(std::max(alignment, 1)) != 0)
-            throw std::logic_error("VrcRenderer: piece block of " + std::to_string(perBlock * bytesPerPiece) +
-                                   " bytes is not a multiple of GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT " +
-                                   std::to_string(alignment));
-        // Quantized pieces are read through a texture buffer over the whole array (one piece per
-        // RGBA32UI texel; shaders/vrc_raycast.comp, VRC_PIECE_TEXTURE): llvmpipe gathers a texel
-        // fetch with vector code, while a storage buffer read at per-lane addresses is a loop over
-        // the lanes, and the blocks needed one read per block.
-        GLint maxTexels = 0;
-        glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-        if (model.quantization > 0 && r->m_piecesInBuffer <= std::size_t(maxTexels)) {
-            r->m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
-            glTextureBuffer(r->m_pieceTexture.id(), GL_RGBA32UI, r->m_pieceBuffer.id());
-        }
-    }
+    r->uploadBricks(model);
+    r->uploadPieces(model, maxBlockBytes);
     glFinish();
     r->m_uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
-    std::vector<std::string> defines;
-    if (model.quantization > 0) {
-        defines.push_back("QUANTIZED");
-        defines.push_back("VRC_Q " + std::to_string(model.quantization));
-    }
-    if (r->m_transparent) defines.push_back("TRANSPARENT");
-    // Only the compositing reads a hit's alpha: opaque rendering ignores the key.
-    if (r->m_transparent && r->m_spec.pathLengthOpacity) defines.push_back("VRC_PATH_LENGTH_OPACITY");
-    defines.push_back("BRICK_SKIP");
-    defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(r->m_pieceBlockCount));
-    defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(r->m_blockShift));
-    if (r->m_pieceTexture.id() != 0) defines.push_back("VRC_PIECE_TEXTURE");
-    if (r->m_spec.neighbors) defines.push_back("NEIGHBORS");
+    std::vector<std::string> defines = r->rayCasterDefines();
     const AoSpec& ao = scene.render.ao;
     r->m_aoEnabled = ao.enabled;
     const bool softShadows = r->m_spec.shadows && r->m_spec.shadowMode == VrcSpec::ShadowMode::Soft;
     const bool hardShadows = r->m_spec.shadows && r->m_spec.shadowMode == VrcSpec::ShadowMode::Hard;
     if (hardShadows && !model.voxels.empty()) {
-        // Representative lines of the chosen level (core/vrc_representative.h), two vec4 per
-        // voxel: a.xyz + radius, b.xyz + weight (0 = no line).
-        const auto t = std::chrono::steady_clock::now();
-        const std::vector<VrcRepresentativeLevel> levels = buildRepresentativeLines(model, r->m_spec.shadowLevel);
-        const VrcRepresentativeLevel& level = levels.back();
-        std::vector<glm::vec4> packed(2 * level.lines.size());
-        for (std::size_t i = 0; i < level.lines.size(); ++i) {
-            const VrcRepresentativeLine& l = level.lines[i];
-            packed[2 * i] = glm::vec4(l.a, l.radius);
-            packed[2 * i + 1] = glm::vec4(l.b, l.weight);
-        }
-        r->m_shadowLines = makeBuffer(packed.size() * sizeof(glm::vec4), packed.data());
-        r->m_shadowGridSize = level.size;
-        r->m_shadowVoxelSize = level.voxelSize;
-        r->m_shadowLevel = level.level;
-        r->m_representativeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+        r->uploadShadowLines(model);
         defines.push_back("HARD_SHADOWS");
     }
     if ((ao.enabled || softShadows) && !lines.positionRadius.empty()) {
@@ -349,6 +255,110 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     return r;
 }
 
+void VrcRenderer::uploadBricks(const VrcModel& model) {
+    // Brick occupancy for empty space skipping (shaders/vrc_raycast.comp, BRICK_SKIP): a brick
+    // of kBrick^3 voxels is empty when none of its voxels can hold a tube's surface: no pieces
+    // (with copies, those are all the tubes reaching in), or with neighbour tests none in the
+    // 3x3x3 block (the neighbourhood bit).
+    const glm::ivec3 bricks = (m_size + kBrick - 1) / kBrick;
+    std::vector<std::uint32_t> occupied(std::size_t(bricks.x) * bricks.y * bricks.z, 0u);
+    const std::uint32_t mask = m_spec.neighbors ? kNeighbourhoodBit : kCountMask;
+    for (std::size_t i = 0; i < model.voxels.size(); ++i) {
+        if (!(model.voxels[i].count & mask)) continue;
+        const glm::ivec3 b = model.coords(i) / kBrick;
+        occupied[(std::size_t(b.z) * bricks.y + b.y) * bricks.x + b.x] = 1u;
+    }
+    if (model.voxels.empty()) occupied.assign(1, 0u);
+    m_brickGridSize = bricks;
+    m_bricks = makeBuffer(occupied.size() * sizeof(std::uint32_t), occupied.data());
+}
+
+void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes) {
+    // The piece array in blocks of 2^m_blockShift pieces, one buffer each: the GL caps one
+    // shader storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe), not the
+    // total. A piece index i lives in block i >> shift at i & (2^shift - 1).
+    GLint64 glMax = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &glMax);
+    const std::size_t bytesPerPiece = model.bytesPerPiece();
+    const std::size_t limit = maxBlockBytes > 0 ? std::min(maxBlockBytes, std::size_t(glMax)) : std::size_t(glMax);
+    const std::size_t perBlock = piecesPerBlock(bytesPerPiece, limit);
+    const std::size_t pieces = model.pieceCount();
+    const std::size_t blocks = std::max<std::size_t>(1, (pieces + perBlock - 1) / perBlock);
+    if (blocks > std::size_t(kMaxPieceBlocks))
+        throw InputError("render.vrc: the voxel model's " + std::to_string(pieces) + " pieces need " +
+                         std::to_string(blocks) + " shader storage blocks of " + std::to_string(perBlock) +
+                         " pieces, more than " + std::to_string(kMaxPieceBlocks) +
+                         "; lower render.vrc.resolution or turn render.vrc.neighbors on");
+    while ((std::size_t(1) << m_blockShift) < perBlock) ++m_blockShift;
+    const auto* bytes = model.quantization > 0
+                            ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
+                            : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
+    // One buffer; the blocks are ranges of it (their offsets, multiples of 2^shift pieces, are
+    // aligned). An empty model still binds one valid (one-piece, zero) buffer.
+    m_pieceBlockCount = blocks;
+    m_piecesInBuffer = std::max<std::size_t>(1, pieces);
+    if (pieces == 0) {
+        const std::vector<unsigned char> zero(bytesPerPiece, 0);
+        m_pieceBuffer = makeBuffer(zero.size(), zero.data());
+    } else {
+        m_pieceBuffer = makeBuffer(pieces * bytesPerPiece, bytes);
+    }
+    GLint alignment = 0;
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
+    if (blocks > 1 && (perBlock * bytesPerPiece) % std::size_t(std::max(alignment, 1)) != 0)
+        throw std::logic_error("VrcRenderer: piece block of " + std::to_string(perBlock * bytesPerPiece) +
+                               " bytes is not a multiple of GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT " +
+                               std::to_string(alignment));
+    // Quantized pieces are read through a texture buffer over the whole array (one piece per
+    // RGBA32UI texel; shaders/vrc_raycast.comp, VRC_PIECE_TEXTURE): llvmpipe gathers a texel
+    // fetch with vector code, while a storage buffer read at per-lane addresses is a loop over
+    // the lanes, and the blocks needed one read per block.
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    if (model.quantization > 0 && m_piecesInBuffer <= std::size_t(maxTexels)) {
+        m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
+        glTextureBuffer(m_pieceTexture.id(), GL_RGBA32UI, m_pieceBuffer.id());
+    }
+}
+
+void VrcRenderer::uploadShadowLines(const VrcModel& model) {
+    // Representative lines of the chosen level (core/vrc_representative.h), two vec4 per
+    // voxel: a.xyz + radius, b.xyz + weight (0 = no line).
+    const auto t = std::chrono::steady_clock::now();
+    const std::vector<VrcRepresentativeLevel> levels = buildRepresentativeLines(model, m_spec.shadowLevel);
+    const VrcRepresentativeLevel& level = levels.back();
+    std::vector<glm::vec4> packed(2 * level.lines.size());
+    for (std::size_t i = 0; i < level.lines.size(); ++i) {
+        const VrcRepresentativeLine& l = level.lines[i];
+        packed[2 * i] = glm::vec4(l.a, l.radius);
+        packed[2 * i + 1] = glm::vec4(l.b, l.weight);
+    }
+    m_shadowLines = makeBuffer(packed.size() * sizeof(glm::vec4), packed.data());
+    m_shadowGridSize = level.size;
+    m_shadowVoxelSize = level.voxelSize;
+    m_shadowLevel = level.level;
+    m_representativeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::vector<std::string> VrcRenderer::rayCasterDefines() const {
+    std::vector<std::string> defines;
+    if (m_quantization > 0) {
+        defines.push_back("QUANTIZED");
+        defines.push_back("VRC_Q " + std::to_string(m_quantization));
+    }
+    if (m_transparent) defines.push_back("TRANSPARENT");
+    // Only the compositing reads a hit's alpha: opaque rendering ignores the key.
+    if (m_transparent && m_spec.pathLengthOpacity) defines.push_back("VRC_PATH_LENGTH_OPACITY");
+    defines.push_back("BRICK_SKIP");
+    defines.push_back("VRC_BRICK " + std::to_string(kBrick));
+    defines.push_back("VRC_GROUP_SIZE " + std::to_string(kGroupSize));
+    defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(m_pieceBlockCount));
+    defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(m_blockShift));
+    if (m_pieceTexture.id() != 0) defines.push_back("VRC_PIECE_TEXTURE");
+    if (m_spec.neighbors) defines.push_back("NEIGHBORS");
+    return defines;
+}
+
 PixelBuffers VrcRenderer::pixelBuffers(const Scene&) {
     return {16 + 16 + 4 + 4, 0, "voxel_raycast"};  // resize(): colour, normal + depth, id, AO image
 }
@@ -368,17 +378,13 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
     resize(w, h);
 
     timer.begin("raycast");
+    uploadFrameUniforms(m_frameUniforms, frameUniforms(setup, m_lighting));
     const GLuint p = m_program.id();
-    setFrameCameraUniforms(p, setup);
     glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
     glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
     glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
     glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), m_maxRadius);
     glProgramUniform1f(p, uniformLocation(p, "uOpacityThreshold"), m_spec.opacityThreshold);
-    const glm::vec3 lightWorld = lightDirectionWorld(m_lighting, setup.camera);
-    glProgramUniform3fv(p, uniformLocation(p, "uLightDir"), 1, &lightWorld[0]);
-    glProgramUniform4f(p, uniformLocation(p, "uLightTerms"), m_lighting.ambient, m_lighting.diffuse,
-                       m_lighting.specular, m_lighting.shininess);
     if (m_ao) {
         m_ao->apply(p);
         glProgramUniform1f(p, uniformLocation(p, "uShadowTanHalfAperture"),
@@ -391,26 +397,27 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         glProgramUniform3i(p, uniformLocation(p, "uShadowGridSize"), m_shadowGridSize.x, m_shadowGridSize.y,
                            m_shadowGridSize.z);
         glProgramUniform1f(p, uniformLocation(p, "uShadowVoxelSize"), m_shadowVoxelSize);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kShadowLineBinding, m_shadowLines.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcShadowLines, m_shadowLines.id());
     }
     glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y, m_brickGridSize.z);
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBrickBinding, m_bricks.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeaderBinding, m_header.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcBricks, m_bricks.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, m_header.id());
     {
         const std::size_t perBlock = std::size_t(1) << m_blockShift, bytesPerPiece = m_bytesPerPiece;
         for (std::size_t b = 0; b < m_pieceBlockCount; ++b) {
             const std::size_t first = std::min(b * perBlock, m_piecesInBuffer - 1);
             const std::size_t n = std::max<std::size_t>(1, std::min(perBlock, m_piecesInBuffer - first));
-            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b == 0 ? kPieceBinding : kPieceBlockBinding + GLuint(b - 1),
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER,
+                              b == 0 ? binding::kVrcPieces : binding::kVrcPieceBlocks + GLuint(b - 1),
                               m_pieceBuffer.id(), GLintptr(first * bytesPerPiece), GLsizeiptr(n * bytesPerPiece));
         }
     }
-    if (m_pieceTexture.id() != 0) glBindTextureUnit(kPieceTextureUnit, m_pieceTexture.id());
-    glBindImageTexture(0, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
-    glBindImageTexture(3, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    if (m_pieceTexture.id() != 0) glBindTextureUnit(binding::kVrcPieceTexels, m_pieceTexture.id());
+    glBindImageTexture(binding::kVrcColor, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kVrcNormalDepth, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kVrcId, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+    glBindImageTexture(binding::kVrcAo, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glDispatchCompute(GLuint((w + kGroupSize - 1) / kGroupSize), GLuint((h + kGroupSize - 1) / kGroupSize), 1);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glUseProgram(0);

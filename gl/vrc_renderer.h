@@ -61,6 +61,13 @@ public:
 private:
     VrcRenderer() = default;
     void resize(int width, int height);
+    // The parts of create(): the brick occupancy of empty space skipping, the piece array in
+    // blocks (throws tc::InputError past kMaxPieceBlocks), the hard shadows' representative
+    // lines, and the ray caster's defines for what was uploaded.
+    void uploadBricks(const VrcModel& model);
+    void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
+    void uploadShadowLines(const VrcModel& model);
+    std::vector<std::string> rayCasterDefines() const;
 
     VrcSpec m_spec;
     bool m_transparent = false;
@@ -95,6 +102,7 @@ private:
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};
     Program m_program;
+    Buffer m_frameUniforms;  // gl/frame_uniforms.h, set per frame
     int m_width = 0, m_height = 0;
     Texture m_color, m_normalDepth, m_id, m_aoImage;
 };

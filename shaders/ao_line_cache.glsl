@@ -20,9 +20,9 @@
 #include "line_buffers.glsl"
 #include "cone_tracing.glsl"
 
-layout(std430, binding = 24) readonly buffer AoCache { uint aoCache[]; };
+layout(std430, binding = SSBO_AO_CACHE) readonly buffer AoCache { uint aoCache[]; };
 // Per segment: x = first sample | kAoCacheJoinedBit, y = azimuth origin (float bits, radians).
-layout(std430, binding = 25) readonly buffer AoCacheSegments { uvec2 aoCacheSegment[]; };
+layout(std430, binding = SSBO_AO_CACHE_SEGMENTS) readonly buffer AoCacheSegments { uvec2 aoCacheSegment[]; };
 
 const int kAoCacheAzimuths = AO_CACHE_AZIMUTHS;  // multiple of 4 (gl::AoLineCache::kAzimuths)
 const uint kAoCacheWords = uint(kAoCacheAzimuths / 4);

@@ -7,7 +7,7 @@
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 26) writeonly buffer AoCacheOut { uint aoCacheOut[]; };
+layout(std430, binding = SSBO_AO_CACHE_OUT) writeonly buffer AoCacheOut { uint aoCacheOut[]; };
 
 uniform uint uFirstSegment;
 uniform uint uSegmentCount;

@@ -11,14 +11,9 @@
 layout(local_size_x = 128) in;
 
 // Two vec4 per segment: (corner0, corner1), (corner2, corner3) in NDC, triangle-strip order.
-layout(std430, binding = 4) writeonly buffer BillboardCorners { vec4 billboardCorners[]; };
+layout(std430, binding = SSBO_BILLBOARD_CORNERS) writeonly buffer BillboardCorners { vec4 billboardCorners[]; };
 
-uniform mat4 uViewProj;
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform bool uOrthographic;
-uniform vec2 uViewport;
-#include "view_window.glsl"
+#include "frame_uniforms.glsl"
 uniform uint uSlotEnd;    // draw slots [uFirstSlot, uSlotEnd); slot = segment without DRAW_ORDER
 uniform uint uFirstSlot;  // dispatches are split to stay under the work-group count limit
 

@@ -12,7 +12,7 @@ struct Ray {
 //   forward/right/trueUp = Camera::forward()/right()/trueUp(),
 //   tanHalfFovY = std::tan(glm::radians(fovYDeg) * 0.5f), orthoHalfHeight = 0.5f * orthoHeight,
 //   viewport = (width, height) of the full image in pixels, pixelOffset = the full-image window
-//   coordinate of the render target's origin (shaders/view_window.glsl; 0 untiled).
+//   coordinate of the render target's origin (shaders/frame_uniforms.glsl; 0 untiled).
 struct RayCamera {
     vec3 eye;
     vec3 forward;

@@ -7,13 +7,13 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #ifdef FROM_SOURCE
-layout(binding = 0) uniform sampler2D uSource;
+layout(binding = TEXTURE_CULL_SOURCE) uniform sampler2D uSource;
 uniform float uFarDepth;
 #else
 uniform int uSourceOffset;  // the previous level in the buffer
 uniform ivec2 uSourceSize;
 #endif
-layout(std430, binding = 20) buffer CullPyramid { float cullPyramid[]; };
+layout(std430, binding = SSBO_CULL_PYRAMID) buffer CullPyramid { float cullPyramid[]; };
 uniform int uLevelOffset;
 uniform ivec2 uLevelSize;
 

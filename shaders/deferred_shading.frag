@@ -6,11 +6,9 @@
 #include "frame_uniforms.glsl"
 #include "ambient_occlusion.glsl"
 
-layout(binding = 0) uniform sampler2D uAlbedo;
-layout(binding = 1) uniform sampler2D uNormalDepth;
-layout(binding = 2) uniform usampler2D uSegments;  // the visibility buffer (cached AO reads it)
-uniform vec3 uLightDir;    // world space, toward the light
-uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL_DEPTH) uniform sampler2D uNormalDepth;
+layout(binding = TEXTURE_VISIBILITY_SEGMENTS) uniform usampler2D uSegments;  // the visibility buffer (cached AO reads it)
 
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out float outAo;

@@ -20,8 +20,8 @@
 #endif
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0, DENSITY_IMAGE_FORMAT) uniform readonly image3D uSource;  // level L
-layout(binding = 1, DENSITY_IMAGE_FORMAT) uniform writeonly image3D uTarget;  // level L + 1
+layout(binding = IMAGE_MIP_SOURCE, DENSITY_IMAGE_FORMAT) uniform readonly image3D uSource;  // level L
+layout(binding = IMAGE_MIP_TARGET, DENSITY_IMAGE_FORMAT) uniform writeonly image3D uTarget;  // level L + 1
 
 uniform ivec3 uSourceSize;
 uniform ivec3 uTargetSize;

@@ -15,9 +15,9 @@ layout(pixel_interlock_ordered) in;
 #endif
 #include "transparent_fragment.glsl"
 
-layout(std430, binding = 8) readonly buffer PreviousLayer { uint64_t previousKey[]; };
-layout(std430, binding = 9) coherent buffer CurrentLayer { uint64_t currentKey[]; };
-layout(std430, binding = 10) buffer Candidates { uint candidates; };
+layout(std430, binding = SSBO_PEEL_PREVIOUS) readonly buffer PreviousLayer { uint64_t previousKey[]; };
+layout(std430, binding = SSBO_PEEL_CURRENT) coherent buffer CurrentLayer { uint64_t currentKey[]; };
+layout(std430, binding = SSBO_PEEL_CANDIDATES) buffer Candidates { uint candidates; };
 
 uniform uint uImageWidth;
 

@@ -1,15 +1,36 @@
-// Per-frame camera uniforms shared by the passes that cast rays per pixel; the renderer sets
-// them from the same tc::Camera the CPU references use. GLSL 4.50 chunk, #include'd after
-// camera.glsl.
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform vec3 uRight;
-uniform vec3 uUp;
-uniform bool uOrthographic;
-uniform float uTanHalfFov;
-uniform float uOrthoHalfHeight;
-uniform vec2 uViewport;
-#include "view_window.glsl"
+// What every pass of a frame reads of its camera, view window and light: one uniform block, set
+// once per frame (or tile) from the same tc::Camera the CPU references use. The C++ twin is
+// tc::gl::FrameUniforms (gl/frame_uniforms.h; tests/gl/frame_uniforms_test.cpp compares the
+// layouts). GLSL 4.50 chunk, #include'd.
+#include "camera.glsl"
+
+layout(std140, binding = UBO_FRAME_UNIFORMS) uniform FrameUniforms {
+    mat4 uViewProj;  // full-image clip space of the rasterized lines
+    // The camera (RayCamera of camera.glsl).
+    vec3 uEye;
+    float uTanHalfFov;
+    vec3 uForward;
+    float uOrthoHalfHeight;
+    vec3 uRight;
+    float uFarDepth;  // linear depth passes: gl_FragDepth = view depth / uFarDepth
+    vec3 uUp;
+    bool uOrthographic;
+    vec3 uLightDir;      // world space, toward the light
+    bool uCapClipping;   // rasterized lines: clip at the joint planes (segment_varyings.glsl)
+    vec4 uLightTerms;    // ambient, diffuse, specular, shininess
+    // The render target as a window of the full image (core/tiling.h ImageWindow; set by
+    // gl/view_window.cpp): a tile and/or a jittered sample position. Rays use the full image's
+    // uViewport and full-image window coordinates gl_FragCoord.xy + uPixelOffset; geometry
+    // projected to full-image NDC reaches the target through targetNdc. A full window has
+    // uPixelOffset = 0 and uNdcToTarget = (1, 1, 0, 0), which leave every value bit-for-bit
+    // unchanged.
+    vec4 uNdcToTarget;  // full-image NDC -> target NDC: ndc * xy + zw
+    vec2 uViewport;     // the full image in pixels
+    vec2 uPixelOffset;  // full-image window coordinate of the target's origin (y up)
+    vec2 uTargetSize;   // the render target in pixels
+};
+
+vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
 
 RayCamera frameCamera() {
     return RayCamera(uEye, uForward, uRight, uUp, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport,

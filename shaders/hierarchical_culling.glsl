@@ -13,21 +13,20 @@
 // odd size leaves over, so a pixel p lies in texel min(p >> L, size - 1) at every level.
 // (A buffer, not a mip-mapped texture: on llvmpipe 22.3, texelFetch of levels >= 1 of an R32F
 // texture written with imageStore did not return what glGetTextureImage read back.)
-// GLSL 4.50 chunk; needs uEye, uForward and view_window.glsl included by the including shader and CULLING
-// plus one of CULL_MAX_DEPTH / CULL_MIN_OPACITY defined.
-#include "view_window.glsl"
+// GLSL 4.50 chunk; needs CULLING plus one of CULL_MAX_DEPTH / CULL_MIN_OPACITY defined.
+#include "frame_uniforms.glsl"
 #ifndef TC_HIERARCHICAL_CULLING_GLSL
 #define TC_HIERARCHICAL_CULLING_GLSL
 #ifdef CULLING
 
 #define TC_CULL_MAX_LEVELS 32
-layout(std430, binding = 20) readonly buffer CullPyramid { float cullPyramid[]; };
+layout(std430, binding = SSBO_CULL_PYRAMID) readonly buffer CullPyramid { float cullPyramid[]; };
 uniform int uCullLevels;  // stored levels, the last one 1x1
 uniform ivec2 uCullLevelSize[TC_CULL_MAX_LEVELS];
 uniform int uCullLevelOffset[TC_CULL_MAX_LEVELS];
 uniform float uCullThreshold;    // CULL_MIN_OPACITY
 // Segments culled in this frame, for timings.csv.
-layout(binding = 0, offset = 0) uniform atomic_uint uCulledSegments;
+layout(binding = ATOMIC_CULLED_SEGMENTS, offset = 0) uniform atomic_uint uCulledSegments;
 
 // A lower bound of the view depth of any point of the rounded cone (a, b: xyz centre, w radius):
 // min(z(x0), z(x1)) - max(r0, r1) with z the depth along the view direction.

@@ -6,8 +6,8 @@
 // holds head | count << 8 (kbuffer_insert.frag has why). GLSL 4.50 chunk; needs KBUFFER_K and, at
 // the top of the including shader, #extension GL_ARB_gpu_shader_int64.
 
-layout(std430, binding = 7) coherent buffer KBuffer { uint64_t kbuffer[]; };
-layout(std430, binding = 17) coherent buffer KBufferHeaders { uint kbufferHeader[]; };
+layout(std430, binding = SSBO_KBUFFER) coherent buffer KBuffer { uint64_t kbuffer[]; };
+layout(std430, binding = SSBO_KBUFFER_HEADERS) coherent buffer KBufferHeaders { uint kbufferHeader[]; };
 
 uniform uint uImageWidth;
 

@@ -19,7 +19,7 @@
 // The read-modify-write of the list must not race between fragments of one pixel:
 // - USE_INTERLOCK: ARB/NV_fragment_shader_interlock orders the critical section;
 // - otherwise we rely on llvmpipe shading one pixel's fragments one at a time in primitive order
-//   while blending is enabled (../shared/notes/llvmpipe.md); gl/transparent_renderer.cpp enables
+//   while blending is enabled; gl/transparent_renderer.cpp enables
 //   this path only there and warns on other GPUs without interlock.
 #extension GL_ARB_gpu_shader_int64 : require
 #ifdef USE_INTERLOCK

@@ -2,7 +2,7 @@
 // fragments, shaders/transparent_fragment.glsl) goes into its pixel's list with its w. The lists
 // are unordered; the CPU sorts them to build h_ij and to blend them.
 // Writes colour 0 with blending on: llvmpipe may drop side effects of covered primitives when
-// blending is off (../shared/notes/llvmpipe.md).
+// blending is off.
 #include "transparent_fragment.glsl"
 #include "opacity_common.glsl"
 

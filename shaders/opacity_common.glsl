@@ -6,22 +6,21 @@
 // GL_MAX_SHADER_STORAGE_BLOCK_SIZE (128 MB on llvmpipe), so a 16-byte node struct held at most
 // 8.4 M nodes, four 4-byte arrays hold 33.5 M. Nodes past uCapacity are not stored but still
 // counted: the renderer reports the overflow.
-// GLSL 4.50 chunk; bindings 11-15 and 17-19 (0-6 line data, 7-10 transparent renderer, 16 segment
-// records). The lists are read back, sorted and blended on the CPU (gl/opacity_renderer.cpp).
+// GLSL 4.50 chunk; its bindings are kept off the line program's (gl/bindings.h). The lists are read back, sorted and blended on the CPU (gl/opacity_renderer.cpp).
 
 struct PartW {
     float localW;     // t * (parts per line - 1), t the arc-length fraction of the vertex
     uint firstPart;   // global index of the polyline's part 0
 };
 
-layout(std430, binding = 11) readonly buffer VertexPartW { PartW vertexPartW[]; };
-layout(std430, binding = 12) coherent buffer ListHeads { uint listHead[]; };
-layout(std430, binding = 13) writeonly buffer FragmentDepths { float fragmentDepth[]; };
-layout(std430, binding = 17) writeonly buffer FragmentParts { uint fragmentPart[]; };   // floor(w)
-layout(std430, binding = 18) writeonly buffer FragmentFracs { float fragmentFrac[]; };  // w - floor(w); 0 at the last part
-layout(std430, binding = 19) writeonly buffer FragmentColors { uint fragmentColor[]; }; // packUnorm4x8, straight
-layout(std430, binding = 14) buffer FragmentNext { uint fragmentNext[]; };
-layout(std430, binding = 15) buffer FragmentCounter { uint fragmentCount; };
+layout(std430, binding = SSBO_VERTEX_PART_W) readonly buffer VertexPartW { PartW vertexPartW[]; };
+layout(std430, binding = SSBO_LIST_HEADS) coherent buffer ListHeads { uint listHead[]; };
+layout(std430, binding = SSBO_FRAGMENT_DEPTHS) writeonly buffer FragmentDepths { float fragmentDepth[]; };
+layout(std430, binding = SSBO_FRAGMENT_PARTS) writeonly buffer FragmentParts { uint fragmentPart[]; };   // floor(w)
+layout(std430, binding = SSBO_FRAGMENT_FRACS) writeonly buffer FragmentFracs { float fragmentFrac[]; };  // w - floor(w); 0 at the last part
+layout(std430, binding = SSBO_FRAGMENT_COLORS) writeonly buffer FragmentColors { uint fragmentColor[]; }; // packUnorm4x8, straight
+layout(std430, binding = SSBO_FRAGMENT_NEXT) buffer FragmentNext { uint fragmentNext[]; };
+layout(std430, binding = SSBO_FRAGMENT_COUNTER) buffer FragmentCounter { uint fragmentCount; };
 
 uniform uint uImageWidth;
 uniform uint uCapacity;

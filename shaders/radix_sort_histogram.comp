@@ -3,8 +3,8 @@
 // (digit, group) its first output position.
 layout(local_size_x = RADIX_LANES) in;
 
-layout(std430, binding = 0) readonly buffer Keys { uint keys[]; };
-layout(std430, binding = 1) writeonly buffer Histograms { uint histograms[]; };
+layout(std430, binding = SSBO_RADIX_KEYS_IN) readonly buffer Keys { uint keys[]; };
+layout(std430, binding = SSBO_RADIX_HISTOGRAMS) writeonly buffer Histograms { uint histograms[]; };
 
 #define keys_(i) keys[i]
 #include "radix_sort_common.glsl"

@@ -7,8 +7,8 @@
 //              blockSums[group] if addBlockOffsets (the scanned sums of the level below).
 layout(local_size_x = SCAN_LANES) in;
 
-layout(std430, binding = 0) buffer Data { uint data[]; };
-layout(std430, binding = 1) buffer BlockSums { uint blockSums[]; };
+layout(std430, binding = SSBO_SCAN_DATA) buffer Data { uint data[]; };
+layout(std430, binding = SSBO_SCAN_BLOCK_SUMS) buffer BlockSums { uint blockSums[]; };
 
 uniform uint count;
 uniform bool addBlockOffsets;

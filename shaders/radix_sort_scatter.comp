@@ -4,11 +4,11 @@
 // then walks its run in order, writing every key and value to the next position of its digit.
 layout(local_size_x = RADIX_LANES) in;
 
-layout(std430, binding = 0) readonly buffer KeysIn { uint keysIn[]; };
-layout(std430, binding = 1) readonly buffer ValuesIn { uint valuesIn[]; };
-layout(std430, binding = 2) writeonly buffer KeysOut { uint keysOut[]; };
-layout(std430, binding = 3) writeonly buffer ValuesOut { uint valuesOut[]; };
-layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };  // scanned histograms
+layout(std430, binding = SSBO_RADIX_KEYS_IN) readonly buffer KeysIn { uint keysIn[]; };
+layout(std430, binding = SSBO_RADIX_VALUES_IN) readonly buffer ValuesIn { uint valuesIn[]; };
+layout(std430, binding = SSBO_RADIX_KEYS_OUT) writeonly buffer KeysOut { uint keysOut[]; };
+layout(std430, binding = SSBO_RADIX_VALUES_OUT) writeonly buffer ValuesOut { uint valuesOut[]; };
+layout(std430, binding = SSBO_RADIX_OFFSETS) readonly buffer Offsets { uint offsets[]; };  // scanned histograms
 
 #define keys_(i) keysIn[i]
 #include "radix_sort_common.glsl"

@@ -9,12 +9,7 @@
 layout(points) in;
 layout(triangle_strip, max_vertices = 4) out;
 
-uniform mat4 uViewProj;
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform bool uOrthographic;
-uniform vec2 uViewport;
-#include "view_window.glsl"
+#include "frame_uniforms.glsl"
 
 #include "hierarchical_culling.glsl"
 

@@ -10,8 +10,6 @@
 #include "hierarchical_culling.glsl"
 #include "segment_varyings.glsl"
 
-uniform float uFarDepth;  // gl_FragDepth = view depth / uFarDepth (linear, float depth buffer)
-
 flat in uint vSegment;
 
 layout(location = 0) out uint outSegment;

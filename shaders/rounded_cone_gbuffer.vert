@@ -8,17 +8,12 @@
 #define SEGMENT_VARYINGS_OUT
 #include "segment_varyings.glsl"
 
-uniform mat4 uViewProj;
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform bool uOrthographic;
-uniform vec2 uViewport;
-#include "view_window.glsl"
+#include "frame_uniforms.glsl"
 
 #include "hierarchical_culling.glsl"
 
 #ifdef BILLBOARDS_PRECOMPUTED
-layout(std430, binding = 4) readonly buffer BillboardCorners { vec4 billboardCorners[]; };
+layout(std430, binding = SSBO_BILLBOARD_CORNERS) readonly buffer BillboardCorners { vec4 billboardCorners[]; };
 #endif
 
 flat out uint vSegment;

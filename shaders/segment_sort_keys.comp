@@ -3,11 +3,11 @@
 // view depth) and the segment id S, the value the radix sort permutes. gl/sort_keys.h runs it.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer PositionRadius { vec4 positionRadius[]; };
-layout(std430, binding = 1) readonly buffer SegmentVertices { uint segmentVertices[]; };
-layout(std430, binding = 2) writeonly buffer Keys { uint keys[]; };
-layout(std430, binding = 3) writeonly buffer SegmentIds { uint segmentIds[]; };
-layout(std430, binding = 4) buffer OutsideCount { uint outside; };
+layout(std430, binding = SSBO_SORT_POSITION_RADIUS) readonly buffer PositionRadius { vec4 positionRadius[]; };
+layout(std430, binding = SSBO_SORT_SEGMENT_VERTICES) readonly buffer SegmentVertices { uint segmentVertices[]; };
+layout(std430, binding = SSBO_SORT_KEYS) writeonly buffer Keys { uint keys[]; };
+layout(std430, binding = SSBO_SORT_SEGMENT_IDS) writeonly buffer SegmentIds { uint segmentIds[]; };
+layout(std430, binding = SSBO_SORT_OUTSIDE_COUNT) buffer OutsideCount { uint outside; };
 
 #include "sort_keys.glsl"
 

@@ -9,6 +9,9 @@
 //   SEGMENT_VARYINGS_OUT      billboard vertex / geometry shaders: the flat outputs, load, copy;
 //   (neither)                 fragment shaders: the flat inputs.
 // The loading modes need camera.glsl, rounded_cone.glsl and line_buffers.glsl included first.
+// uCapClipping (LineGeometry::setCapClipping, the transparent paths). Outside the #if below: the
+// shader library includes a file once, at its first #include, whatever #if surrounds it.
+#include "frame_uniforms.glsl"
 #ifndef TC_SEGMENT_VARYINGS_GLSL
 #define TC_SEGMENT_VARYINGS_GLSL
 
@@ -23,8 +26,6 @@ struct SegmentVaryings {
 
 #if defined(SEGMENT_VARYINGS_COMPUTE) || defined(SEGMENT_VARYINGS_OUT)
 #include "cap_clipping.glsl"
-
-uniform bool uCapClipping;  // LineGeometry::setCapClipping (transparent paths)
 
 const uint kFirstOfPolyline = 1u;  // VertexFlag bits (core/styled_lines.h)
 const uint kLastOfPolyline = 2u;
@@ -55,7 +56,7 @@ SegmentVaryings loadSegmentVaryings(uint segment) {
 
 // Six vec4 per segment, in SegmentVaryings order.
 #ifdef SEGMENT_VARYINGS_COMPUTE
-layout(std430, binding = 16) writeonly buffer SegmentRecords { vec4 segmentRecord[]; };
+layout(std430, binding = SSBO_SEGMENT_RECORDS) writeonly buffer SegmentRecords { vec4 segmentRecord[]; };
 
 void storeSegmentRecord(uint segment, SegmentVaryings v) {
     uint r = 6u * segment;
@@ -67,7 +68,7 @@ void storeSegmentRecord(uint segment, SegmentVaryings v) {
     segmentRecord[r + 5u] = v.color1;
 }
 #else
-layout(std430, binding = 16) readonly buffer SegmentRecords { vec4 segmentRecord[]; };
+layout(std430, binding = SSBO_SEGMENT_RECORDS) readonly buffer SegmentRecords { vec4 segmentRecord[]; };
 
 SegmentVaryings readSegmentRecord(uint segment) {
     uint r = 6u * segment;

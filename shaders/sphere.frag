@@ -17,14 +17,11 @@ layout(early_fragment_tests) in;
 #endif
 
 
-uniform vec3 uLightDir;
-uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 uniform int uDensityModel;  // kDensity*
 uniform float uInnerRatio;
 uniform float uNormalisation;  // P of the density model
 uniform float uAlphaRv;
 uniform float uAlphaA;
-uniform float uFarDepth;
 
 // The particle (shaders/sphere_billboard.vert).
 flat in vec4 vCenterRadius;

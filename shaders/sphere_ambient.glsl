@@ -75,7 +75,7 @@ void sphereAmbient(vec3 p, vec3 n, out float ao, out vec3 ambientLight) {
 }
 
 #ifdef AMBIENT_CACHE
-// The cached ambient cube of one sphere (sphere_ambient_cache.comp; binding 6, six packed unorm
+// The cached ambient cube of one sphere (sphere_ambient_cache.comp; SSBO_SPHERE_AMBIENT_CUBE, six packed unorm
 // RGBA8 per sphere: +x, -x, +y, -y, +z, -z), passed from the vertex shader as flat varyings:
 // `positive` = faces +x, +y, +z, `negative` = -x, -y, -z. Faces weighted by n^2 (the weights sum
 // to 1), so an axis-aligned normal gets exactly the traced value.

@@ -8,8 +8,8 @@ layout(local_size_x = 64) in;
 
 #include "sphere_ambient.glsl"
 
-layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
-layout(std430, binding = 6) writeonly buffer AmbientCube { uint ambientCube[]; };  // 6 per sphere
+layout(std430, binding = SSBO_SPHERE_CENTER_RADIUS) readonly buffer CenterRadius { vec4 centerRadius[]; };
+layout(std430, binding = SSBO_SPHERE_AMBIENT_CUBE) writeonly buffer AmbientCube { uint ambientCube[]; };  // 6 per sphere
 
 uniform uint uFirst;  // first (sphere, face) item of this dispatch
 uniform uint uCount;  // 6 x spheres

@@ -10,18 +10,18 @@
 #include "frame_uniforms.glsl"
 #include "sphere_glyph.glsl"
 
-layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
-layout(std430, binding = 1) readonly buffer Colors { vec4 colors[]; };
-layout(std430, binding = 2) readonly buffer Ids { uint ids[]; };
+layout(std430, binding = SSBO_SPHERE_CENTER_RADIUS) readonly buffer CenterRadius { vec4 centerRadius[]; };
+layout(std430, binding = SSBO_SPHERE_COLORS) readonly buffer Colors { vec4 colors[]; };
+layout(std430, binding = SSBO_SPHERE_IDS) readonly buffer Ids { uint ids[]; };
 #ifdef AMBIENT_CACHE
-layout(std430, binding = 6) readonly buffer AmbientCube { uint ambientCube[]; };  // sphere_ambient_cache.comp
+layout(std430, binding = SSBO_SPHERE_AMBIENT_CUBE) readonly buffer AmbientCube { uint ambientCube[]; };  // sphere_ambient_cache.comp
 #endif
 #ifdef DRAW_ORDER
-layout(std430, binding = 5) readonly buffer DrawOrder { uint drawOrder[]; };
+layout(std430, binding = SSBO_SPHERE_DRAW_ORDER) readonly buffer DrawOrder { uint drawOrder[]; };
 #endif
 
 #ifdef POINTS
-layout(std430, binding = 7) buffer Oversized { uint oversized; };
+layout(std430, binding = SSBO_SPHERE_OVERSIZED) buffer Oversized { uint oversized; };
 uniform float uMaxPointSize;
 #endif
 

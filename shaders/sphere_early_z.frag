@@ -2,7 +2,7 @@
 // whose accumulated alpha exceeds the threshold get depth 0, so the depth test (early fragment
 // tests in sphere.frag) rejects every later particle fragment there before it is shaded. Reads the
 // colour target the particles blend into (after glTextureBarrier), writes depth only.
-layout(binding = 0) uniform sampler2D uAccumulated;
+layout(binding = TEXTURE_EARLY_Z_ACCUMULATED) uniform sampler2D uAccumulated;
 uniform float uThreshold;
 
 void main() {

@@ -4,17 +4,15 @@
 // The GPU twin of tc::sphereSortKey.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
-layout(std430, binding = 2) writeonly buffer Keys { uint keys[]; };
-layout(std430, binding = 3) writeonly buffer Values { uint values[]; };
+layout(std430, binding = SSBO_SPHERE_CENTER_RADIUS) readonly buffer CenterRadius { vec4 centerRadius[]; };
+layout(std430, binding = SSBO_SPHERE_SORT_KEYS) writeonly buffer Keys { uint keys[]; };
+layout(std430, binding = SSBO_SPHERE_SORT_VALUES) writeonly buffer Values { uint values[]; };
 
 #include "sort_keys.glsl"
+#include "frame_uniforms.glsl"
 
 uniform uint uFirst;
 uniform uint uCount;
-uniform vec3 uEye;
-uniform vec3 uForward;
-uniform bool uOrthographic;
 
 void main() {
     uint i = uFirst + gl_GlobalInvocationID.x;

@@ -3,8 +3,8 @@
 // exceed 1), rgb = the same times colour (premultiplied). Clears the accumulator for next time.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 4) buffer Accumulator { uint accumulator[]; };
-layout(binding = 0, rgba32f) uniform writeonly image3D uVolume;
+layout(std430, binding = SSBO_SPHERE_ACCUMULATOR) buffer Accumulator { uint accumulator[]; };
+layout(binding = IMAGE_SPHERE_VOLUME_OUT, rgba32f) uniform writeonly image3D uVolume;
 
 uniform ivec3 uSize;
 

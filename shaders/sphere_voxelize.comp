@@ -7,9 +7,9 @@
 // sphere_volume_resolve.comp turns into premultiplied RGBA coverage.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer CenterRadius { vec4 centerRadius[]; };
-layout(std430, binding = 1) readonly buffer Colors { vec4 colors[]; };
-layout(std430, binding = 4) buffer Accumulator { uint accumulator[]; };
+layout(std430, binding = SSBO_SPHERE_CENTER_RADIUS) readonly buffer CenterRadius { vec4 centerRadius[]; };
+layout(std430, binding = SSBO_SPHERE_COLORS) readonly buffer Colors { vec4 colors[]; };
+layout(std430, binding = SSBO_SPHERE_ACCUMULATOR) buffer Accumulator { uint accumulator[]; };
 
 uniform uint uFirst;
 uniform uint uCount;

@@ -7,7 +7,7 @@
 #include "frame_uniforms.glsl"
 #include "visible_hit.glsl"
 
-layout(binding = 0) uniform usampler2D uSegments;
+layout(binding = TEXTURE_VISIBILITY_SEGMENTS) uniform usampler2D uSegments;
 
 const uint kNoSegment = 0xFFFFFFFFu;
 

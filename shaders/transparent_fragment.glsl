@@ -12,10 +12,6 @@
 #include "hierarchical_culling.glsl"
 #include "segment_varyings.glsl"
 
-uniform float uFarDepth;
-uniform vec3 uLightDir;    // world space, toward the light
-uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
-
 flat in uint vSegment;
 
 struct LineFragment {

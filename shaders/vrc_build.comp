@@ -12,15 +12,15 @@
 // does not fuse either).
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer PositionRadius { vec4 positionRadius[]; };
-layout(std430, binding = 1) readonly buffer Colors { vec4 vertexColor[]; };
-layout(std430, binding = 2) readonly buffer PolylineIds { uint polylineId[]; };
-layout(std430, binding = 3) readonly buffer Polylines { uvec2 polylineRange[]; };  // first, last vertex
-layout(std430, binding = 4) buffer Counts { uint counts[]; };     // VRC_COUNT: out; VRC_WRITE: offsets in
-layout(std430, binding = 5) writeonly buffer Keys { uint keys[]; };
-layout(std430, binding = 6) writeonly buffer Values { uint values[]; };
+layout(std430, binding = SSBO_POSITION_RADIUS) readonly buffer PositionRadius { vec4 positionRadius[]; };
+layout(std430, binding = SSBO_VERTEX_COLORS) readonly buffer Colors { vec4 vertexColor[]; };
+layout(std430, binding = SSBO_POLYLINE_IDS) readonly buffer PolylineIds { uint polylineId[]; };
+layout(std430, binding = SSBO_VRC_POLYLINES) readonly buffer Polylines { uvec2 polylineRange[]; };  // first, last vertex
+layout(std430, binding = SSBO_VRC_COUNTS) buffer Counts { uint counts[]; };     // VRC_COUNT: out; VRC_WRITE: offsets in
+layout(std430, binding = SSBO_VRC_KEYS) writeonly buffer Keys { uint keys[]; };
+layout(std430, binding = SSBO_VRC_VALUES) writeonly buffer Values { uint values[]; };
 #ifdef QUANTIZED
-layout(std430, binding = 7) writeonly buffer Raw { uvec4 raw[]; };
+layout(std430, binding = SSBO_VRC_RAW_PIECES) writeonly buffer Raw { uvec4 raw[]; };
 #else
 struct VrcExactPiece {
     vec4 a;
@@ -28,7 +28,7 @@ struct VrcExactPiece {
     vec4 color;
     uvec4 info;
 };
-layout(std430, binding = 7) writeonly buffer Raw { VrcExactPiece raw[]; };
+layout(std430, binding = SSBO_VRC_RAW_PIECES) writeonly buffer Raw { VrcExactPiece raw[]; };
 #endif
 
 uniform uint uPolylines;

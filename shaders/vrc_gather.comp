@@ -6,13 +6,13 @@
 //   VRC_NEIGHBORS  one invocation per voxel: the neighbourhood bit (core/vrc_model.h).
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) buffer Header { uvec2 header[]; };
-layout(std430, binding = 1) buffer RunEnd { uint runEnd[]; };
-layout(std430, binding = 5) readonly buffer Keys { uint keys[]; };
-layout(std430, binding = 6) readonly buffer Values { uint values[]; };
+layout(std430, binding = SSBO_VRC_HEADER) buffer Header { uvec2 header[]; };
+layout(std430, binding = SSBO_VRC_RUN_END) buffer RunEnd { uint runEnd[]; };
+layout(std430, binding = SSBO_VRC_KEYS) readonly buffer Keys { uint keys[]; };
+layout(std430, binding = SSBO_VRC_VALUES) readonly buffer Values { uint values[]; };
 #ifdef QUANTIZED
-layout(std430, binding = 7) readonly buffer Raw { uvec4 raw[]; };
-layout(std430, binding = 8) writeonly buffer Pieces { uvec4 pieces[]; };
+layout(std430, binding = SSBO_VRC_RAW_PIECES) readonly buffer Raw { uvec4 raw[]; };
+layout(std430, binding = SSBO_VRC_GATHERED_PIECES) writeonly buffer Pieces { uvec4 pieces[]; };
 #else
 struct VrcExactPiece {
     vec4 a;
@@ -20,10 +20,10 @@ struct VrcExactPiece {
     vec4 color;
     uvec4 info;
 };
-layout(std430, binding = 7) readonly buffer Raw { VrcExactPiece raw[]; };
-layout(std430, binding = 8) writeonly buffer Pieces { VrcExactPiece pieces[]; };
+layout(std430, binding = SSBO_VRC_RAW_PIECES) readonly buffer Raw { VrcExactPiece raw[]; };
+layout(std430, binding = SSBO_VRC_GATHERED_PIECES) writeonly buffer Pieces { VrcExactPiece pieces[]; };
 #endif
-layout(std430, binding = 9) writeonly buffer PieceVoxel { uint pieceVoxel[]; };
+layout(std430, binding = SSBO_VRC_PIECE_VOXEL) writeonly buffer PieceVoxel { uint pieceVoxel[]; };
 
 uniform uint uCount;  // pieces (VRC_GATHER) or voxels
 uniform ivec3 uGridSize;

@@ -34,10 +34,10 @@ uniform float uShadowStrength;
 uniform float uShadowStartOffset;
 #endif
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = VRC_GROUP_SIZE, local_size_y = VRC_GROUP_SIZE) in;  // gl/vrc_renderer.cpp
 
 // Header: (offset, count | neighbourhood bit) per voxel, x fastest.
-layout(std430, binding = 0) readonly buffer VrcHeader { uvec2 vrcVoxels[]; };
+layout(std430, binding = SSBO_VRC_HEADER) readonly buffer VrcHeader { uvec2 vrcVoxels[]; };
 #ifdef QUANTIZED
 // ends (2 x 16-bit codes), polyline id, RGBA8 colour, 2 x unorm16 radius (of uMaxRadius).
 #define VRC_PIECE_T uvec4
@@ -51,42 +51,42 @@ struct VrcExactPiece {
 #define VRC_PIECE_T VrcExactPiece
 #endif
 // The piece array in VRC_PIECE_BLOCKS blocks of 2^VRC_BLOCK_SHIFT pieces (one shader storage
-// block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe): block 0 at binding
-// 1, blocks 1.. at bindings 4.. (gl/vrc_renderer.cpp). Piece i is in block i >> VRC_BLOCK_SHIFT.
-layout(std430, binding = 1) readonly buffer VrcPieces0 { VRC_PIECE_T vrcPieces0[]; };
+// block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe): block 0 at
+// SSBO_VRC_PIECES, blocks 1.. at SSBO_VRC_PIECE_BLOCKS + 0, 1, ... (gl/vrc_renderer.cpp). Piece i is in block i >> VRC_BLOCK_SHIFT.
+layout(std430, binding = SSBO_VRC_PIECES) readonly buffer VrcPieces0 { VRC_PIECE_T vrcPieces0[]; };
 #if VRC_PIECE_BLOCKS > 1
-layout(std430, binding = 4) readonly buffer VrcPieces1 { VRC_PIECE_T vrcPieces1[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS) readonly buffer VrcPieces1 { VRC_PIECE_T vrcPieces1[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 2
-layout(std430, binding = 5) readonly buffer VrcPieces2 { VRC_PIECE_T vrcPieces2[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 1) readonly buffer VrcPieces2 { VRC_PIECE_T vrcPieces2[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 3
-layout(std430, binding = 6) readonly buffer VrcPieces3 { VRC_PIECE_T vrcPieces3[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 2) readonly buffer VrcPieces3 { VRC_PIECE_T vrcPieces3[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 4
-layout(std430, binding = 7) readonly buffer VrcPieces4 { VRC_PIECE_T vrcPieces4[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 3) readonly buffer VrcPieces4 { VRC_PIECE_T vrcPieces4[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 5
-layout(std430, binding = 8) readonly buffer VrcPieces5 { VRC_PIECE_T vrcPieces5[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 4) readonly buffer VrcPieces5 { VRC_PIECE_T vrcPieces5[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 6
-layout(std430, binding = 9) readonly buffer VrcPieces6 { VRC_PIECE_T vrcPieces6[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 5) readonly buffer VrcPieces6 { VRC_PIECE_T vrcPieces6[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 7
-layout(std430, binding = 10) readonly buffer VrcPieces7 { VRC_PIECE_T vrcPieces7[]; };
+layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 6) readonly buffer VrcPieces7 { VRC_PIECE_T vrcPieces7[]; };
 #endif
 #if VRC_PIECE_BLOCKS > 8
 #error "at most 8 piece blocks (VrcRenderer::kMaxPieceBlocks)"
 #endif
 
 #ifdef VRC_PIECE_TEXTURE
-// The whole piece array as one texture buffer (GL_RGBA32UI, unit 10, gl/vrc_renderer.cpp): llvmpipe
+// The whole piece array as one texture buffer (GL_RGBA32UI, gl/vrc_renderer.cpp): llvmpipe
 // gathers a texel fetch with vector code, while a storage buffer read at per-lane addresses is a
 // loop over the lanes with a branch per lane and component, and the blocks need one read per
 // block (both sides of an if run on llvmpipe). With the candidate masks of testVoxel the piece
 // reads are a large part of the ray cast (docs/performance.md, M8, session 6; in session 5,
 // before the masks, texture buffers made no measurable difference).
-layout(binding = 10) uniform usamplerBuffer vrcPieceTex;
+layout(binding = TEXTURE_VRC_PIECE_TEXELS) uniform usamplerBuffer vrcPieceTex;
 #endif
 
 VRC_PIECE_T vrcFetchPiece(uint i) {
@@ -137,8 +137,8 @@ VRC_PIECE_T vrcFetchPiece(uint i) {
 
 #ifdef BRICK_SKIP
 // Per brick of kBrick^3 voxels: 0 when no voxel in it can hold a surface (gl/vrc_renderer.cpp).
-const int kBrick = 4;
-layout(std430, binding = 3) readonly buffer VrcBricks { uint vrcBricks[]; };
+const int kBrick = VRC_BRICK;
+layout(std430, binding = SSBO_VRC_BRICKS) readonly buffer VrcBricks { uint vrcBricks[]; };
 uniform ivec3 uBrickGridSize;
 #endif
 uniform ivec3 uGridSize;
@@ -146,13 +146,11 @@ uniform vec3 uGridOrigin;
 uniform float uVoxelSize;
 uniform float uMaxRadius;
 uniform float uOpacityThreshold;
-uniform vec3 uLightDir;    // world space, toward the light
-uniform vec4 uLightTerms;  // ambient, diffuse, specular, shininess
 
-layout(rgba32f, binding = 0) uniform writeonly image2D uColor;       // premultiplied linear RGBA
-layout(rgba32f, binding = 1) uniform writeonly image2D uNormalDepth; // world normal, view depth
-layout(r32ui, binding = 2) uniform writeonly uimage2D uId;           // polyline id
-layout(r32f, binding = 3) uniform writeonly image2D uAo;             // AO factor of the first hit
+layout(rgba32f, binding = IMAGE_VRC_COLOR) uniform writeonly image2D uColor;       // premultiplied linear RGBA
+layout(rgba32f, binding = IMAGE_VRC_NORMAL_DEPTH) uniform writeonly image2D uNormalDepth; // world normal, view depth
+layout(r32ui, binding = IMAGE_VRC_ID) uniform writeonly uimage2D uId;           // polyline id
+layout(r32f, binding = IMAGE_VRC_AO) uniform writeonly image2D uAo;             // AO factor of the first hit
 
 const uint kVrcInteriorFace = 6u;
 const uint kVrcNeighbourhoodBit = 0x80000000u;
@@ -235,7 +233,7 @@ float raySegmentDistance2(Ray ray, float tEnter, float tExit, vec3 x0, vec3 x1) 
 #ifdef HARD_SHADOWS
 // Representative lines of one LoD level (core/vrc_representative.h), per level voxel x fastest:
 // a.xyz + radius, b.xyz + weight (0 = empty voxel).
-layout(std430, binding = 2) readonly buffer VrcShadowLines { vec4 vrcShadowLines[]; };
+layout(std430, binding = SSBO_VRC_SHADOW_LINES) readonly buffer VrcShadowLines { vec4 vrcShadowLines[]; };
 uniform ivec3 uShadowGridSize;
 uniform float uShadowVoxelSize;
 

@@ -3,7 +3,7 @@
 // invocation writes its chunk's prefixes. For the per-polyline piece counts of the VRC GPU build
 // (tens of thousands of entries: one dispatch, no multi-level scan needed).
 layout(local_size_x = 256) in;
-layout(std430, binding = 4) buffer Data { uint data[]; };
+layout(std430, binding = SSBO_VRC_COUNTS) buffer Data { uint data[]; };
 uniform uint uCount;
 
 shared uint chunkSums[256];

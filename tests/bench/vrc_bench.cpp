@@ -30,6 +30,7 @@
 #include "gl/techniques.h"
 #include "gl/context.h"
 #include "gl/gpu_timer.h"
+#include "gl/line_geometry.h"
 #include "core/technique.h"
 #include "gl/vrc_renderer.h"
 #include "core/scene.h"
@@ -178,7 +179,7 @@ int main(int argc, char** argv) try {
     std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (std::size_t target : segmentCounts) {
         const tc::StyledLines lines = tornado(target, points, 0.3f);
-        const std::size_t rawBytes = lines.vertexCount() * 40 + lines.segmentCount() * 8;
+        const std::size_t rawBytes = tc::gl::LineGeometry::uploadBytes(lines);
         for (std::size_t q : quantizations) {
             tc::VrcBuildOptions options;
             options.resolution = resolution;

@@ -6,6 +6,8 @@
 #include <string>
 
 #include "core/error.h"
+#include "gl/shader_library.h"
+#include "test_shaders.h"
 
 namespace tc::test {
 namespace {
@@ -63,6 +65,7 @@ void GlTest::SetUp() {
 
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
+    tc::gl::ShaderLibrary::instance().addEmbedded(tc::test::testShaders());
     // gtest owns and deletes registered environments.
     tc::test::g_environment = static_cast<tc::test::GlEnvironment*>(
         ::testing::AddGlobalTestEnvironment(new tc::test::GlEnvironment));

@@ -1,0 +1,38 @@
+#include "gl/frame_uniforms.h"
+
+#include <cmath>
+
+#include "core/shading.h"
+#include "gl/bindings.h"
+#include "gl/view_window.h"
+
+namespace tc::gl {
+
+FrameUniforms frameUniforms(const FrameSetup& setup, const LightingSpec& lighting) {
+    const Camera& cam = setup.camera;
+    FrameUniforms u;
+    u.eye = cam.eye;
+    u.forward = cam.forward();
+    u.right = cam.right();
+    u.up = cam.trueUp();
+    u.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
+    // The float arithmetic of tc::pixelRay (core/camera.cpp), so CPU and GPU rays agree per pixel.
+    u.tanHalfFov = std::tan(glm::radians(cam.fovYDeg) * 0.5f);
+    u.orthoHalfHeight = 0.5f * cam.orthoHeight;
+    setViewWindowUniforms(u, setup);
+    u.lightDir = lightDirectionWorld(lighting, cam);
+    u.lightTerms = glm::vec4(lighting.ambient, lighting.diffuse, lighting.specular, lighting.shininess);
+    return u;
+}
+
+void uploadFrameUniforms(Buffer& buffer, const FrameUniforms& uniforms) {
+    if (!buffer) buffer = makeBuffer(sizeof(FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferSubData(buffer.id(), 0, sizeof(FrameUniforms), &uniforms);
+    bindFrameUniforms(buffer);
+}
+
+void bindFrameUniforms(const Buffer& buffer) {
+    glBindBufferBase(GL_UNIFORM_BUFFER, binding::kFrameUniforms, buffer.id());
+}
+
+}  // namespace tc::gl
