@@ -1,6 +1,8 @@
 // TrackVis .trk reader (http://trackvis.org/docs/?subsect=fileformat). The header is a fixed
 // 1000-byte C struct; nibabel's trk.py is the reference for the parts TrackVis' page leaves
-// open (names encoding a value count, the voxmm -> RAS mapping).
+// open (names encoding a value count, the voxmm -> RAS mapping) and for what is valid: what it
+// reads with a warning or silently (version 3, an n_count that disagrees with the tracks, odd
+// name value counts) is read here with a warning (ByteSource::warnings).
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -47,12 +49,14 @@ struct HeaderBytes {
 
 // The 10 name slots of scalars or properties -> one name per value. nibabel encodes "name, k
 // values" as "name\0k" in a slot; plain names cover one value; values beyond the named ones
-// are called PREFIX_i.
+// are called PREFIX_i. As in nibabel's TrkFile.load, a slot of 0 values is skipped and a name
+// covering more values than are left gets the ones left (both with a warning).
 std::vector<std::string> valueNames(const ByteSource& source, const std::uint8_t* slots, std::size_t slotsOffset,
                                     int count, const char* prefix) {
     std::vector<std::string> names;
     for (std::size_t s = 0; s < kNameSlots && int(names.size()) < count; ++s) {
         const char* slot = reinterpret_cast<const char*>(slots + s * kNameBytes);
+        const std::uint64_t at = slotsOffset + s * kNameBytes;
         std::size_t len = strnlen(slot, kNameBytes);
         std::string name(slot, len);
         if (name.empty()) break;
@@ -63,17 +67,22 @@ std::vector<std::string> valueNames(const ByteSource& source, const std::uint8_t
             k = 0;
             for (char c : digits) {
                 if (c < '0' || c > '9' || k > kMaxValues)
-                    source.failAt(slotsOffset + s * kNameBytes,
-                                  "name \"" + name + "\": malformed value count after the name");
+                    source.failAt(at, "name \"" + name + "\": malformed value count after the name");
                 k = 10 * k + (c - '0');
             }
-            if (k < 1) source.failAt(slotsOffset + s * kNameBytes, "name \"" + name + "\": value count 0");
+            if (k < 1) {
+                source.warnAt(at, "name \"" + name + "\": value count 0; the name is skipped");
+                continue;
+            }
         }
-        if (int(names.size()) + k > count)
-            source.failAt(slotsOffset + s * kNameBytes, "name \"" + name + "\" covers " + std::to_string(k) +
-                                                            " values, more than the " + std::to_string(count) +
-                                                            " declared");
-        if (k == 1) {
+        const int declared = k, left = count - int(names.size());
+        if (k > left) {
+            source.warnAt(at, "name \"" + name + "\" covers " + std::to_string(k) + " values, more than the " +
+                                  std::to_string(count) + " declared; it names the " + std::to_string(left) +
+                                  " left");
+            k = left;
+        }
+        if (declared == 1) {
             names.push_back(name);
         } else {
             for (int i = 0; i < k; ++i) names.push_back(name + "_" + std::to_string(i));
@@ -133,8 +142,13 @@ TrkHeader readTrkHeader(const ByteSource& source) {
     }
     header.bigEndian = h.bigEndian;
     header.version = h.get<std::int32_t>(kVersion);
+    if (header.version == 3) {
+        // nibabel's TrkFile._read_header parses version 3 as version 2, with a warning.
+        source.warnAt(kVersion, "version 3 is read as version 2");
+        header.version = 2;
+    }
     if (header.version != 1 && header.version != 2)
-        source.failAt(kVersion, "unsupported version " + std::to_string(header.version) + " (1 and 2 are)");
+        source.failAt(kVersion, "unsupported version " + std::to_string(header.version) + " (1, 2 and 3 are)");
     header.nScalars = h.get<std::int16_t>(kNScalars);
     header.nProperties = h.get<std::int16_t>(kNProperties);
     if (header.nScalars < 0 || header.nScalars > kMaxValues)
@@ -161,6 +175,10 @@ struct TrackScan {
 
 // Pass 1: walks the tracks of `data` (the bytes after the header, in native byte order), checking
 // every point count against the bytes left, so nothing is allocated from an unchecked count.
+// n_count tracks are read, or all to the end of the file when it is 0, as in TrackVis and
+// nibabel's TrkFile._read; like nibabel, a file that ends (between tracks) before n_count tracks
+// gives the tracks it has, and bytes after n_count tracks are ignored, each with a warning. A
+// track cut short is an error.
 TrackScan scanTracks(const ByteSource& source, const std::vector<std::uint8_t>& data, const TrkHeader& header) {
     const std::size_t perPoint = 3 + std::size_t(header.nScalars);
     const std::int32_t nCount = header.nCount;
@@ -168,12 +186,13 @@ TrackScan scanTracks(const ByteSource& source, const std::vector<std::uint8_t>& 
     std::size_t pos = 0;
     while (nCount == 0 ? pos < data.size() : scan.tracks < std::uint64_t(nCount)) {
         const std::uint64_t at = kHeaderSize + pos;
-        if (data.size() - pos < 4) {
-            if (pos == data.size())
-                source.failAt(at, "file ends after " + std::to_string(scan.tracks) + " of the n_count " +
-                                      std::to_string(nCount) + " tracks");
-            source.failAt(at, "truncated: track " + std::to_string(scan.tracks) + " has no complete point count");
+        if (pos == data.size()) {
+            source.warnAt(at, "file ends after " + std::to_string(scan.tracks) + " of the n_count " +
+                                  std::to_string(nCount) + " tracks; read " + std::to_string(scan.tracks));
+            break;
         }
+        if (data.size() - pos < 4)
+            source.failAt(at, "truncated: track " + std::to_string(scan.tracks) + " has no complete point count");
         const std::int32_t n = loadLittle<std::int32_t>(data.data() + pos);
         if (n < 0)
             source.failAt(at, "track " + std::to_string(scan.tracks) + ": negative point count " + std::to_string(n));
@@ -187,8 +206,8 @@ TrackScan scanTracks(const ByteSource& source, const std::vector<std::uint8_t>& 
         ++scan.tracks;
     }
     if (pos != data.size())
-        source.failAt(kHeaderSize + pos, std::to_string(data.size() - pos) + " bytes after the last of the n_count " +
-                                             std::to_string(nCount) + " tracks (n_count wrong?)");
+        source.warnAt(kHeaderSize + pos, std::to_string(data.size() - pos) + " bytes after the last of the n_count " +
+                                             std::to_string(nCount) + " tracks (n_count wrong?); ignored");
     return scan;
 }
 
