@@ -83,8 +83,7 @@ public:
     // Forms the blocks of at most groupCap groups; with write == false only counts the groups the
     // blocks would gather (the same greedy cut, no fragment written). Returns that count.
     std::size_t form(std::size_t groupCap, bool write) {
-        tbb::parallel_for(std::size_t(0), m_perRange.size(),
-                          [&](std::size_t r) { formRange(r, groupCap, write); });
+        tbb::parallel_for(std::size_t(0), m_perRange.size(), [&](std::size_t r) { formRange(r, groupCap, write); });
         std::size_t gathered = 0;
         for (const RangeBlocks& rb : m_perRange) gathered += rb.groupCount;
         return gathered;

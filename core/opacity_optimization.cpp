@@ -553,8 +553,8 @@ constexpr auto joinTwoSums = [](TwoSums u, TwoSums v) { return TwoSums{u.a + v.a
 // in docs/performance.md, opacity optimization).
 class BoundedQpSolver {
 public:
-    BoundedQpSolver(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo,
-                    const Eigen::VectorXd& hi, const Eigen::VectorXd& x0, const QpSolverOptions& options);
+    BoundedQpSolver(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                    const Eigen::VectorXd& x0, const QpSolverOptions& options);
     QpResult solve();
 
 private:
@@ -695,8 +695,8 @@ TwoSums BoundedQpSolver::selectFreeVariables(bool binding) {
         [&](std::int64_t b, std::int64_t e, TwoSums& m) {
             for (std::int64_t i = b; i < e; ++i) {
                 const bool inside = m_x[i] > m_lo[i] && m_x[i] < m_hi[i];
-                m_isFree[i] = inside || (binding && ((m_x[i] <= m_lo[i] && m_g[i] < 0) ||
-                                                     (m_x[i] >= m_hi[i] && m_g[i] > 0)));
+                m_isFree[i] =
+                    inside || (binding && ((m_x[i] <= m_lo[i] && m_g[i] < 0) || (m_x[i] >= m_hi[i] && m_g[i] > 0)));
                 m_r[i] = m_isFree[i] ? -m_g[i] : 0.0;
                 m.a += m_r[i] * m_r[i];
                 m.b += m_isFree[i];  // the free count
@@ -776,10 +776,10 @@ void BoundedQpSolver::subspaceSearch(bool binding) {
     // per variable that must reach a bound (seen from a poor start at 32k parts).
     const Search search = projectedSearch(m_d, m_qd, 1.0, true);
     if (search == Search::Failed || (binding && search == Search::Breakpoint)) m_forceGradientStep = true;
-    m_lastChanges = !m_options.bindingSet || search != Search::Accepted
-                        ? -1
-                        : Eigen::Index(sumChunks(
-                              m_n, [&](std::int64_t i) { return m_stateBefore[i] != state(i) ? 1.0 : 0.0; }));
+    m_lastChanges =
+        !m_options.bindingSet || search != Search::Accepted
+            ? -1
+            : Eigen::Index(sumChunks(m_n, [&](std::int64_t i) { return m_stateBefore[i] != state(i) ? 1.0 : 0.0; }));
 }
 
 // Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
@@ -842,9 +842,7 @@ BoundedQpSolver::Search BoundedQpSolver::cutAtBreakpoint(const Eigen::VectorXd& 
     double breakpoint = step;
     Eigen::Index first = -1;
     for (Eigen::Index i = 0; i < m_n; ++i) {
-        const double t = dir[i] > 0   ? (m_hi[i] - m_x[i]) / dir[i]
-                         : dir[i] < 0 ? (m_lo[i] - m_x[i]) / dir[i]
-                                      : step;
+        const double t = dir[i] > 0 ? (m_hi[i] - m_x[i]) / dir[i] : dir[i] < 0 ? (m_lo[i] - m_x[i]) / dir[i] : step;
         if (t < breakpoint) {
             breakpoint = t;
             first = i;

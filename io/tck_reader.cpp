@@ -83,8 +83,9 @@ MrtrixHeader parseHeader(const ByteSource& source, const std::vector<std::uint8_
         std::size_t colon = content.find(':');
         if (colon == std::string::npos) {
             if (!haveField)
-                source.failAtLine(line, "expected \"key: value\" (a line without a colon continues the field "
-                                        "before it, and there is none)");
+                source.failAtLine(line,
+                                  "expected \"key: value\" (a line without a colon continues the field "
+                                  "before it, and there is none)");
             continue;
         }
         haveField = true;
@@ -208,8 +209,7 @@ LineSet readTck(const ByteSource& source) {
         if (lines.positions.size() != lines.offsets.back())
             source.failAt(end, "truncated: the data ends without the Inf end-of-file triplet, inside track " +
                                    std::to_string(lines.polylineCount()) + " (after " +
-                                   std::to_string(lines.positions.size() - lines.offsets.back()) +
-                                   " of its vertices)");
+                                   std::to_string(lines.positions.size() - lines.offsets.back()) + " of its vertices)");
         source.warnAt(end, "the data ends without the Inf end-of-file triplet; read to the end (" +
                                std::to_string(lines.polylineCount()) + " tracks)");
     }

@@ -78,8 +78,7 @@ std::vector<std::string> valueNames(const ByteSource& source, const std::uint8_t
         const int declared = k, left = count - int(names.size());
         if (k > left) {
             source.warnAt(at, "name \"" + name + "\" covers " + std::to_string(k) + " values, more than the " +
-                                  std::to_string(count) + " declared; it names the " + std::to_string(left) +
-                                  " left");
+                                  std::to_string(count) + " declared; it names the " + std::to_string(left) + " left");
             k = left;
         }
         if (declared == 1) {
@@ -199,8 +198,8 @@ TrackScan scanTracks(const ByteSource& source, const std::vector<std::uint8_t>& 
         const std::uint64_t bytes = 4 * (std::uint64_t(n) * perPoint + std::uint64_t(header.nProperties));
         if (bytes > data.size() - pos - 4)
             source.failAt(at, "track " + std::to_string(scan.tracks) + " declares " + std::to_string(n) + " points (" +
-                                  std::to_string(bytes) + " bytes) but only " +
-                                  std::to_string(data.size() - pos - 4) + " bytes are left");
+                                  std::to_string(bytes) + " bytes) but only " + std::to_string(data.size() - pos - 4) +
+                                  " bytes are left");
         pos += 4 + bytes;
         scan.vertices += std::uint64_t(n);
         ++scan.tracks;

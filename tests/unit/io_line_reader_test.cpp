@@ -313,8 +313,9 @@ TEST(ReadLineSet, empty_tractograms_are_empty_line_sets) {
 TEST(ReadLineSet, what_a_native_reader_tolerated_reaches_the_report) {
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     const std::string dir = testDir();
-    const std::string tck = writeMrtrix(dir + "/t.tck", "mrtrix tracks", "count: 5\n",
-                                        {0, 0, 0, 1, 0, 0, nan, nan, nan, 0, 1, 0, 0, 2, 0, nan, nan, nan, inf, inf, inf});
+    const std::string tck =
+        writeMrtrix(dir + "/t.tck", "mrtrix tracks", "count: 5\n",
+                    {0, 0, 0, 1, 0, 0, nan, nan, nan, 0, 1, 0, 0, 2, 0, nan, nan, nan, inf, inf, inf});
     writeMrtrix(dir + "/t_fa.tsf", "mrtrix track scalars", "count: 3\n", {0.1f, 0.2f, nan, 0.3f, 0.4f, nan, inf});
     CleanReport report;
     const LineSet lines = readLineSet(tck, &report);
