@@ -37,10 +37,16 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     const std::vector<double> counts = partFragmentCounts(lists, partCount);
     m_inverseCount.resize(Eigen::Index(partCount));
     for (std::size_t j = 0; j < partCount; ++j) m_inverseCount[Eigen::Index(j)] = counts[j] > 0 ? 1.0 / counts[j] : 0.0;
+    const ListOrder order = orderLists(lists);
+    formBlocks(lists, order, blockSlots);
+    sumSelfPairs(lists, order);
+}
 
-    // The lists that matter (two or more fragments), in Z order over the image: neighbouring
-    // pixels see nearly the same parts, so a run of lists in this order touches few distinct parts.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> order;
+// The lists that matter (two or more fragments), in Z order over the image: neighbouring pixels
+// see nearly the same parts, so a run of lists in this order touches few distinct parts. Sets
+// m_pairs, m_listStart and m_longestList.
+FragmentOcclusion::ListOrder FragmentOcclusion::orderLists(const FragmentLists& lists) {
+    ListOrder order;
     const std::size_t width = lists.width > 0 ? std::size_t(lists.width) : lists.pixelCount();
     for (std::size_t p = 0; p < lists.pixelCount(); ++p) {
         const std::uint64_t length = lists.offsets[p + 1] - lists.offsets[p];
@@ -57,20 +63,143 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
         m_listStart[l + 1] = m_listStart[l] + (lists.offsets[p + 1] - lists.offsets[p]);
         m_longestList = std::max<std::size_t>(m_longestList, std::size_t(m_listStart[l + 1] - m_listStart[l]));
     }
-    const std::uint64_t fragmentTotal = m_listStart.back();
+    return order;
+}
 
-    // Blocks: runs of consecutive lists whose fragments touch at most blockSlots / kGroupSlots
-    // groups of kGroup consecutive parts. A product gathers a block's inputs into a local array
-    // (kGroupSlots = kGroup + 1 slots per group: its parts and the next group's first, so that
-    // floor(w) + 1 of any fragment is the slot after floor(w)), walks its lists there (in L2
-    // instead of scattered over n-long vectors, 1 MB each at 128k parts, where a product cost 8x
-    // the 32k one for 3.7x the fragments), and scatters the local sums back once per block (a part
-    // in two groups' slots gets both sums). The inner loops are the ones over global ids (one
-    // 32-bit id and the fraction per fragment, no branches). Formed greedily in one range of lists
-    // per thread, in parallel. At 128k parts the H product got ~1.5x cheaper, at 8k and 32k no
-    // measurable change (docs/performance.md M7 session 5). One range per thread, not more: with
-    // deep lists the blocks grow to whole ranges (below), and every range gathers and scatters
-    // nearly all parts once per pass (docs/performance.md M7 session 7).
+// The greedy cut of formBlocks: the lists in ranges (one per thread), each range cut in parallel
+// into blocks that gather at most `groupCap` groups. Keeps the per-range results, so that a cut
+// can be tried (only counting what the blocks would gather) before the one that is kept.
+class FragmentOcclusion::BlockFormer {
+public:
+    BlockFormer(FragmentOcclusion& owner, const FragmentLists& lists, const ListOrder& order,
+                std::vector<std::size_t> rangeStart, std::size_t groupCount)
+        : m_owner(owner),
+          m_lists(lists),
+          m_order(order),
+          m_rangeStart(std::move(rangeStart)),
+          m_perRange(m_rangeStart.size() - 1),
+          m_marks([groupCount] { return std::vector<std::uint32_t>(groupCount, 0); }) {}
+
+    // Forms the blocks of at most groupCap groups; with write == false only counts the groups the
+    // blocks would gather (the same greedy cut, no fragment written). Returns that count.
+    std::size_t form(std::size_t groupCap, bool write) {
+        tbb::parallel_for(std::size_t(0), m_perRange.size(), [&](std::size_t r) { formRange(r, groupCap, write); });
+        std::size_t gathered = 0;
+        for (const RangeBlocks& rb : m_perRange) gathered += rb.groupCount;
+        return gathered;
+    }
+
+    // Concatenates the ranges' blocks (of the last form(..., true)) into the owner's.
+    void appendBlocks() {
+        for (RangeBlocks& rb : m_perRange) {
+            const std::size_t base = m_owner.m_groups.size();
+            for (Block b : rb.blocks) {
+                b.groupBegin += base;
+                b.groupEnd += base;
+                m_owner.m_blocks.push_back(b);
+            }
+            m_owner.m_groups.insert(m_owner.m_groups.end(), rb.groups.begin(), rb.groups.end());
+        }
+    }
+
+private:
+    struct RangeBlocks {
+        std::vector<Block> blocks;
+        std::vector<std::uint32_t> groups;
+        std::size_t groupCount = 0;  // gathered groups (also when the blocks are only counted)
+    };
+
+    void formRange(std::size_t r, std::size_t groupCap, bool write);
+
+    FragmentOcclusion& m_owner;
+    const FragmentLists& m_lists;
+    const ListOrder& m_order;
+    const std::vector<std::size_t> m_rangeStart;
+    std::vector<RangeBlocks> m_perRange;
+    // Per thread: group -> local index + 1 in the open block, 0: not in it.
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> m_marks;
+};
+
+void FragmentOcclusion::BlockFormer::formRange(std::size_t r, std::size_t groupCap, bool write) {
+    const std::vector<std::uint64_t>& listStart = m_owner.m_listStart;
+    std::vector<Fragment>& fragments = m_owner.m_fragments;
+    std::vector<std::uint32_t>& local = m_marks.local();
+    RangeBlocks& out = m_perRange[r];
+    out = {};
+    std::vector<std::uint32_t> groups;  // the open block's groups, by local index
+    std::vector<std::uint32_t> toSorted;
+    auto closeBlock = [&](std::size_t firstList, std::size_t endList) {
+        out.groupCount += groups.size();
+        if (!write) {
+            for (std::uint32_t g : groups) local[g] = 0;
+            groups.clear();
+            return;
+        }
+        // Groups in ascending order, so the gather and scatter walk memory forwards.
+        std::vector<std::uint32_t> sorted = groups;
+        std::sort(sorted.begin(), sorted.end());
+        toSorted.resize(groups.size());
+        for (std::size_t k = 0; k < sorted.size(); ++k) local[sorted[k]] = std::uint32_t(k) + 1;
+        for (std::size_t k = 0; k < groups.size(); ++k) toSorted[k] = local[groups[k]] - 1;
+        for (std::uint64_t f = listStart[firstList]; f < listStart[endList]; ++f) {
+            const std::uint32_t slot = fragments[f].part;
+            fragments[f].part = toSorted[slot / kGroupSlots] * kGroupSlots + slot % kGroupSlots;
+        }
+        for (std::uint32_t g : sorted) local[g] = 0;
+        out.blocks.push_back({firstList, endList, out.groups.size(), out.groups.size() + sorted.size()});
+        out.groups.insert(out.groups.end(), sorted.begin(), sorted.end());
+        groups.clear();
+    };
+    std::size_t blockFirst = m_rangeStart[r];
+    for (std::size_t l = m_rangeStart[r]; l < m_rangeStart[r + 1]; ++l) {
+        const std::size_t p = m_order[l].second;
+        const LineFragmentW* f = m_lists.fragments.data() + m_lists.offsets[p];
+        const std::size_t length = std::size_t(listStart[l + 1] - listStart[l]);
+        // Groups this list would add (a list touching more than groupCap groups becomes a block
+        // of its own).
+        std::size_t added = 0;
+        for (std::size_t k = 0; k < length; ++k) {
+            std::uint32_t& mark = local[f[k].part / kGroup];
+            if (mark == 0) {
+                mark = ~0u;
+                ++added;
+            }
+        }
+        for (std::size_t k = 0; k < length; ++k)
+            if (local[f[k].part / kGroup] == ~0u) local[f[k].part / kGroup] = 0;
+        if (groups.size() + added > groupCap && l > blockFirst) {
+            closeBlock(blockFirst, l);
+            blockFirst = l;
+        }
+        Fragment* dst = fragments.data() + listStart[l];
+        for (std::size_t k = 0; k < length; ++k) {
+            const std::uint32_t j = f[k].part, g = j / kGroup;
+            if (local[g] == 0) {
+                groups.push_back(g);
+                local[g] = std::uint32_t(groups.size());
+            }
+            // The slot in insertion order; closeBlock renumbers it to the sorted order.
+            if (write) dst[k] = {(local[g] - 1) * kGroupSlots + j % kGroup, f[k].frac};
+        }
+    }
+    if (m_rangeStart[r + 1] > blockFirst) closeBlock(blockFirst, m_rangeStart[r + 1]);
+}
+
+// Blocks: runs of consecutive lists whose fragments touch at most blockSlots / kGroupSlots groups
+// of kGroup consecutive parts. A product gathers a block's inputs into a local array (kGroupSlots
+// = kGroup + 1 slots per group: its parts and the next group's first, so that floor(w) + 1 of any
+// fragment is the slot after floor(w)), walks its lists there (in L2 instead of scattered over
+// n-long vectors, 1 MB each at 128k parts, where a product cost 8x the 32k one for 3.7x the
+// fragments), and scatters the local sums back once per block (a part in two groups' slots gets
+// both sums). The inner loops are the ones over global ids (one 32-bit id and the fraction per
+// fragment, no branches). Formed greedily in one range of lists per thread, in parallel. At 128k
+// parts the H product got ~1.5x cheaper, at 8k and 32k no measurable change (docs/performance.md,
+// opacity optimization). One range per thread, not more: with deep lists the blocks grow to whole
+// ranges (below), and every range gathers and scatters nearly all parts once per pass. Fills
+// m_fragments (block-local slots), m_blocks, m_groups, m_chunks and m_blockSlots.
+void FragmentOcclusion::formBlocks(const FragmentLists& lists, const ListOrder& order, std::size_t blockSlots) {
+    const std::size_t listCount = order.size();
+    const std::uint64_t fragmentTotal = m_listStart.back();
     const std::size_t threads = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     const std::size_t ranges = fragmentTotal < 50000 ? 1 : threads;
     std::vector<std::size_t> rangeStart(1, 0);
@@ -82,108 +211,31 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
     }
     rangeStart.push_back(listCount);
     m_fragments.resize(fragmentTotal);
-    struct RangeBlocks {
-        std::vector<Block> blocks;
-        std::vector<std::uint32_t> groups;
-        std::size_t groupCount = 0;  // gathered groups (also when the blocks are only counted)
-    };
-    std::vector<RangeBlocks> perRange(rangeStart.size() - 1);
-    const std::size_t groupCount = partCount / kGroup + 1;
-    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> marks(
-        [&] { return std::vector<std::uint32_t>(groupCount, 0); });  // group -> local index + 1, 0: not in the block
-    // Forms the blocks of at most groupCap groups; with write == false only counts the groups the
-    // blocks would gather (the same greedy cut, no fragment written).
-    auto formBlocks = [&](std::size_t groupCap, bool write) {
-        tbb::parallel_for(std::size_t(0), perRange.size(), [&](std::size_t r) {
-            std::vector<std::uint32_t>& local = marks.local();
-            RangeBlocks& out = perRange[r];
-            out = {};
-            std::vector<std::uint32_t> groups;  // the open block's groups, by local index
-            std::vector<std::uint32_t> toSorted;
-            auto closeBlock = [&](std::size_t firstList, std::size_t endList) {
-                out.groupCount += groups.size();
-                if (!write) {
-                    for (std::uint32_t g : groups) local[g] = 0;
-                    groups.clear();
-                    return;
-                }
-                // Groups in ascending order, so the gather and scatter walk memory forwards.
-                std::vector<std::uint32_t> sorted = groups;
-                std::sort(sorted.begin(), sorted.end());
-                toSorted.resize(groups.size());
-                for (std::size_t k = 0; k < sorted.size(); ++k) local[sorted[k]] = std::uint32_t(k) + 1;
-                for (std::size_t k = 0; k < groups.size(); ++k) toSorted[k] = local[groups[k]] - 1;
-                for (std::uint64_t f = m_listStart[firstList]; f < m_listStart[endList]; ++f) {
-                    const std::uint32_t slot = m_fragments[f].part;
-                    m_fragments[f].part = toSorted[slot / kGroupSlots] * kGroupSlots + slot % kGroupSlots;
-                }
-                for (std::uint32_t g : sorted) local[g] = 0;
-                out.blocks.push_back({firstList, endList, out.groups.size(), out.groups.size() + sorted.size()});
-                out.groups.insert(out.groups.end(), sorted.begin(), sorted.end());
-                groups.clear();
-            };
-            std::size_t blockFirst = rangeStart[r];
-            for (std::size_t l = rangeStart[r]; l < rangeStart[r + 1]; ++l) {
-                const std::size_t p = order[l].second;
-                const LineFragmentW* f = lists.fragments.data() + lists.offsets[p];
-                const std::size_t length = std::size_t(m_listStart[l + 1] - m_listStart[l]);
-                // Groups this list would add (a list touching more than groupCap groups becomes a
-                // block of its own).
-                std::size_t added = 0;
-                for (std::size_t k = 0; k < length; ++k) {
-                    std::uint32_t& mark = local[f[k].part / kGroup];
-                    if (mark == 0) {
-                        mark = ~0u;
-                        ++added;
-                    }
-                }
-                for (std::size_t k = 0; k < length; ++k)
-                    if (local[f[k].part / kGroup] == ~0u) local[f[k].part / kGroup] = 0;
-                if (groups.size() + added > groupCap && l > blockFirst) {
-                    closeBlock(blockFirst, l);
-                    blockFirst = l;
-                }
-                Fragment* dst = m_fragments.data() + m_listStart[l];
-                for (std::size_t k = 0; k < length; ++k) {
-                    const std::uint32_t j = f[k].part, g = j / kGroup;
-                    if (local[g] == 0) {
-                        groups.push_back(g);
-                        local[g] = std::uint32_t(groups.size());
-                    }
-                    // The slot in insertion order; closeBlock renumbers it to the sorted order.
-                    if (write) dst[k] = {(local[g] - 1) * kGroupSlots + j % kGroup, f[k].frac};
-                }
-            }
-            if (rangeStart[r + 1] > blockFirst) closeBlock(blockFirst, rangeStart[r + 1]);
-        });
-        std::size_t gathered = 0;
-        for (const RangeBlocks& rb : perRange) gathered += rb.groupCount;
-        return gathered;
-    };
+    const std::size_t groupCount = m_n / kGroup + 1;
+    BlockFormer former(*this, lists, order, std::move(rangeStart), groupCount);
     // blockSlots 0 (the default): start at kBlockSlots and grow the blocks 4x while their gathers
     // and scatters (kGroupSlots per gathered group) exceed a quarter of the fragments walked. Deep
     // lists of many distinct parts fill a block after a few lists: at 128k parts with the lists
     // subsampled to a quarter of the width and height (render.opacity.occlusion_scale 0.25),
-    // 16384-slot blocks gathered 8.9 M slots for 2.1 M fragments and a product cost 3.5x that
-    // of whole-range blocks (docs/performance.md M7 session 6). At 8k parts nothing changes (0.1
-    // M slots for 2.2 M fragments).
+    // 16384-slot blocks gathered 8.9 M slots for 2.1 M fragments and a product cost 3.5x that of
+    // whole-range blocks (docs/performance.md, opacity optimization). At 8k parts nothing changes
+    // (0.1 M slots for 2.2 M fragments).
     std::size_t slots = blockSlots ? blockSlots : kBlockSlots;
     if (!blockSlots)
         while (slots / kGroupSlots < groupCount &&
-               4 * formBlocks(std::max<std::size_t>(1, slots / kGroupSlots), false) * kGroupSlots > fragmentTotal)
+               4 * former.form(std::max<std::size_t>(1, slots / kGroupSlots), false) * kGroupSlots > fragmentTotal)
             slots *= 4;
-    formBlocks(std::max<std::size_t>(1, slots / kGroupSlots), true);
-    // Concatenate the ranges' blocks; chunks for the product are runs of blocks of about equal
-    // fragments, a few per thread so one slowed thread does not hold the pass up.
-    for (RangeBlocks& rb : perRange) {
-        const std::size_t base = m_groups.size();
-        for (Block b : rb.blocks) {
-            b.groupBegin += base;
-            b.groupEnd += base;
-            m_blocks.push_back(b);
-        }
-        m_groups.insert(m_groups.end(), rb.groups.begin(), rb.groups.end());
-    }
+    former.form(std::max<std::size_t>(1, slots / kGroupSlots), true);
+    former.appendBlocks();
+    cutChunks(threads);
+    m_blockSlots = 0;
+    for (const Block& b : m_blocks) m_blockSlots = std::max(m_blockSlots, (b.groupEnd - b.groupBegin) * kGroupSlots);
+}
+
+// Chunks for the product: runs of blocks of about equal fragments, a few per thread so one slowed
+// thread does not hold the pass up.
+void FragmentOcclusion::cutChunks(std::size_t threads) {
+    const std::uint64_t fragmentTotal = m_listStart.back();
     const std::size_t chunks = fragmentTotal < 50000 ? 1 : 2 * threads;
     m_chunks.assign(1, 0);
     for (std::size_t c = 1; c < chunks; ++c) {
@@ -193,21 +245,22 @@ FragmentOcclusion::FragmentOcclusion(const FragmentLists& lists, std::size_t par
         if (b > m_chunks.back() && b < m_blocks.size()) m_chunks.push_back(b);
     }
     m_chunks.push_back(m_blocks.size());
-    m_blockSlots = 0;
-    for (const Block& b : m_blocks) m_blockSlots = std::max(m_blockSlots, (b.groupEnd - b.groupBegin) * kGroupSlots);
+}
 
-    // d_i: for each B, the A in front of it whose front part is the part B's weight goes to.
-    // A per-thread count of front parts seen in the current list (reset after each list), over
-    // global ids (a part can have two slots in a block).
+// d_i: for each B, the A in front of it whose front part is the part B's weight goes to. A
+// per-thread count of front parts seen in the current list (reset after each list), over global
+// ids (a part can have two slots in a block).
+void FragmentOcclusion::sumSelfPairs(const FragmentLists& lists, const ListOrder& order) {
     struct Scratch {
         std::vector<std::uint32_t> seen;
         Eigen::VectorXd self;
     };
+    const std::size_t partCount = m_n;
     tbb::enumerable_thread_specific<Scratch> scratch([&] {
         return Scratch{std::vector<std::uint32_t>(partCount + 1, 0),
                        Eigen::VectorXd::Zero(Eigen::Index(partCount + 1))};
     });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, listCount, 1024), [&](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& range) {
         Scratch& s = scratch.local();
         for (std::size_t l = range.begin(); l != range.end(); ++l) {
             const std::size_t p = order[l].second;

@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/occlusion_matrix.h"
@@ -41,7 +42,7 @@ public:
     // `blockSlots`: the local array size a block of lists may use (see multiply()); tests pass
     // small values to get many blocks.
     // 0 (the default) chooses: kBlockSlots, grown while the blocks' gathers exceed a quarter of
-    // the fragments (deep lists of many distinct parts, see the constructor).
+    // the fragments (deep lists of many distinct parts, see formBlocks).
     FragmentOcclusion(const FragmentLists& lists, std::size_t partCount, std::size_t blockSlots = 0);
 
     // Parts are gathered in groups of kGroup consecutive ids (a polyline's parts are consecutive),
@@ -92,7 +93,7 @@ private:
         double x, y, hx, hty;
     };
     // Each thread's block-local slots and per-list scratch, kept from product to product: with
-    // large blocks (deep lists, see the constructor) they are megabytes, and allocating and
+    // large blocks (deep lists, see formBlocks) they are megabytes, and allocating and
     // zeroing them per product cost more than the walk at 128k parts with subsampled lists.
     struct LocalArrays {
         std::vector<Slot> slots;
@@ -101,6 +102,15 @@ private:
     mutable std::vector<Eigen::VectorXd> m_outH, m_outT;  // per chunk, kept across calls
     std::size_t m_longestList = 0;
     std::unique_ptr<tbb::enumerable_thread_specific<LocalArrays>> m_locals;
+
+    // The constructor's steps, in order. The lists of two or more fragments as (Z-order code,
+    // pixel), sorted: list k of m_listStart is pixel order[k].second.
+    using ListOrder = std::vector<std::pair<std::uint64_t, std::uint32_t>>;
+    ListOrder orderLists(const FragmentLists& lists);
+    void formBlocks(const FragmentLists& lists, const ListOrder& order, std::size_t blockSlots);
+    void cutChunks(std::size_t threads);
+    void sumSelfPairs(const FragmentLists& lists, const ListOrder& order);
+    class BlockFormer;  // formBlocks' greedy cut of the lists into blocks (fragment_occlusion.cpp)
 };
 
 }  // namespace tc

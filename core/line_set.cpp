@@ -100,7 +100,9 @@ std::string CleanReport::summary() const {
             " (zero-length segments)");
     if (droppedPolylines)
         add(countNoun(droppedPolylines, "polyline", "polylines") + " with fewer than 2 vertices");
-    return parts.empty() ? std::string() : "skipped " + parts;
+    std::string text = parts.empty() ? std::string() : "skipped " + parts;
+    for (const std::string& warning : warnings) text += (text.empty() ? "" : "; ") + warning;
+    return text;
 }
 
 CleanReport cleanLineSet(LineSet& lines) {

@@ -50,12 +50,19 @@ struct LineSet {
     void updateBounds();
 };
 
-// What cleaning removed, so readers can report it ("skipped 3 NaN vertices ...").
+// What cleaning removed and what the reader tolerated, so readers can report it ("skipped 3 NaN
+// vertices ...").
 struct CleanReport {
     std::size_t nonFiniteVertices = 0;   // NaN/Inf coordinates (the vertex is removed, the polyline split)
     std::size_t duplicateVertices = 0;   // zero-length segments removed
     std::size_t droppedPolylines = 0;    // fewer than 2 vertices left
-    bool any() const { return nonFiniteVertices || duplicateVertices || droppedPolylines; }
+    // Non-fatal problems of the file itself, each naming its position ("line 4: count: 7 tracks
+    // declared, the data holds 2; read 2"); a file other than the one read is named too
+    // ("tracks_fa.tsf: line 3: ..."). Set by the readers of io/, not by cleanLineSet.
+    std::vector<std::string> warnings;
+    bool any() const { return removed() || !warnings.empty(); }
+    bool removed() const { return nonFiniteVertices || duplicateVertices || droppedPolylines; }
+    // "skipped ..." for what cleaning removed, then the warnings, joined by "; ".
     std::string summary() const;
 };
 

@@ -534,269 +534,366 @@ double projectedGradientNorm(const Eigen::VectorXd& gradient, const Eigen::Vecto
     return projectedGradient(gradient, x, lo, hi).lpNorm<Eigen::Infinity>();
 }
 
-QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo,
-                        const Eigen::VectorXd& hi, const Eigen::VectorXd& x0, const QpSolverOptions& options) {
-    const Eigen::Index n = q.size();
-    TC_CHECK_OP(c.size(), ==, n);
-    TC_CHECK_OP(lo.size(), ==, n);
-    TC_CHECK_OP(hi.size(), ==, n);
-    TC_CHECK_OP(x0.size(), ==, n);
-    constexpr double kArmijo = 1e-4;
-    constexpr int kMaxBacktracks = 40;
+namespace {
 
-    QpResult result;
-    Eigen::VectorXd x = clampBox(x0, lo, hi);
-    Eigen::VectorXd qx, g, d, qd, y, s, qs;
-    q.multiply(x, qx);
-    ++result.products;
-    g = qx + c;
-    const Eigen::VectorXd diagonal = q.diagonal();
-    const Eigen::VectorXd inverseDiagonal = diagonal.cwiseMax(1e-300).cwiseInverse();
+// Partial results of the solver's chunked passes (core/parallel_chunks.h) and how two are joined.
+struct MaxSum {
+    double sum = 0, max = 0;
+};
+struct TwoSums {
+    double a = 0, b = 0;
+};
+constexpr auto joinMaxSum = [](MaxSum a, MaxSum b) { return MaxSum{a.sum + b.sum, std::max(a.max, b.max)}; };
+constexpr auto maxOf = [](double a, double b) { return std::max(a, b); };
+constexpr auto joinTwoSums = [](TwoSums u, TwoSums v) { return TwoSums{u.a + v.a, u.b + v.b}; };
 
-    // The vector work below runs in fixed chunks (core/parallel_chunks.h): serial, it cost 10-18 %
-    // of a 128k-part solve's wall time (A/B in docs/performance.md M7, session 7).
-    struct MaxSum {
-        double sum = 0, max = 0;
-    };
-    struct TwoSums {
-        double a = 0, b = 0;
-    };
-    const auto joinMaxSum = [](MaxSum a, MaxSum b) { return MaxSum{a.sum + b.sum, std::max(a.max, b.max)}; };
-    const auto maxOf = [](double a, double b) { return std::max(a, b); };
-    const auto joinTwoSums = [](TwoSums u, TwoSums v) { return TwoSums{u.a + v.a, u.b + v.b}; };
-    auto acceptStep = [&]() {  // x = y, Q x and the gradient follow with Q s
-        forChunks(n, [&](std::int64_t b, std::int64_t e) {
-            for (std::int64_t i = b; i < e; ++i) {
-                x[i] = y[i];
-                qx[i] += qs[i];
-                g[i] = qx[i] + c[i];
-            }
-        });
-    };
-    // Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
-    // whenever no component is clipped. With `toBreakpoint` (the quadratic along the ray x + t dir
-    // is smallest at t >= `step`: true for the steepest-descent step at its exact minimiser and
-    // for a CG step on the free face), a clipped step that fails is not halved (a product per
-    // trial; these were half of all products at 8k parts) but cut to the first bound the ray
-    // meets (Breakpoint): that step needs no product and decreases the objective, the quadratic
-    // being convex along the ray. Failed: no decrease found.
+// solveBoundedQp's iteration (see its comment in the header): the iterate, its gradient and the
+// work vectors, and one method per step of an outer iteration. The vector work runs in fixed
+// chunks (core/parallel_chunks.h): serial, it cost 10-18 % of a 128k-part solve's wall time (A/B
+// in docs/performance.md, opacity optimization).
+class BoundedQpSolver {
+public:
+    BoundedQpSolver(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                    const Eigen::VectorXd& x0, const QpSolverOptions& options);
+    QpResult solve();
+
+private:
+    // How a projected line search ended (projectedSearch).
     enum class Search { Failed, Accepted, Breakpoint };
-    auto projectedSearch = [&](const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step,
-                               bool toBreakpoint) {
-        y.resize(n);
-        s.resize(n);
-        qs.resize(n);
-        for (int k = 0; k < kMaxBacktracks; ++k, step *= 0.5) {
-            // y = P(x + step dir), s = y - x; clipped when some component left the box.
-            const double clip = reduceChunks(
-                n, 0.0,
-                [&](std::int64_t b, std::int64_t e, double& m) {
-                    for (std::int64_t i = b; i < e; ++i) {
-                        y[i] = std::clamp(x[i] + step * dir[i], lo[i], hi[i]);
-                        s[i] = y[i] - x[i];
-                        m = std::max(m, std::abs(s[i] - step * dir[i]));
-                    }
-                },
-                maxOf);
-            const bool clipped = clip > 0;
-            if (clipped) {
-                q.multiply(s, qs);
-                ++result.products;
-                ++result.searchProducts;
-            } else {
-                forChunks(n, [&](std::int64_t b, std::int64_t e) {
-                    for (std::int64_t i = b; i < e; ++i) qs[i] = step * qdir[i];
-                });
-            }
-            // g.s and s.Q s in one pass.
-            const TwoSums dots = reduceChunks(
-                n, TwoSums{},
-                [&](std::int64_t b, std::int64_t e, TwoSums& m) {
-                    for (std::int64_t i = b; i < e; ++i) {
-                        m.a += g[i] * s[i];
-                        m.b += s[i] * qs[i];
-                    }
-                },
-                joinTwoSums);
-            const double gs = dots.a, sqs = dots.b;
-            if (gs < 0 && gs + 0.5 * sqs <= kArmijo * gs) {
-                acceptStep();
-                return Search::Accepted;
-            }
-            if (clipped && toBreakpoint) {
-                double breakpoint = step;
-                Eigen::Index first = -1;
-                for (Eigen::Index i = 0; i < n; ++i) {
-                    const double t = dir[i] > 0 ? (hi[i] - x[i]) / dir[i] : dir[i] < 0 ? (lo[i] - x[i]) / dir[i] : step;
-                    if (t < breakpoint) {
-                        breakpoint = t;
-                        first = i;
-                    }
-                }
-                if (!(breakpoint > 0) || first < 0) return Search::Failed;
-                y = clampBox(x + breakpoint * dir, lo, hi);
-                y[first] = dir[first] > 0 ? hi[first] : lo[first];  // exactly on the bound it reached
-                s = y - x;
-                const double gb = g.dot(s);
-                if (!(gb < 0)) return Search::Failed;
-                qs = breakpoint * qdir;  // s = breakpoint * dir up to rounding
-                acceptStep();
-                return Search::Breakpoint;
-            }
-        }
-        return Search::Failed;
-    };
 
-    Eigen::VectorXd r(n), z(n), p(n), qp(n);
-    std::vector<char> isFree(std::size_t(n), 0), stateBefore(std::size_t(n), 0);
-    bool forceGradientStep = false;
-    Eigen::Index lastChanges = -1;  // variables whose state (at lo, free, at hi) the last CG step changed
-    auto precondition = [&](const Eigen::VectorXd& residual, Eigen::VectorXd& out) {
-        if (!q.precondition(residual, isFree, out)) out = inverseDiagonal.cwiseProduct(residual);
-    };
-    auto state = [&](Eigen::Index i) { return char(x[i] <= lo[i] ? 0 : x[i] >= hi[i] ? 2 : 1); };
-    d.resize(n);
-    qd.resize(n);
-    for (;; ++result.iterations) {
-        // d = -(projected gradient), and its max norm.
-        result.residual = reduceChunks(
-            n, 0.0,
+    double steepestDescentDirection();
+    bool faceSettled() const;
+    void gradientProjectionStep();
+    bool subspaceStep(bool binding);
+    TwoSums selectFreeVariables(bool binding);
+    void truncatedCg(bool binding, double r0);
+    void subspaceSearch(bool binding);
+    Search projectedSearch(const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step, bool toBreakpoint);
+    Search cutAtBreakpoint(const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir, double step);
+    void acceptStep();
+    void precondition(const Eigen::VectorXd& residual, Eigen::VectorXd& out) const;
+    char state(Eigen::Index i) const { return char(m_x[i] <= m_lo[i] ? 0 : m_x[i] >= m_hi[i] ? 2 : 1); }
+    void finish();
+
+    static constexpr double kArmijo = 1e-4;
+    static constexpr int kMaxBacktracks = 40;
+
+    const QpOperator& m_q;
+    const Eigen::VectorXd& m_c;
+    const Eigen::VectorXd& m_lo;
+    const Eigen::VectorXd& m_hi;
+    const QpSolverOptions& m_options;
+    const Eigen::Index m_n;
+    QpResult m_result;
+    Eigen::VectorXd m_x, m_qx, m_g;  // the iterate, Q x and the gradient Q x + c
+    Eigen::VectorXd m_d, m_qd;       // a step's direction and Q d
+    Eigen::VectorXd m_y, m_s, m_qs;  // a search's trial point, s = y - x and Q s
+    Eigen::VectorXd m_inverseDiagonal;
+    Eigen::VectorXd m_r, m_z, m_p, m_qp;  // CG: residual, preconditioned residual, direction, Q p
+    std::vector<char> m_isFree, m_stateBefore;
+    bool m_forceGradientStep = false;
+    Eigen::Index m_lastChanges = -1;  // variables whose state (at lo, free, at hi) the last CG step changed
+};
+
+BoundedQpSolver::BoundedQpSolver(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo,
+                                 const Eigen::VectorXd& hi, const Eigen::VectorXd& x0, const QpSolverOptions& options)
+    : m_q(q), m_c(c), m_lo(lo), m_hi(hi), m_options(options), m_n(q.size()) {
+    TC_CHECK_OP(c.size(), ==, m_n);
+    TC_CHECK_OP(lo.size(), ==, m_n);
+    TC_CHECK_OP(hi.size(), ==, m_n);
+    TC_CHECK_OP(x0.size(), ==, m_n);
+    m_x = clampBox(x0, lo, hi);
+    q.multiply(m_x, m_qx);
+    ++m_result.products;
+    m_g = m_qx + c;
+    const Eigen::VectorXd diagonal = q.diagonal();
+    m_inverseDiagonal = diagonal.cwiseMax(1e-300).cwiseInverse();
+    m_d.resize(m_n);
+    m_qd.resize(m_n);
+    m_r.resize(m_n);
+    m_z.resize(m_n);
+    m_p.resize(m_n);
+    m_qp.resize(m_n);
+    m_isFree.assign(std::size_t(m_n), 0);
+    m_stateBefore.assign(std::size_t(m_n), 0);
+}
+
+QpResult BoundedQpSolver::solve() {
+    for (;; ++m_result.iterations) {
+        m_result.residual = steepestDescentDirection();
+        if (m_result.residual <= m_options.tolerance) {
+            m_result.converged = true;
+            break;
+        }
+        if (m_result.iterations >= m_options.maxIterations) break;
+        // 1. A projected steepest-descent step to change the active face, unless it is settled.
+        // With the binding set, CG below runs on the binding variables unless this iteration
+        // was forced to take the gradient step.
+        const bool settled = faceSettled();
+        const bool binding = m_options.bindingSet && !m_forceGradientStep;
+        m_forceGradientStep = false;
+        if (!settled) gradientProjectionStep();
+        // 2. Truncated PCG on the free variables and a projected search along its step. Without
+        // free variables (or with r = 0 on them) the next iteration takes the gradient step.
+        if (!subspaceStep(binding)) m_forceGradientStep = true;
+    }
+    finish();
+    return std::move(m_result);
+}
+
+// d = -(projected gradient); returns its max norm (the KKT residual).
+double BoundedQpSolver::steepestDescentDirection() {
+    return reduceChunks(
+        m_n, 0.0,
+        [&](std::int64_t b, std::int64_t e, double& m) {
+            for (std::int64_t i = b; i < e; ++i) {
+                const double pg = projectedComponent(m_g[i], m_x[i], m_lo[i], m_hi[i]);
+                m_d[i] = -pg;
+                m = std::max(m, std::abs(pg));
+            }
+        },
+        maxOf);
+}
+
+// The gradient step is taken with the binding set only when the last CG step found no decrease
+// (m_forceGradientStep). Without it, it is skipped when no variable at a bound wants to leave it
+// (the projected gradient lives on the free variables): then the face is right and CG does better
+// with the product (the usual case near the solution, e.g. warm started).
+bool BoundedQpSolver::faceSettled() const {
+    bool settled = !m_forceGradientStep;
+    if (!m_options.bindingSet)
+        for (Eigen::Index i = 0; i < m_n && settled; ++i)
+            if (!(m_x[i] > m_lo[i] && m_x[i] < m_hi[i]) && m_d[i] != 0) settled = false;
+    return settled;
+}
+
+// Projected steepest descent along d, starting from the exact minimiser along d (g.d = -|d|^2).
+void BoundedQpSolver::gradientProjectionStep() {
+    if (m_options.scaledGradientStep) m_d = m_d.cwiseProduct(m_inverseDiagonal);
+    m_q.multiply(m_d, m_qd);
+    ++m_result.products;
+    const double curvature = m_d.dot(m_qd), slope = -m_g.dot(m_d);  // slope = |d|^2 unscaled
+    projectedSearch(m_d, m_qd, curvature > 0 ? slope / curvature : 1.0, curvature > 0);
+}
+
+// False when there is nothing for CG to do (no free variable, or r = 0 on them).
+bool BoundedQpSolver::subspaceStep(bool binding) {
+    const TwoSums start = selectFreeVariables(binding);
+    const double r0 = std::sqrt(start.a);
+    if (start.b == 0 || r0 == 0) return false;
+    truncatedCg(binding, r0);
+    subspaceSearch(binding);
+    return true;
+}
+
+// The free variables: those inside the box, and with the binding set also those at a bound whose
+// gradient points into the box (they may leave it). r = -g on them, 0 elsewhere. Returns |r|^2
+// and the free count.
+TwoSums BoundedQpSolver::selectFreeVariables(bool binding) {
+    return reduceChunks(
+        m_n, TwoSums{},
+        [&](std::int64_t b, std::int64_t e, TwoSums& m) {
+            for (std::int64_t i = b; i < e; ++i) {
+                const bool inside = m_x[i] > m_lo[i] && m_x[i] < m_hi[i];
+                m_isFree[i] =
+                    inside || (binding && ((m_x[i] <= m_lo[i] && m_g[i] < 0) || (m_x[i] >= m_hi[i] && m_g[i] > 0)));
+                m_r[i] = m_isFree[i] ? -m_g[i] : 0.0;
+                m.a += m_r[i] * m_r[i];
+                m.b += m_isFree[i];  // the free count
+            }
+        },
+        joinTwoSums);
+}
+
+// Preconditioned CG on the free variables from d = 0, r0 = |r|: d becomes the step, qd = Q d.
+void BoundedQpSolver::truncatedCg(bool binding, double r0) {
+    // Forcing term min(0.1, sqrt|r0|): loose far away, tight near the solution; and no further
+    // than the stopping test needs (its max norm well under the tolerance): going on costs
+    // products and buys digits nobody asked for. With the binding set, once the last step changed
+    // the state of at most 1 % of the variables the face is nearly found, and 0.01 saves outer
+    // iterations (each costs a clipped step's product).
+    const bool faceNearlyFound = binding && m_lastChanges >= 0 && 100 * m_lastChanges <= m_n;
+    const double stop = (faceNearlyFound ? 0.01 : std::min(0.1, std::sqrt(r0))) * r0;
+    const double stopMax = 0.25 * m_options.tolerance;
+    precondition(m_r, m_z);
+    forChunks(m_n, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t i = b; i < e; ++i) {
+            m_p[i] = m_z[i];
+            m_d[i] = 0;
+            m_qd[i] = 0;
+        }
+    });
+    double rz = sumChunks(m_n, [&](std::int64_t i) { return m_r[i] * m_z[i]; });
+    for (int k = 0; k < m_options.maxCgIterations; ++k) {
+        m_q.multiply(m_p, m_qp);
+        ++m_result.products;
+        ++m_result.cgIterations;
+        const double pqp = sumChunks(m_n, [&](std::int64_t i) { return m_isFree[i] ? m_p[i] * m_qp[i] : 0.0; });
+        if (!(pqp > 0)) break;
+        const double alpha = rz / pqp;
+        const MaxSum rest = reduceChunks(
+            m_n, MaxSum{},
+            [&](std::int64_t b, std::int64_t e, MaxSum& m) {
+                for (std::int64_t i = b; i < e; ++i) {
+                    m_d[i] += alpha * m_p[i];
+                    m_qd[i] += alpha * m_qp[i];
+                    if (m_isFree[i]) m_r[i] -= alpha * m_qp[i];
+                    m.sum += m_r[i] * m_r[i];
+                    m.max = std::max(m.max, std::abs(m_r[i]));
+                }
+            },
+            joinMaxSum);
+        if (std::sqrt(rest.sum) <= stop || rest.max <= stopMax) break;
+        // With the binding set, while the face is still far from found: once the CG iterate has
+        // left the box (from the second iteration on), the search will clip it and change the
+        // face anyway, and further CG iterations on this face are wasted products. From a poor
+        // start (a Jacobi step from a = 1) a 128k-part cold solve took 192 products without this
+        // and 42 with it; from a = 1, 35-36 instead of 37-38.
+        if (binding && !faceNearlyFound && k >= 1) {
+            const double outside = sumChunks(m_n, [&](std::int64_t i) {
+                return m_isFree[i] && (m_x[i] + m_d[i] < m_lo[i] || m_x[i] + m_d[i] > m_hi[i]) ? 1.0 : 0.0;
+            });
+            if (outside > 0) break;
+        }
+        precondition(m_r, m_z);
+        const double rzNext = sumChunks(m_n, [&](std::int64_t i) { return m_r[i] * m_z[i]; });
+        const double beta = rzNext / rz;
+        forChunks(m_n, [&](std::int64_t b, std::int64_t e) {
+            for (std::int64_t i = b; i < e; ++i) m_p[i] = m_z[i] + beta * m_p[i];
+        });
+        rz = rzNext;
+    }
+}
+
+// The projected search along the CG step d, and what it means for the next iteration.
+void BoundedQpSolver::subspaceSearch(bool binding) {
+    if (m_options.bindingSet)  // for m_lastChanges, which only the binding set reads
+        forChunks(m_n, [&](std::int64_t b, std::int64_t e) {
+            for (std::int64_t i = b; i < e; ++i) m_stateBefore[i] = state(i);
+        });
+    // Without the binding set a failed search forces the gradient step. With it, so does a step
+    // cut at the first bound: it changes one variable, and repeating it can take one iteration
+    // per variable that must reach a bound (seen from a poor start at 32k parts).
+    const Search search = projectedSearch(m_d, m_qd, 1.0, true);
+    if (search == Search::Failed || (binding && search == Search::Breakpoint)) m_forceGradientStep = true;
+    m_lastChanges =
+        !m_options.bindingSet || search != Search::Accepted
+            ? -1
+            : Eigen::Index(sumChunks(m_n, [&](std::int64_t i) { return m_stateBefore[i] != state(i) ? 1.0 : 0.0; }));
+}
+
+// Moves x to P(x + step * dir) with Armijo backtracking on step; qdir = Q dir saves a product
+// whenever no component is clipped. With `toBreakpoint` (the quadratic along the ray x + t dir is
+// smallest at t >= `step`: true for the steepest-descent step at its exact minimiser and for a CG
+// step on the free face), a clipped step that fails is not halved (a product per trial; these were
+// half of all products at 8k parts) but cut to the first bound the ray meets (cutAtBreakpoint).
+// Failed: no decrease found.
+BoundedQpSolver::Search BoundedQpSolver::projectedSearch(const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir,
+                                                         double step, bool toBreakpoint) {
+    m_y.resize(m_n);
+    m_s.resize(m_n);
+    m_qs.resize(m_n);
+    for (int k = 0; k < kMaxBacktracks; ++k, step *= 0.5) {
+        // y = P(x + step dir), s = y - x; clipped when some component left the box.
+        const double clip = reduceChunks(
+            m_n, 0.0,
             [&](std::int64_t b, std::int64_t e, double& m) {
                 for (std::int64_t i = b; i < e; ++i) {
-                    const double pg = projectedComponent(g[i], x[i], lo[i], hi[i]);
-                    d[i] = -pg;
-                    m = std::max(m, std::abs(pg));
+                    m_y[i] = std::clamp(m_x[i] + step * dir[i], m_lo[i], m_hi[i]);
+                    m_s[i] = m_y[i] - m_x[i];
+                    m = std::max(m, std::abs(m_s[i] - step * dir[i]));
                 }
             },
             maxOf);
-        if (result.residual <= options.tolerance) {
-            result.converged = true;
-            break;
+        const bool clipped = clip > 0;
+        if (clipped) {
+            m_q.multiply(m_s, m_qs);
+            ++m_result.products;
+            ++m_result.searchProducts;
+        } else {
+            forChunks(m_n, [&](std::int64_t b, std::int64_t e) {
+                for (std::int64_t i = b; i < e; ++i) m_qs[i] = step * qdir[i];
+            });
         }
-        if (result.iterations >= options.maxIterations) break;
-
-        // 1. Projected steepest descent, starting from the exact minimiser along d (g.d = -|d|^2),
-        // to change the active face: with the binding set only when the last CG step found no
-        // decrease. Otherwise skipped when no variable at a bound wants to leave it (the projected
-        // gradient lives on the free variables): then the face is right and CG does better with
-        // the product (the usual case near the solution, e.g. warm started).
-        bool faceSettled = !forceGradientStep;
-        if (!options.bindingSet)
-            for (Eigen::Index i = 0; i < n && faceSettled; ++i)
-                if (!(x[i] > lo[i] && x[i] < hi[i]) && d[i] != 0) faceSettled = false;
-        const bool binding = options.bindingSet && !forceGradientStep;
-        forceGradientStep = false;
-        if (!faceSettled) {
-            if (options.scaledGradientStep) d = d.cwiseProduct(inverseDiagonal);
-            q.multiply(d, qd);
-            ++result.products;
-            const double curvature = d.dot(qd), slope = -g.dot(d);  // slope = |d|^2 unscaled
-            projectedSearch(d, qd, curvature > 0 ? slope / curvature : 1.0, curvature > 0);
-        }
-
-        // 2. Truncated PCG on the free variables: those inside the box, and with the binding set
-        // also those at a bound whose gradient points into the box (they may leave it). r = -g on
-        // them, 0 elsewhere.
-        const TwoSums start = reduceChunks(
-            n, TwoSums{},
+        // g.s and s.Q s in one pass.
+        const TwoSums dots = reduceChunks(
+            m_n, TwoSums{},
             [&](std::int64_t b, std::int64_t e, TwoSums& m) {
                 for (std::int64_t i = b; i < e; ++i) {
-                    const bool inside = x[i] > lo[i] && x[i] < hi[i];
-                    isFree[i] = inside || (binding && ((x[i] <= lo[i] && g[i] < 0) || (x[i] >= hi[i] && g[i] > 0)));
-                    r[i] = isFree[i] ? -g[i] : 0.0;
-                    m.a += r[i] * r[i];
-                    m.b += isFree[i];  // the free count
+                    m.a += m_g[i] * m_s[i];
+                    m.b += m_s[i] * m_qs[i];
                 }
             },
             joinTwoSums);
-        const double r0 = std::sqrt(start.a);
-        if (start.b == 0 || r0 == 0) {
-            forceGradientStep = true;
-            continue;
+        const double gs = dots.a, sqs = dots.b;
+        if (gs < 0 && gs + 0.5 * sqs <= kArmijo * gs) {
+            acceptStep();
+            return Search::Accepted;
         }
-        // Forcing term min(0.1, sqrt|r0|): loose far away, tight near the solution; and no
-        // further than the stopping test needs (its max norm well under the tolerance): going
-        // on costs products and buys digits nobody asked for. With the binding set, once the last
-        // step changed the state of at most 1 % of the variables the face is nearly found, and
-        // 0.01 saves outer iterations (each costs a clipped step's product).
-        const bool faceNearlyFound = binding && lastChanges >= 0 && 100 * lastChanges <= n;
-        const double stop = (faceNearlyFound ? 0.01 : std::min(0.1, std::sqrt(r0))) * r0;
-        const double stopMax = 0.25 * options.tolerance;
-        precondition(r, z);
-        forChunks(n, [&](std::int64_t b, std::int64_t e) {
-            for (std::int64_t i = b; i < e; ++i) {
-                p[i] = z[i];
-                d[i] = 0;
-                qd[i] = 0;
-            }
-        });
-        double rz = sumChunks(n, [&](std::int64_t i) { return r[i] * z[i]; });
-        for (int k = 0; k < options.maxCgIterations; ++k) {
-            q.multiply(p, qp);
-            ++result.products;
-            ++result.cgIterations;
-            const double pqp = sumChunks(n, [&](std::int64_t i) { return isFree[i] ? p[i] * qp[i] : 0.0; });
-            if (!(pqp > 0)) break;
-            const double alpha = rz / pqp;
-            const MaxSum rest = reduceChunks(
-                n, MaxSum{},
-                [&](std::int64_t b, std::int64_t e, MaxSum& m) {
-                    for (std::int64_t i = b; i < e; ++i) {
-                        d[i] += alpha * p[i];
-                        qd[i] += alpha * qp[i];
-                        if (isFree[i]) r[i] -= alpha * qp[i];
-                        m.sum += r[i] * r[i];
-                        m.max = std::max(m.max, std::abs(r[i]));
-                    }
-                },
-                joinMaxSum);
-            if (std::sqrt(rest.sum) <= stop || rest.max <= stopMax) break;
-            // With the binding set, while the face is still far from found: once the CG iterate
-            // has left the box (from the second iteration on), the search will clip it and change
-            // the face anyway, and further CG iterations on this face are wasted products. From a
-            // poor start (a Jacobi step from a = 1) a 128k-part cold solve took 192 products
-            // without this and 42 with it; from a = 1, 35-36 instead of 37-38.
-            if (binding && !faceNearlyFound && k >= 1) {
-                const double outside = sumChunks(n, [&](std::int64_t i) {
-                    return isFree[i] && (x[i] + d[i] < lo[i] || x[i] + d[i] > hi[i]) ? 1.0 : 0.0;
-                });
-                if (outside > 0) break;
-            }
-            precondition(r, z);
-            const double rzNext = sumChunks(n, [&](std::int64_t i) { return r[i] * z[i]; });
-            const double beta = rzNext / rz;
-            forChunks(n, [&](std::int64_t b, std::int64_t e) {
-                for (std::int64_t i = b; i < e; ++i) p[i] = z[i] + beta * p[i];
-            });
-            rz = rzNext;
+        if (clipped && toBreakpoint) return cutAtBreakpoint(dir, qdir, step);
+    }
+    return Search::Failed;
+}
+
+// The step to the first bound the ray x + t dir meets, t < `step`: it needs no product and
+// decreases the objective, the quadratic being convex along the ray.
+BoundedQpSolver::Search BoundedQpSolver::cutAtBreakpoint(const Eigen::VectorXd& dir, const Eigen::VectorXd& qdir,
+                                                         double step) {
+    double breakpoint = step;
+    Eigen::Index first = -1;
+    for (Eigen::Index i = 0; i < m_n; ++i) {
+        const double t = dir[i] > 0 ? (m_hi[i] - m_x[i]) / dir[i] : dir[i] < 0 ? (m_lo[i] - m_x[i]) / dir[i] : step;
+        if (t < breakpoint) {
+            breakpoint = t;
+            first = i;
         }
-        if (options.bindingSet)  // for lastChanges, which only the binding set reads
-            forChunks(n, [&](std::int64_t b, std::int64_t e) {
-                for (std::int64_t i = b; i < e; ++i) stateBefore[i] = state(i);
-            });
-        // Without the binding set a failed search forces the gradient step. With it, so does a
-        // step cut at the first bound: it changes one variable, and repeating it can take one
-        // iteration per variable that must reach a bound (seen from a poor start at 32k parts).
-        const Search search = projectedSearch(d, qd, 1.0, true);
-        if (search == Search::Failed || (binding && search == Search::Breakpoint)) forceGradientStep = true;
-        lastChanges =
-            !options.bindingSet || search != Search::Accepted
-                ? -1
-                : Eigen::Index(sumChunks(n, [&](std::int64_t i) { return stateBefore[i] != state(i) ? 1.0 : 0.0; }));
     }
-    // The residual above uses the running gradient, updated with the exact Q s of every step
-    // (its drift from Q x + c is rounding; tubecast_opacity_bench prints both). A converged solve keeps
-    // it (a product is 1/12 of a warm solve); one that ran out of iterations recomputes it from
-    // scratch, so the value in the warning is the true one.
-    if (!result.converged) {
-        q.multiply(x, qx);
-        ++result.products;
-        g = qx + c;
-        result.residual = projectedGradientNorm(g, x, lo, hi);
-        result.converged = result.residual <= options.tolerance;
+    if (!(breakpoint > 0) || first < 0) return Search::Failed;
+    m_y = clampBox(m_x + breakpoint * dir, m_lo, m_hi);
+    m_y[first] = dir[first] > 0 ? m_hi[first] : m_lo[first];  // exactly on the bound it reached
+    m_s = m_y - m_x;
+    const double gb = m_g.dot(m_s);
+    if (!(gb < 0)) return Search::Failed;
+    m_qs = breakpoint * qdir;  // s = breakpoint * dir up to rounding
+    acceptStep();
+    return Search::Breakpoint;
+}
+
+// x = y; Q x and the gradient follow with Q s.
+void BoundedQpSolver::acceptStep() {
+    forChunks(m_n, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t i = b; i < e; ++i) {
+            m_x[i] = m_y[i];
+            m_qx[i] += m_qs[i];
+            m_g[i] = m_qx[i] + m_c[i];
+        }
+    });
+}
+
+void BoundedQpSolver::precondition(const Eigen::VectorXd& residual, Eigen::VectorXd& out) const {
+    if (!m_q.precondition(residual, m_isFree, out)) out = m_inverseDiagonal.cwiseProduct(residual);
+}
+
+// The residual of the loop uses the running gradient, updated with the exact Q s of every step
+// (its drift from Q x + c is rounding; tubecast_opacity_bench prints both). A converged solve
+// keeps it (a product is 1/12 of a warm solve); one that ran out of iterations recomputes it from
+// scratch, so the value in the warning is the true one.
+void BoundedQpSolver::finish() {
+    if (!m_result.converged) {
+        m_q.multiply(m_x, m_qx);
+        ++m_result.products;
+        m_g = m_qx + m_c;
+        m_result.residual = projectedGradientNorm(m_g, m_x, m_lo, m_hi);
+        m_result.converged = m_result.residual <= m_options.tolerance;
     }
-    result.x = std::move(x);
-    return result;
+    m_result.x = std::move(m_x);
+}
+
+}  // namespace
+
+QpResult solveBoundedQp(const QpOperator& q, const Eigen::VectorXd& c, const Eigen::VectorXd& lo,
+                        const Eigen::VectorXd& hi, const Eigen::VectorXd& x0, const QpSolverOptions& options) {
+    return BoundedQpSolver(q, c, lo, hi, x0, options).solve();
 }
 
 }  // namespace tc

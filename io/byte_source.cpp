@@ -40,6 +40,14 @@ void ByteSource::failAtLine(std::size_t line, const std::string& message) const 
 
 void ByteSource::fail(const std::string& message) const { throw InputError(m_name + ": " + message); }
 
+void ByteSource::warnAt(std::uint64_t offset, const std::string& message) const {
+    m_warnings.push_back("byte " + std::to_string(offset) + ": " + message);
+}
+
+void ByteSource::warnAtLine(std::size_t line, const std::string& message) const {
+    m_warnings.push_back("line " + std::to_string(line) + ": " + message);
+}
+
 void ByteSource::checkExpansion(std::uint64_t outputBytes, std::uint64_t offset, const char* what) const {
     const std::uint64_t limit = 128 * m_size + (std::uint64_t(256) << 20);
     if (outputBytes > limit)

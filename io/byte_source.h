@@ -5,6 +5,7 @@
 // Every read is checked against the real size of the source, so a reader can never be made to
 // read past the end or to allocate from a size field it has not checked; errors are InputErrors
 // that name the source and the byte offset: "tracks.trk: byte 1004: ...".
+// Problems a reader tolerates are kept as warnings with the same kind of position.
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -36,6 +37,15 @@ public:
     // Throws InputError "NAME: MESSAGE".
     [[noreturn]] void fail(const std::string& message) const;
 
+    // Non-fatal problems the reader tolerated (a stale track count, a missing end marker), each
+    // naming its position like the errors above but without the name: "byte OFFSET: MESSAGE",
+    // "line LINE: MESSAGE". They collect in warnings(), in the order found, for the caller to
+    // report (readLineSet puts them into CleanReport::warnings). Readers take the source by
+    // const reference: the list is the one thing they add to.
+    void warnAt(std::uint64_t offset, const std::string& message) const;
+    void warnAtLine(std::size_t line, const std::string& message) const;
+    const std::vector<std::string>& warnings() const { return m_warnings; }
+
     // Rejects outputs out of proportion to the input before they are allocated: a reader that
     // expands data (per-track properties copied to every vertex, .obj indices referencing the
     // same vertex many times) passes the bytes it is about to allocate. The limit is
@@ -51,6 +61,7 @@ protected:
 private:
     std::string m_name;
     std::uint64_t m_size;
+    mutable std::vector<std::string> m_warnings;
 };
 
 // A file opened for reading (pread, no buffering: the readers read large ranges at once).

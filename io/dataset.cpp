@@ -42,7 +42,7 @@ DatasetLoad loadDataset(const DatasetSpec& spec) {
     }
     // Empty is valid (the frames show the background, with a warning: cli/render.cpp); emptied by
     // cleaning is not.
-    if (!load.isParticles() && load.lines.polylineCount() == 0 && load.cleaned.any())
+    if (!load.isParticles() && load.lines.polylineCount() == 0 && load.cleaned.removed())
         throw InputError(load.source + ": no polylines to render (" + load.cleaned.summary() + ")");
     load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return load;

@@ -8,22 +8,31 @@ bool isNativeLineFormat(const std::string& extension) {
     return extension == ".trk" || extension == ".tck" || extension == ".obj" || extension == ".tcb";
 }
 
-LineSet readNativeLineFile(const std::string& path) {
+LineSet readNativeLineFile(const std::string& path, std::vector<std::string>* warnings) {
     const std::string ext = extensionLower(path);
     FileSource source(path);
-    if (ext == ".trk") return readTrk(source);
-    if (ext == ".obj") return readObjLines(source);
-    if (ext == ".tcb") return readTcb(source);
-    if (ext == ".tck") {
-        LineSet lines = readTck(source);
+    LineSet lines;
+    if (ext == ".trk") {
+        lines = readTrk(source);
+    } else if (ext == ".obj") {
+        lines = readObjLines(source);
+    } else if (ext == ".tcb") {
+        lines = readTcb(source);
+    } else if (ext == ".tck") {
+        lines = readTck(source);
         for (const auto& [tsf, name] : findTsfFiles(path)) {
             std::string attribute = name;
             for (int k = 2; lines.attribute(attribute); ++k) attribute = name + "_" + std::to_string(k);
-            lines.attributes.push_back({attribute, readTsf(FileSource(tsf), lines)});
+            const FileSource tsfSource(tsf);
+            lines.attributes.push_back({attribute, readTsf(tsfSource, lines)});
+            if (warnings)
+                for (const std::string& w : tsfSource.warnings()) warnings->push_back(tsf + ": " + w);
         }
-        return lines;
+    } else {
+        throw InputError(path + ": not a .trk, .tck, .obj or .tcb file");
     }
-    throw InputError(path + ": not a .trk, .tck, .obj or .tcb file");
+    if (warnings) warnings->insert(warnings->begin(), source.warnings().begin(), source.warnings().end());
+    return lines;
 }
 
 }  // namespace tc

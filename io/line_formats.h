@@ -9,7 +9,10 @@
 // Malformed input throws InputError naming the file and the byte offset ("f.trk: byte 1004:
 // track 0 declares 500 points (6000 bytes) but only 12 bytes are left") or, for the text formats,
 // the line. No size field is trusted: counts are checked against the bytes actually present
-// before anything is allocated from them.
+// before anything is allocated from them. What a reader tolerates (a .tck `count` or .trk
+// `n_count` that disagrees with the data, a .tck without its end marker, a TrackVis version 3
+// header) is not an error but a warning in the source's ByteSource::warnings(), following what
+// MRtrix and nibabel accept (docs/formats.md). A file of no tracks is a valid, empty LineSet.
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,8 +26,10 @@ namespace tc {
 bool isNativeLineFormat(const std::string& extension);
 
 // Reads a .trk, .tck (plus the .tsf files that belong to it, see findTsfFiles), .obj or .tcb
-// file, chosen by extension. Not cleaned (see above).
-LineSet readNativeLineFile(const std::string& path);
+// file, chosen by extension. Not cleaned (see above). What the readers tolerated goes to
+// `warnings` if given (ByteSource::warnings: "line 4: count: ..."; those of a .tsf start with its
+// path).
+LineSet readNativeLineFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 // TrackVis .trk, header version 1 or 2, little- or big-endian (told apart by hdr_size == 1000).
 // Per-point scalars become per-vertex attributes; per-track properties become per-vertex

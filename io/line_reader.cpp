@@ -305,12 +305,15 @@ vtkSmartPointer<vtkDataObject> readVtkObject(const std::string& path) {
     return runReader(path, reader.Get(), capture);
 }
 
-LineSet cleanedLines(const std::string& path, LineSet lines, CleanReport* report) {
+// A file that stores no polylines (an empty tractogram) is a valid, empty line set; one whose
+// polylines cleaning removed altogether is an error.
+LineSet cleanedLines(const std::string& path, LineSet lines, CleanReport* report,
+                     std::vector<std::string> warnings = {}) {
+    const bool stored = lines.polylineCount() > 0;
     CleanReport cleaned = cleanLineSet(lines);
+    cleaned.warnings = std::move(warnings);
     if (report) *report = cleaned;
-    // An empty file is a valid empty dataset (a tractogram with 0 tracks); one whose every
-    // polyline was unusable is an error.
-    if (lines.polylineCount() == 0 && cleaned.any())
+    if (stored && lines.polylineCount() == 0)
         throw InputError(path + ": no polylines left after cleaning (" + cleaned.summary() + ")");
     return lines;
 }
@@ -324,15 +327,16 @@ LineSet readLineSet(const std::string& path, CleanReport* report) {
     const std::string ext = extensionLower(path);
 
     LineSet lines;
+    std::vector<std::string> warnings;
     if (isNativeLineFormat(ext)) {
-        lines = readNativeLineFile(path);  // .trk, .tck (+ .tsf), .obj, .tcb: io/line_formats.h
+        lines = readNativeLineFile(path, &warnings);  // .trk, .tck (+ .tsf), .obj, .tcb: io/line_formats.h
     } else if (isVtkFile(path)) {
         lines = extractLines(path, readVtkObject(path));
     } else {
         throw InputError(path + ": unsupported file extension '" + ext +
                          "' (supported: .vtk, .vtp, .vtu, .trk, .tck, .obj, .tcb)");
     }
-    return cleanedLines(path, std::move(lines), report);
+    return cleanedLines(path, std::move(lines), report, std::move(warnings));
 }
 
 bool isVtkFile(const std::string& path) {

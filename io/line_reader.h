@@ -20,13 +20,17 @@ namespace tc {
 //   array under its name, an n-component one as name_x, name_y, name_z (name_3, name_4, ...
 //   beyond three) plus name_magnitude. Unnamed arrays are called "array<i>"; string arrays are
 //   skipped. Vertices, polygons and other cells are ignored.
-// - The result is passed through cleanLineSet(); what it removed goes to `report` if given.
+// - The result is passed through cleanLineSet(); what it removed goes to `report` if given, and
+//   with it what the native readers tolerated (CleanReport::warnings, e.g. a stale .tck count).
+// - A native file that stores no polylines (an empty .tck or .trk tractogram) is read as an empty
+//   LineSet, not an error; loadDataset (io/dataset.h) is where an empty dataset is refused.
 //
 // Throws InputError, always starting with the path: "PATH: no such file", "PATH: unsupported
 // file extension ...", "PATH: VTK: <the reader's first error>", "PATH: cell C: point id I out
 // of range (N points)", "PATH: no polylines (N points, M cells of other types)" or
-// "PATH: no polylines left after cleaning (<summary>)". VTK's own error output is captured,
-// not printed. Reads are serialised (VTK's output window is process-global).
+// "PATH: no polylines left after cleaning (<summary>)" (when there were some before). VTK's own
+// error output is captured, not printed. Reads are serialised (VTK's output window is
+// process-global).
 LineSet readLineSet(const std::string& path, CleanReport* report = nullptr);
 
 // .vtk, .vtp or .vtu (case-insensitive).

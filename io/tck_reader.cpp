@@ -4,6 +4,7 @@
 // followed, at the offset given by "file: . OFFSET", by raw floats: NaN ends a track, Inf ends
 // the file.
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -42,37 +43,58 @@ std::string trim(std::string_view s) {
     return std::string(s.substr(b, e - b + 1));
 }
 
-// Parses the header of a .tck (`magic` "mrtrix tracks") or .tsf ("mrtrix track scalars").
+std::string lowerCase(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+// Parses the header of a .tck (`magic` "mrtrix tracks") or .tsf ("mrtrix track scalars") the
+// way MRtrix reads it (core/file/key_value.cpp, KeyValue::Reader::next, and
+// src/dwi/tractography/file_base.cpp, __ReaderBase__::open): text from '#' to the end of a line is
+// a comment, keys are case-insensitive, a repeated `file` or `datatype` takes the last value, and
+// `count` is advisory (MRtrix's writer fills it in when it closes the file; see checkCount). A
+// line without a colon continues the value of the field before it, as MATLAB's
+// write_mrtrix_tracks.m writes multi-line values and nibabel's tck.py reads them back; MRtrix
+// skips such lines, and so do the fields used here (a continuation before the first field is an
+// error, as in nibabel).
 MrtrixHeader parseHeader(const ByteSource& source, const std::vector<std::uint8_t>& bytes, const char* magic) {
     MrtrixHeader h;
     const std::size_t limit = std::min(bytes.size(), kMaxHeaderBytes);
     std::string_view text(reinterpret_cast<const char*>(bytes.data()), limit);
     std::size_t pos = 0, line = 0;
-    bool haveFile = false, haveType = false, ended = false;
+    bool haveFile = false, haveType = false, ended = false, haveField = false;
     while (pos < text.size()) {
         std::size_t nl = text.find('\n', pos);
         if (nl == std::string_view::npos) break;  // a header line must end with a newline
         std::string_view raw = text.substr(pos, nl - pos);
         pos = nl + 1;
         ++line;
-        std::string content = trim(raw);
         if (line == 1) {
-            if (content != magic) source.failAtLine(1, std::string("not an MRtrix file (first line is not \"") + magic + "\")");
+            if (trim(raw) != magic)
+                source.failAtLine(1, std::string("not an MRtrix file (first line is not \"") + magic + "\")");
             continue;
         }
+        std::string content = trim(raw.substr(0, raw.find('#')));
         if (content == "END") {
             ended = true;
             break;
         }
-        if (content.empty() || content[0] == '#') continue;
+        if (content.empty()) continue;
         std::size_t colon = content.find(':');
-        if (colon == std::string::npos) source.failAtLine(line, "expected \"key: value\"");
-        std::string key = trim(std::string_view(content).substr(0, colon));
+        if (colon == std::string::npos) {
+            if (!haveField)
+                source.failAtLine(line,
+                                  "expected \"key: value\" (a line without a colon continues the field "
+                                  "before it, and there is none)");
+            continue;
+        }
+        haveField = true;
+        std::string key = lowerCase(trim(std::string_view(content).substr(0, colon)));
         std::string value = trim(std::string_view(content).substr(colon + 1));
         if (key == "datatype") {
             static const std::map<std::string, std::pair<std::size_t, bool>> types = {
-                {"Float32LE", {4, false}}, {"Float32BE", {4, true}}, {"Float64LE", {8, false}}, {"Float64BE", {8, true}}};
-            auto it = types.find(value);
+                {"float32le", {4, false}}, {"float32be", {4, true}}, {"float64le", {8, false}}, {"float64be", {8, true}}};
+            auto it = types.find(lowerCase(value));
             if (it == types.end())
                 source.failAtLine(line, "unsupported datatype \"" + value + "\" (Float32LE, Float32BE, Float64LE, Float64BE)");
             h.elementBytes = it->second.first;
@@ -89,11 +111,13 @@ MrtrixHeader parseHeader(const ByteSource& source, const std::vector<std::uint8_
                 source.failAtLine(line, "expected \"file: . OFFSET\", got \"file: " + value + "\"");
             haveFile = true;
         } else if (key == "count") {
-            auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), h.count);
-            if (ec != std::errc() || end != value.data() + value.size())
-                source.failAtLine(line, "count: expected a non-negative integer, got \"" + value + "\"");
-            h.hasCount = true;
+            std::uint64_t count = 0;
+            auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), count);
+            h.hasCount = ec == std::errc() && end == value.data() + value.size();
+            h.count = count;
             h.countLine = line;
+            if (!h.hasCount)
+                source.warnAtLine(line, "count: expected a non-negative integer, got \"" + value + "\"; ignored");
         }
         // Other keys (timestamp, step_size, command_history, ...) are not needed to read the data.
     }
@@ -137,10 +161,13 @@ private:
     const MrtrixHeader& m_h;
 };
 
+// `count` is advisory: MRtrix writes it when the file is closed (a writer that stopped early
+// leaves a stale one) and reads the data up to its end marker whatever the header says (Reader in
+// src/dwi/tractography/file.h). A count that disagrees with the data is a warning.
 void checkCount(const ByteSource& source, const MrtrixHeader& h, std::uint64_t tracks) {
     if (h.hasCount && h.count != tracks)
-        source.failAtLine(h.countLine, "count: " + std::to_string(h.count) + " tracks declared, the data holds " +
-                                           std::to_string(tracks));
+        source.warnAtLine(h.countLine, "count: " + std::to_string(h.count) + " tracks declared, the data holds " +
+                                           std::to_string(tracks) + "; read " + std::to_string(tracks));
 }
 
 }  // namespace
@@ -171,8 +198,21 @@ LineSet readTck(const ByteSource& source) {
             source.failAt(e.offsetOf(i), "more than 2^32 - 1 vertices are not supported");
         lines.positions.emplace_back(x, y, z);
     }
-    if (!terminated)
-        source.failAt(e.offsetOf(i), "truncated: the data ends without the Inf end-of-file triplet");
+    if (!terminated) {
+        // MRtrix's Reader also stops at the end of the data (and drops a track it was reading);
+        // nibabel requires the Inf triplet. Read to the end when the data ends between tracks,
+        // with a warning; data cut inside a triplet or a track is truncated.
+        const std::uint64_t end = e.offsetOf(i);
+        if (end != bytes.size())
+            source.failAt(end, "truncated: the data ends without the Inf end-of-file triplet, inside a triplet (" +
+                                   std::to_string(bytes.size() - end) + " bytes left)");
+        if (lines.positions.size() != lines.offsets.back())
+            source.failAt(end, "truncated: the data ends without the Inf end-of-file triplet, inside track " +
+                                   std::to_string(lines.polylineCount()) + " (after " +
+                                   std::to_string(lines.positions.size() - lines.offsets.back()) + " of its vertices)");
+        source.warnAt(end, "the data ends without the Inf end-of-file triplet; read to the end (" +
+                               std::to_string(lines.polylineCount()) + " tracks)");
+    }
     // MRtrix always ends the last track with a NaN triplet; a file without one still has it.
     if (lines.positions.size() != lines.offsets.back()) lines.offsets.push_back(std::uint32_t(lines.positions.size()));
     checkCount(source, h, lines.polylineCount());

@@ -1,6 +1,8 @@
 // TrackVis .trk reader (http://trackvis.org/docs/?subsect=fileformat). The header is a fixed
 // 1000-byte C struct; nibabel's trk.py is the reference for the parts TrackVis' page leaves
-// open (names encoding a value count, the voxmm -> RAS mapping).
+// open (names encoding a value count, the voxmm -> RAS mapping) and for what is valid: what it
+// reads with a warning or silently (version 3, an n_count that disagrees with the tracks, odd
+// name value counts) is read here with a warning (ByteSource::warnings).
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -21,7 +23,8 @@ constexpr std::size_t kNameBytes = 20, kNameSlots = 10;
 // More values per point or track than any tool writes; a larger count is a corrupt header.
 constexpr int kMaxValues = 255;
 
-struct Header {
+// The raw header bytes, read in the file's byte order.
+struct HeaderBytes {
     const std::uint8_t* bytes;
     bool bigEndian;
 
@@ -46,12 +49,14 @@ struct Header {
 
 // The 10 name slots of scalars or properties -> one name per value. nibabel encodes "name, k
 // values" as "name\0k" in a slot; plain names cover one value; values beyond the named ones
-// are called PREFIX_i.
+// are called PREFIX_i. As in nibabel's TrkFile.load, a slot of 0 values is skipped and a name
+// covering more values than are left gets the ones left (both with a warning).
 std::vector<std::string> valueNames(const ByteSource& source, const std::uint8_t* slots, std::size_t slotsOffset,
                                     int count, const char* prefix) {
     std::vector<std::string> names;
     for (std::size_t s = 0; s < kNameSlots && int(names.size()) < count; ++s) {
         const char* slot = reinterpret_cast<const char*>(slots + s * kNameBytes);
+        const std::uint64_t at = slotsOffset + s * kNameBytes;
         std::size_t len = strnlen(slot, kNameBytes);
         std::string name(slot, len);
         if (name.empty()) break;
@@ -62,17 +67,21 @@ std::vector<std::string> valueNames(const ByteSource& source, const std::uint8_t
             k = 0;
             for (char c : digits) {
                 if (c < '0' || c > '9' || k > kMaxValues)
-                    source.failAt(slotsOffset + s * kNameBytes,
-                                  "name \"" + name + "\": malformed value count after the name");
+                    source.failAt(at, "name \"" + name + "\": malformed value count after the name");
                 k = 10 * k + (c - '0');
             }
-            if (k < 1) source.failAt(slotsOffset + s * kNameBytes, "name \"" + name + "\": value count 0");
+            if (k < 1) {
+                source.warnAt(at, "name \"" + name + "\": value count 0; the name is skipped");
+                continue;
+            }
         }
-        if (int(names.size()) + k > count)
-            source.failAt(slotsOffset + s * kNameBytes, "name \"" + name + "\" covers " + std::to_string(k) +
-                                                            " values, more than the " + std::to_string(count) +
-                                                            " declared");
-        if (k == 1) {
+        const int declared = k, left = count - int(names.size());
+        if (k > left) {
+            source.warnAt(at, "name \"" + name + "\" covers " + std::to_string(k) + " values, more than the " +
+                                  std::to_string(count) + " declared; it names the " + std::to_string(left) + " left");
+            k = left;
+        }
+        if (declared == 1) {
             names.push_back(name);
         } else {
             for (int i = 0; i < k; ++i) names.push_back(name + "_" + std::to_string(i));
@@ -82,9 +91,38 @@ std::vector<std::string> valueNames(const ByteSource& source, const std::uint8_t
     return names;
 }
 
-}  // namespace
+// What the reader takes from the header.
+struct TrkHeader {
+    bool bigEndian = false;
+    std::int32_t version = 0;
+    int nScalars = 0, nProperties = 0;
+    std::int32_t nCount = 0;
+    std::vector<std::string> names;  // one per scalar, then one per property; unique
+    // voxmm -> RAS mm (version 2 with a matrix; nibabel treats vox_to_ras[3][3] == 0 as unset).
+    bool toRas = false;
+    glm::vec3 voxelSize{1.0f};
+    float voxToRas[4][4] = {};
+};
 
-LineSet readTrk(const ByteSource& source) {
+// vox_to_ras and the voxel sizes of a version 2 header, checked when the mapping is used.
+void readVoxToRas(const ByteSource& source, const HeaderBytes& h, TrkHeader& header) {
+    float(&m)[4][4] = header.voxToRas;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m[r][c] = h.get<float>(kVoxToRas + 4 * (4 * r + c));
+    header.toRas = m[3][3] != 0.0f;
+    if (!header.toRas) return;
+    for (int i = 0; i < 16; ++i)
+        if (!std::isfinite(m[i / 4][i % 4])) source.failAt(kVoxToRas + 4 * i, "vox_to_ras is not finite");
+    for (int i = 0; i < 3; ++i) {
+        float& size = header.voxelSize[i];
+        size = h.get<float>(kVoxelSize + 4 * i);
+        if (!(size > 0.0f) || !std::isfinite(size))
+            source.failAt(kVoxelSize + 4 * i, "voxel_size[" + std::to_string(i) + "] is " + std::to_string(size) +
+                                                  ", the vox_to_ras mapping needs positive sizes");
+    }
+}
+
+TrkHeader readTrkHeader(const ByteSource& source) {
     if (source.size() < kHeaderSize)
         source.failAt(source.size(), "truncated TrackVis header: the file has " + std::to_string(source.size()) +
                                          " bytes, the header needs 1000");
@@ -93,108 +131,106 @@ LineSet readTrk(const ByteSource& source) {
     if (std::memcmp(raw.data(), "TRACK", 5) != 0) source.failAt(0, "not a TrackVis file (no \"TRACK\" magic)");
 
     // hdr_size is 1000 in the writer's byte order: the only endianness marker the format has.
-    Header h{raw.data(), false};
+    TrkHeader header;
+    HeaderBytes h{raw.data(), false};
     const std::int32_t hdrSize = h.get<std::int32_t>(kHdrSize);
     if (hdrSize != 1000) {
         h.bigEndian = true;
         if (h.get<std::int32_t>(kHdrSize) != 1000)
             source.failAt(kHdrSize, "hdr_size is " + std::to_string(hdrSize) + ", expected 1000 (either byte order)");
     }
-    const std::int32_t version = h.get<std::int32_t>(kVersion);
-    if (version != 1 && version != 2)
-        source.failAt(kVersion, "unsupported version " + std::to_string(version) + " (1 and 2 are)");
-    const int nScalars = h.get<std::int16_t>(kNScalars);
-    const int nProperties = h.get<std::int16_t>(kNProperties);
-    if (nScalars < 0 || nScalars > kMaxValues)
-        source.failAt(kNScalars, "n_scalars is " + std::to_string(nScalars) + ", expected 0.." +
-                                     std::to_string(kMaxValues));
-    if (nProperties < 0 || nProperties > kMaxValues)
-        source.failAt(kNProperties, "n_properties is " + std::to_string(nProperties) + ", expected 0.." +
-                                        std::to_string(kMaxValues));
-    const std::int32_t nCount = h.get<std::int32_t>(kNCount);
-    if (nCount < 0) source.failAt(kNCount, "n_count is " + std::to_string(nCount));
-
-    std::vector<std::string> names = valueNames(source, raw.data() + kScalarNames, kScalarNames, nScalars, "scalar");
-    std::vector<std::string> propertyNames =
-        valueNames(source, raw.data() + kPropertyNames, kPropertyNames, nProperties, "property");
-    names.insert(names.end(), propertyNames.begin(), propertyNames.end());
-    makeNamesUnique(names);
-
-    // voxmm -> RAS mm (version 2 with a matrix; nibabel treats vox_to_ras[3][3] == 0 as unset).
-    bool toRas = false;
-    glm::vec3 voxelSize(1.0f);
-    float m[4][4];
-    if (version == 2) {
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) m[r][c] = h.get<float>(kVoxToRas + 4 * (4 * r + c));
-        toRas = m[3][3] != 0.0f;
-        if (toRas) {
-            for (int i = 0; i < 16; ++i)
-                if (!std::isfinite(m[i / 4][i % 4])) source.failAt(kVoxToRas + 4 * i, "vox_to_ras is not finite");
-            for (int i = 0; i < 3; ++i) {
-                voxelSize[i] = h.get<float>(kVoxelSize + 4 * i);
-                if (!(voxelSize[i] > 0.0f) || !std::isfinite(voxelSize[i]))
-                    source.failAt(kVoxelSize + 4 * i, "voxel_size[" + std::to_string(i) + "] is " +
-                                                          std::to_string(voxelSize[i]) +
-                                                          ", the vox_to_ras mapping needs positive sizes");
-            }
-        }
+    header.bigEndian = h.bigEndian;
+    header.version = h.get<std::int32_t>(kVersion);
+    if (header.version == 3) {
+        // nibabel's TrkFile._read_header parses version 3 as version 2, with a warning.
+        source.warnAt(kVersion, "version 3 is read as version 2");
+        header.version = 2;
     }
+    if (header.version != 1 && header.version != 2)
+        source.failAt(kVersion, "unsupported version " + std::to_string(header.version) + " (1, 2 and 3 are)");
+    header.nScalars = h.get<std::int16_t>(kNScalars);
+    header.nProperties = h.get<std::int16_t>(kNProperties);
+    if (header.nScalars < 0 || header.nScalars > kMaxValues)
+        source.failAt(kNScalars, "n_scalars is " + std::to_string(header.nScalars) + ", expected 0.." +
+                                     std::to_string(kMaxValues));
+    if (header.nProperties < 0 || header.nProperties > kMaxValues)
+        source.failAt(kNProperties, "n_properties is " + std::to_string(header.nProperties) + ", expected 0.." +
+                                        std::to_string(kMaxValues));
+    header.nCount = h.get<std::int32_t>(kNCount);
+    if (header.nCount < 0) source.failAt(kNCount, "n_count is " + std::to_string(header.nCount));
 
-    // Every field after the header is a 4-byte word (int32 point counts, float32 values): one
-    // bulk read, one in-place swap for big-endian files.
-    std::vector<std::uint8_t> data = source.readRest(kHeaderSize, "the tracks");
-    if (h.bigEndian) byteSwapWords(data.data(), data.size() - data.size() % 4, 4);
+    header.names = valueNames(source, raw.data() + kScalarNames, kScalarNames, header.nScalars, "scalar");
+    std::vector<std::string> propertyNames =
+        valueNames(source, raw.data() + kPropertyNames, kPropertyNames, header.nProperties, "property");
+    header.names.insert(header.names.end(), propertyNames.begin(), propertyNames.end());
+    makeNamesUnique(header.names);
+    if (header.version == 2) readVoxToRas(source, h, header);
+    return header;
+}
 
-    // Pass 1: walk the tracks, checking every point count against the bytes left, so nothing is
-    // allocated from an unchecked count.
-    const std::size_t perPoint = 3 + std::size_t(nScalars);
+struct TrackScan {
     std::uint64_t vertices = 0, tracks = 0;
+};
+
+// Pass 1: walks the tracks of `data` (the bytes after the header, in native byte order), checking
+// every point count against the bytes left, so nothing is allocated from an unchecked count.
+// n_count tracks are read, or all to the end of the file when it is 0, as in TrackVis and
+// nibabel's TrkFile._read; like nibabel, a file that ends (between tracks) before n_count tracks
+// gives the tracks it has, and bytes after n_count tracks are ignored, each with a warning. A
+// track cut short is an error.
+TrackScan scanTracks(const ByteSource& source, const std::vector<std::uint8_t>& data, const TrkHeader& header) {
+    const std::size_t perPoint = 3 + std::size_t(header.nScalars);
+    const std::int32_t nCount = header.nCount;
+    TrackScan scan;
     std::size_t pos = 0;
-    while (nCount == 0 ? pos < data.size() : tracks < std::uint64_t(nCount)) {
+    while (nCount == 0 ? pos < data.size() : scan.tracks < std::uint64_t(nCount)) {
         const std::uint64_t at = kHeaderSize + pos;
-        if (data.size() - pos < 4) {
-            if (pos == data.size())
-                source.failAt(at, "file ends after " + std::to_string(tracks) + " of the n_count " +
-                                      std::to_string(nCount) + " tracks");
-            source.failAt(at, "truncated: track " + std::to_string(tracks) + " has no complete point count");
+        if (pos == data.size()) {
+            source.warnAt(at, "file ends after " + std::to_string(scan.tracks) + " of the n_count " +
+                                  std::to_string(nCount) + " tracks; read " + std::to_string(scan.tracks));
+            break;
         }
+        if (data.size() - pos < 4)
+            source.failAt(at, "truncated: track " + std::to_string(scan.tracks) + " has no complete point count");
         const std::int32_t n = loadLittle<std::int32_t>(data.data() + pos);
-        if (n < 0) source.failAt(at, "track " + std::to_string(tracks) + ": negative point count " + std::to_string(n));
-        const std::uint64_t bytes = 4 * (std::uint64_t(n) * perPoint + std::uint64_t(nProperties));
+        if (n < 0)
+            source.failAt(at, "track " + std::to_string(scan.tracks) + ": negative point count " + std::to_string(n));
+        const std::uint64_t bytes = 4 * (std::uint64_t(n) * perPoint + std::uint64_t(header.nProperties));
         if (bytes > data.size() - pos - 4)
-            source.failAt(at, "track " + std::to_string(tracks) + " declares " + std::to_string(n) + " points (" +
-                                  std::to_string(bytes) + " bytes) but only " +
-                                  std::to_string(data.size() - pos - 4) + " bytes are left");
+            source.failAt(at, "track " + std::to_string(scan.tracks) + " declares " + std::to_string(n) + " points (" +
+                                  std::to_string(bytes) + " bytes) but only " + std::to_string(data.size() - pos - 4) +
+                                  " bytes are left");
         pos += 4 + bytes;
-        vertices += std::uint64_t(n);
-        ++tracks;
+        scan.vertices += std::uint64_t(n);
+        ++scan.tracks;
     }
     if (pos != data.size())
-        source.failAt(kHeaderSize + pos, std::to_string(data.size() - pos) + " bytes after the last of the n_count " +
-                                             std::to_string(nCount) + " tracks (n_count wrong?)");
-    if (vertices > std::numeric_limits<std::uint32_t>::max())
-        source.fail("more than 2^32 - 1 vertices are not supported");
-    source.checkExpansion(vertices * (12 + 4 * names.size()) + 4 * tracks, kHeaderSize, "the tracks");
+        source.warnAt(kHeaderSize + pos, std::to_string(data.size() - pos) + " bytes after the last of the n_count " +
+                                             std::to_string(nCount) + " tracks (n_count wrong?); ignored");
+    return scan;
+}
 
-    // Pass 2: fill.
+// Pass 2: the scanned tracks into a LineSet (positions mapped to RAS when the header says so).
+LineSet fillTracks(const std::vector<std::uint8_t>& data, const TrkHeader& header, const TrackScan& scan) {
+    const std::size_t perPoint = 3 + std::size_t(header.nScalars);
+    const int nScalars = header.nScalars, nProperties = header.nProperties;
+    const float(&m)[4][4] = header.voxToRas;
     LineSet lines;
-    lines.positions.resize(vertices);
-    lines.offsets.reserve(tracks + 1);
-    lines.attributes.resize(names.size());
-    for (std::size_t a = 0; a < names.size(); ++a) {
-        lines.attributes[a].name = names[a];
-        lines.attributes[a].values.resize(vertices);
+    lines.positions.resize(scan.vertices);
+    lines.offsets.reserve(scan.tracks + 1);
+    lines.attributes.resize(header.names.size());
+    for (std::size_t a = 0; a < header.names.size(); ++a) {
+        lines.attributes[a].name = header.names[a];
+        lines.attributes[a].values.resize(scan.vertices);
     }
-    std::size_t v = 0;
-    pos = 0;
-    for (std::uint64_t t = 0; t < tracks; ++t) {
+    std::size_t v = 0, pos = 0;
+    for (std::uint64_t t = 0; t < scan.tracks; ++t) {
         const auto n = std::size_t(loadLittle<std::int32_t>(data.data() + pos));
         const std::uint8_t* p = data.data() + pos + 4;
         for (std::size_t i = 0; i < n; ++i, ++v) {
             glm::vec3 q(loadLittle<float>(p), loadLittle<float>(p + 4), loadLittle<float>(p + 8));
-            if (toRas) {
-                q = q / voxelSize - 0.5f;
+            if (header.toRas) {
+                q = q / header.voxelSize - 0.5f;
                 q = glm::vec3(m[0][0] * q.x + m[0][1] * q.y + m[0][2] * q.z + m[0][3],
                               m[1][0] * q.x + m[1][1] * q.y + m[1][2] * q.z + m[1][3],
                               m[2][0] * q.x + m[2][1] * q.y + m[2][2] * q.z + m[2][3]);
@@ -212,6 +248,21 @@ LineSet readTrk(const ByteSource& source) {
         lines.offsets.push_back(std::uint32_t(v));
     }
     return lines;
+}
+
+}  // namespace
+
+LineSet readTrk(const ByteSource& source) {
+    const TrkHeader header = readTrkHeader(source);
+    // Every field after the header is a 4-byte word (int32 point counts, float32 values): one
+    // bulk read, one in-place swap for big-endian files.
+    std::vector<std::uint8_t> data = source.readRest(kHeaderSize, "the tracks");
+    if (header.bigEndian) byteSwapWords(data.data(), data.size() - data.size() % 4, 4);
+    const TrackScan scan = scanTracks(source, data, header);
+    if (scan.vertices > std::numeric_limits<std::uint32_t>::max())
+        source.fail("more than 2^32 - 1 vertices are not supported");
+    source.checkExpansion(scan.vertices * (12 + 4 * header.names.size()) + 4 * scan.tracks, kHeaderSize, "the tracks");
+    return fillTracks(data, header, scan);
 }
 
 }  // namespace tc

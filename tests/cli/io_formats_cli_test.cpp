@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,39 @@ TEST_F(FormatsCli, RenderOfTruncatedTckExitsTwo) {
     b.insert(b.end(), reinterpret_cast<const std::uint8_t*>(xyz), reinterpret_cast<const std::uint8_t*>(xyz) + 24);
     writeBytes("cut.tck", b);
     expectRenderRejects("cut.tck", "byte 88: truncated");
+}
+
+// An MRtrix file of little-endian floats with a 4-digit data offset; `count` as given.
+std::vector<std::uint8_t> tckBytes(const std::string& count, const std::vector<float>& values) {
+    std::string head = "mrtrix tracks\ndatatype: Float32LE\ncount: " + count + "\nfile: . 0064\nEND\n";
+    head.resize(64, '\0');
+    std::vector<std::uint8_t> b(head.begin(), head.end());
+    b.insert(b.end(), reinterpret_cast<const std::uint8_t*>(values.data()),
+             reinterpret_cast<const std::uint8_t*>(values.data() + values.size()));
+    return b;
+}
+
+// A stale count (a tool that stopped before writing it) is a warning that names the line; the
+// tracks in the data render.
+TEST_F(FormatsCli, RenderOfTckWithStaleCountWarnsAndRenders) {
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    writeBytes("stale.tck", tckBytes("5", {0, 0, 0, 1, 1, 1, nan, nan, nan, inf, inf, inf}));
+    writeScene("stale.tck");
+    RunResult r = run("render scene.json");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: stale.tck: line 3: count: 5 tracks declared, the data holds 1; read 1"),
+              std::string::npos)
+        << r.err;
+    EXPECT_TRUE(fs::exists(dir / "out" / "f.png"));
+}
+
+// An empty tractogram is a valid file of 0 polylines.
+TEST_F(FormatsCli, InfoOfEmptyTckSaysZeroPolylines) {
+    const float inf = std::numeric_limits<float>::infinity();
+    writeBytes("empty.tck", tckBytes("0", {inf, inf, inf}));
+    RunResult r = run("info empty.tck --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"polylines\": 0"), std::string::npos) << r.out;
 }
 
 TEST_F(FormatsCli, RenderOfObjWithBadIndexExitsTwoNamingTheLine) {

@@ -17,7 +17,7 @@ def write(fmt, name, data):
         f.write(data)
 
 
-def trk(big, version, tracks, n_scalars, n_props):
+def trk(big, version, tracks, n_scalars, n_props, n_count=None):
     e = ">" if big else "<"
     h = bytearray(1000)
     h[0:6] = b"TRACK\0"
@@ -31,7 +31,7 @@ def trk(big, version, tracks, n_scalars, n_props):
     h[240:243] = b"len"
     struct.pack_into(e + "16f", h, 440, 2, 0, 0, 10, 0, 2, 0, 20, 0, 0, 2, 30, 0, 0, 0, 1)
     h[948:951] = b"LPS"
-    struct.pack_into(e + "iii", h, 988, len(tracks), version, 1000)
+    struct.pack_into(e + "iii", h, 988, len(tracks) if n_count is None else n_count, version, 1000)
     out = bytes(h)
     for pts in tracks:
         out += struct.pack(e + "i", len(pts))
@@ -42,7 +42,9 @@ def trk(big, version, tracks, n_scalars, n_props):
     return out
 
 
-def tck(tracks, fmt, magic="mrtrix tracks", scalar=False):
+def tck(tracks, fmt, magic="mrtrix tracks", scalar=False, count=None, extra="", end_marker=True):
+    """`count` overrides the header's count (None: the number of tracks); `extra` is inserted
+    after the first line; without `end_marker` the data ends after the last track's NaN."""
     big = fmt.endswith("BE")
     code = (">" if big else "<") + ("d" if fmt.startswith("Float64") else "f")
     nan, inf = float("nan"), float("inf")
@@ -51,8 +53,9 @@ def tck(tracks, fmt, magic="mrtrix tracks", scalar=False):
         for p in t:
             vals += list(p) if not scalar else [p]
         vals += [nan] * (1 if scalar else 3)
-    vals += [inf] * (1 if scalar else 3)
-    head = "%s\ndatatype: %s\ncount: %d\nfile: . " % (magic, fmt, len(tracks))
+    if end_marker:
+        vals += [inf] * (1 if scalar else 3)
+    head = "%s\n%sdatatype: %s\ncount: %d\nfile: . " % (magic, extra, fmt, len(tracks) if count is None else count)
     offset = len(head) + 4 + 1 + 4
     head += "%4d\nEND\n" % offset
     return head.encode() + b"".join(struct.pack(code, v) for v in vals)
@@ -79,9 +82,18 @@ lines = [[(0, 0, 0), (1, 0, 0), (1, 1, 0)], [(5, 5, 5), (6, 6, 6)]]
 write("trk", "le_v2_scalars_props.trk", trk(False, 2, lines, 4, 2))
 write("trk", "be_v1.trk", trk(True, 1, lines, 0, 0))
 write("trk", "le_v2_one_scalar.trk", trk(False, 2, lines[:1], 1, 1))
+write("trk", "v3_stale_n_count.trk", trk(False, 3, lines, 4, 2, n_count=5))
+write("trk", "empty.trk", trk(True, 2, [], 0, 0))
 write("tck", "le32.tck", tck(lines, "Float32LE"))
 write("tck", "be64.tck", tck(lines, "Float64BE"))
 write("tck", "le32_scalars.tsf", tck([[1.0, 2.0, 3.0], [4.0, 5.0]], "Float32LE", "mrtrix track scalars", True))
+# What the reader tolerates (docs/formats.md): a stale count, multi-line values and comments, no
+# end marker after the last track, an empty tractogram.
+write("tck", "stale_count.tck", tck(lines, "Float32LE", count=7))
+write("tck", "multi_line.tck", tck(lines, "Float32BE", extra="# comment\ncommand_history: tckgen a b\ntckedit b c\n"
+                                                       "Comment: one # two\n"))
+write("tck", "no_end_marker.tck", tck(lines, "Float32LE", end_marker=False))
+write("tck", "empty.tck", tck([], "Float32LE"))
 write("tcb", "two_attrs.tcb", tcb(lines, [("speed", [1, 2, 3, 4, 5]), ("fa", [0.5] * 5)]))
 write("tcb", "no_attrs.tcb", tcb(lines, []))
 write("obj", "linevis.obj",

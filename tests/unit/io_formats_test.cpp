@@ -200,8 +200,8 @@ TEST(TrkReader, MalformedFilesNameTheByteOffset) {
     EXPECT_CONTAINS(errorOf(trk, w.bytes), "byte 996: hdr_size is 999");
 
     w = Writer{good};
-    w.putAt<std::int32_t>(992, 3);
-    EXPECT_CONTAINS(errorOf(trk, w.bytes), "byte 992: unsupported version 3");
+    w.putAt<std::int32_t>(992, 4);
+    EXPECT_CONTAINS(errorOf(trk, w.bytes), "byte 992: unsupported version 4");
 
     w = Writer{good};
     w.putAt<std::int16_t>(36, -1);
@@ -222,25 +222,92 @@ TEST(TrkReader, MalformedFilesNameTheByteOffset) {
     e = errorOf(trk, cut);
     EXPECT_CONTAINS(e, "track 1 declares 2 points");
 
-    // n_count larger than what the file holds.
-    w = Writer{good};
-    w.putAt<std::int32_t>(988, 3);
-    EXPECT_CONTAINS(errorOf(trk, w.bytes), "byte " + std::to_string(good.size()) + ": file ends after 2 of the n_count 3 tracks");
-
-    // n_count smaller: bytes left over.
-    w = Writer{good};
-    w.putAt<std::int32_t>(988, 1);
-    EXPECT_CONTAINS(errorOf(trk, w.bytes), "after the last of the n_count 1 tracks");
+    // Truncated inside the second track's point count (n_count 0: read to the end).
+    const std::size_t firstTrack = 4 + 3 * 4 * 7 + 4 * 2;  // count, 3 points of 7 floats, 2 properties
+    w = Writer{Bytes(good.begin(), good.begin() + std::ptrdiff_t(1000 + firstTrack + 2))};
+    w.putAt<std::int32_t>(988, 0);
+    EXPECT_CONTAINS(errorOf(trk, w.bytes),
+                    "byte " + std::to_string(1000 + firstTrack) + ": truncated: track 1 has no complete point count");
 
     // A voxel size of 0 cannot map voxmm to RAS.
     w = Writer{good};
     w.putAt<float>(16, 0.0f);
     EXPECT_CONTAINS(errorOf(trk, w.bytes), "byte 16: voxel_size[1] is 0");
+}
 
-    // A name claiming more values than n_scalars.
+// What nibabel reads (with a warning or silently) is read, with a warning naming the position.
+TEST(TrkReader, NCountDisagreeingWithTheTracksIsAWarningAsInNibabel) {
+    const Bytes good = makeTrk(false, 2, sampleTracks());
+
+    // n_count larger than what the file holds: the tracks there are.
+    Writer w{good};
+    w.putAt<std::int32_t>(988, 3);
+    MemorySource more("a.trk", w.bytes.data(), w.bytes.size());
+    expectSampleTrk(readTrk(more), true);
+    EXPECT_EQ(more.warnings(), (std::vector<std::string>{"byte " + std::to_string(good.size()) +
+                                                         ": file ends after 2 of the n_count 3 tracks; read 2"}));
+
+    // n_count smaller: n_count tracks, the bytes after them ignored.
     w = Writer{good};
+    w.putAt<std::int32_t>(988, 1);
+    MemorySource fewer("a.trk", w.bytes.data(), w.bytes.size());
+    const LineSet lines = readTrk(fewer);
+    EXPECT_EQ(lines.offsets, (std::vector<std::uint32_t>{0, 3}));
+    EXPECT_EQ(lines.attribute("len")->values, (std::vector<float>{42, 42, 42}));
+    const std::size_t firstTrack = 4 + 3 * 4 * 7 + 4 * 2;
+    EXPECT_EQ(fewer.warnings(),
+              (std::vector<std::string>{"byte " + std::to_string(1000 + firstTrack) + ": " +
+                                        std::to_string(good.size() - 1000 - firstTrack) +
+                                        " bytes after the last of the n_count 1 tracks (n_count wrong?); ignored"}));
+
+    // A file of the right n_count has nothing to say.
+    MemorySource right("a.trk", good.data(), good.size());
+    readTrk(right);
+    EXPECT_TRUE(right.warnings().empty());
+}
+
+TEST(TrkReader, EmptyTractogramIsAValidEmptyLineSet) {
+    for (int nCount : {0, 5}) {
+        const Bytes b = makeTrk(true, 2, {}, nCount);
+        MemorySource source("empty.trk", b.data(), b.size());
+        const LineSet lines = readTrk(source);
+        EXPECT_EQ(lines.polylineCount(), 0u);
+        EXPECT_EQ(lines.vertexCount(), 0u);
+        ASSERT_EQ(lines.attributes.size(), 6u);  // the header's names, without values
+        EXPECT_TRUE(lines.attributes[0].values.empty());
+        EXPECT_EQ(source.warnings().size(), nCount == 0 ? 0u : 1u);
+    }
+}
+
+TEST(TrkReader, VersionThreeIsReadAsVersionTwoAsInNibabel) {
+    Writer w{makeTrk(false, 2, sampleTracks())};
+    w.putAt<std::int32_t>(992, 3);
+    MemorySource source("a.trk", w.bytes.data(), w.bytes.size());
+    expectSampleTrk(readTrk(source), true);
+    EXPECT_EQ(source.warnings(), (std::vector<std::string>{"byte 992: version 3 is read as version 2"}));
+}
+
+TEST(TrkReader, NameValueCountsNibabelToleratesAreWarnings) {
+    // "rgb" claims 9 values where 3 are left (n_scalars 4, "fa" took one): it names those 3.
+    Writer w{makeTrk(false, 2, sampleTracks())};
     std::memcpy(w.bytes.data() + 58, "rgb\0" "9", 5);
-    EXPECT_CONTAINS(errorOf(trk, w.bytes), "byte 58: name \"rgb\" covers 9 values");
+    MemorySource over("a.trk", w.bytes.data(), w.bytes.size());
+    expectSampleTrk(readTrk(over), true);
+    EXPECT_EQ(over.warnings(),
+              (std::vector<std::string>{"byte 58: name \"rgb\" covers 9 values, more than the 4 declared; it "
+                                        "names the 3 left"}));
+
+    // A name of 0 values is skipped (nibabel's TrkFile.load does the same); its values go to the
+    // next name or to scalar_i.
+    w = Writer{makeTrk(false, 2, sampleTracks())};
+    std::memcpy(w.bytes.data() + 58, "rgb\0" "0", 5);
+    MemorySource zero("a.trk", w.bytes.data(), w.bytes.size());
+    const LineSet lines = readTrk(zero);
+    std::vector<std::string> names;
+    for (const Attribute& a : lines.attributes) names.push_back(a.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"fa", "scalar_1", "scalar_2", "scalar_3", "len", "property_1"}));
+    EXPECT_EQ(lines.attribute("scalar_3")->values, (std::vector<float>{3, 6, 9, 0, 1}));
+    EXPECT_EQ(zero.warnings(), (std::vector<std::string>{"byte 58: name \"rgb\": value count 0; the name is skipped"}));
 }
 
 // ---- .tck / .tsf ----------------------------------------------------------------------------
@@ -346,10 +413,12 @@ TEST(TckReader, MalformedFilesNameTheLineOrByteOffset) {
                     "line 4: unsupported datatype \"Int16LE\"");
     EXPECT_CONTAINS(errorOf(tck, makeMrtrix("mrtrix tracks", sampleTckValues(), false, "file: data.dat 0\n")),
                     "line 4: data in a separate file");
-    EXPECT_CONTAINS(errorOf(tck, makeMrtrix("mrtrix tracks", sampleTckValues(), false, "count: 7\n")),
-                    "line 4: count: 7 tracks declared, the data holds 2");
-    EXPECT_CONTAINS(errorOf(tck, makeMrtrix("mrtrix tracks", sampleTckValues(), false, "garbage\n")),
-                    "line 4: expected \"key: value\"");
+    // A line without a colon continues the field before it; right after the first line there is
+    // none (nibabel's tck.py refuses it too).
+    Bytes garbage = good;
+    const std::string inserted = "garbage\n";
+    garbage.insert(garbage.begin() + std::ptrdiff_t(text.find('\n') + 1), inserted.begin(), inserted.end());
+    EXPECT_CONTAINS(errorOf(tck, garbage), "line 2: expected \"key: value\"");
     EXPECT_CONTAINS(errorOf(tck, makeMrtrix("mrtrix tracks", sampleTckValues(), false, "", false)),
                     "no \"file: . OFFSET\" line");
 
@@ -364,6 +433,115 @@ TEST(TckReader, MalformedFilesNameTheLineOrByteOffset) {
     EXPECT_CONTAINS(errorOf(tck, cut), "truncated: the data ends without the Inf end-of-file triplet");
     // The position is the start of the incomplete triplet.
     EXPECT_CONTAINS(errorOf(tck, cut), "byte " + std::to_string(good.size() - 24) + ":");
+
+    // Truncated inside a track: whole triplets, but the last track has no NaN triplet and there
+    // is no Inf triplet (MRtrix would drop the track silently).
+    Bytes insideTrack(good.begin(), good.end() - 24);
+    EXPECT_CONTAINS(errorOf(tck, insideTrack),
+                    "byte " + std::to_string(good.size() - 24) +
+                        ": truncated: the data ends without the Inf end-of-file triplet, inside track 1 (after 2 "
+                        "of its vertices)");
+}
+
+// Small hand-written files as other tools write them: MRtrix (count after the data offset, a
+// padded first line, total_count), MATLAB (multi-line values), a tool that stopped early.
+
+Bytes bytesOf(const std::string& header, const std::vector<float>& values) {
+    Writer w;
+    w.text(header);
+    for (float v : values) w.put(v);
+    return w.bytes;
+}
+
+// `header` with "file: . OFFSET" filled in: OFFSET is the header's length (the placeholder
+// "@@@@" is four digits wide, so the length does not change).
+std::string withOffset(std::string header) {
+    const std::size_t at = header.find("@@@@");
+    char number[8];
+    std::snprintf(number, sizeof number, "%4zu", header.size());
+    header.replace(at, 4, number);
+    return header;
+}
+
+TEST(TckReader, StaleCountIsAWarningAndTheDataDecides) {
+    // As MRtrix writes it: the first line padded, count (stale: a writer that stopped before
+    // updating it) after the file line, total_count.
+    const std::string header = withOffset(
+        "mrtrix tracks    \ntimestamp: 1700000000.1\ndatatype: Float32LE\nfile: . @@@@\ncount: 0\n"
+        "total_count: 0\nEND\n");
+    const Bytes stale = bytesOf(header, sampleTckValues());
+    MemorySource source("a.tck", stale.data(), stale.size());
+    expectSampleTck(readTck(source));
+    EXPECT_EQ(source.warnings(),
+              (std::vector<std::string>{"line 5: count: 0 tracks declared, the data holds 2; read 2"}));
+
+    // Larger than the data (a MATLAB script that dropped tracks and kept the header's count).
+    const Bytes more = makeMrtrix("mrtrix tracks", sampleTckValues(), false, "count: 7\n");
+    MemorySource moreSource("a.tck", more.data(), more.size());
+    expectSampleTck(readTck(moreSource));
+    EXPECT_EQ(moreSource.warnings(),
+              (std::vector<std::string>{"line 4: count: 7 tracks declared, the data holds 2; read 2"}));
+
+    // Not a number: ignored, with a warning.
+    const Bytes word = makeMrtrix("mrtrix tracks", sampleTckValues(), false, "count: many\n");
+    MemorySource wordSource("a.tck", word.data(), word.size());
+    expectSampleTck(readTck(wordSource));
+    EXPECT_EQ(wordSource.warnings(),
+              (std::vector<std::string>{"line 4: count: expected a non-negative integer, got \"many\"; ignored"}));
+}
+
+TEST(TckReader, MultiLineHeaderValuesAndCommentsAreRead) {
+    // MATLAB's write_mrtrix_tracks.m writes a cell-array value as lines after its key; MRtrix
+    // repeats the key. Comments run from '#' to the end of the line; keys are case-insensitive.
+    const std::string header = withOffset(
+        "mrtrix tracks\n"
+        "# written by hand\n"
+        "command_history: tckgen fod.mif a.tck -select 2\n"
+        "tckedit a.tck b.tck -include roi.mif\n"
+        "   tckresample b.tck c.tck\n"
+        "comment: first\n"
+        "comment: second # and a remark\n"
+        "Datatype: float32le\n"
+        "count: 2  # as written\n"
+        "file: . @@@@\n"
+        "END\n");
+    const Bytes b = bytesOf(header, sampleTckValues());
+    MemorySource source("a.tck", b.data(), b.size());
+    expectSampleTck(readTck(source));
+    EXPECT_TRUE(source.warnings().empty()) << source.warnings().front();
+}
+
+TEST(TckReader, EmptyTractogramIsAValidEmptyLineSet) {
+    // As MRtrix and nibabel write it: count 0 and the Inf triplet.
+    const float inf = kInf;
+    const Bytes empty = makeMrtrix<float>("mrtrix tracks", {inf, inf, inf}, false, "count: 0\n");
+    MemorySource source("empty.tck", empty.data(), empty.size());
+    const LineSet lines = readTck(source);
+    EXPECT_EQ(lines.polylineCount(), 0u);
+    EXPECT_EQ(lines.vertexCount(), 0u);
+    EXPECT_TRUE(source.warnings().empty());
+
+    // No data at all: read to the end, with a warning for the missing Inf triplet.
+    const Bytes bare = makeMrtrix<float>("mrtrix tracks", {}, false, "count: 0\n");
+    MemorySource bareSource("empty.tck", bare.data(), bare.size());
+    EXPECT_EQ(readTck(bareSource).polylineCount(), 0u);
+    EXPECT_EQ(bareSource.warnings(),
+              (std::vector<std::string>{"byte " + std::to_string(bare.size()) +
+                                        ": the data ends without the Inf end-of-file triplet; read to the end (0 "
+                                        "tracks)"}));
+}
+
+TEST(TckReader, DataEndingBetweenTracksWithoutTheInfTripletIsReadToTheEnd) {
+    // A writer that stopped after a whole track (MRtrix's Reader stops at the end of the data).
+    std::vector<float> values = sampleTckValues();
+    values.resize(values.size() - 3);  // no Inf triplet
+    const Bytes b = makeMrtrix("mrtrix tracks", values, false, "count: 2\n");
+    MemorySource source("a.tck", b.data(), b.size());
+    expectSampleTck(readTck(source));
+    EXPECT_EQ(source.warnings(),
+              (std::vector<std::string>{"byte " + std::to_string(b.size()) +
+                                        ": the data ends without the Inf end-of-file triplet; read to the end (2 "
+                                        "tracks)"}));
 }
 
 TEST(TsfReader, MismatchedTrackCountNamesTheOffset) {

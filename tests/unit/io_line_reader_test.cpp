@@ -1,9 +1,12 @@
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -271,6 +274,58 @@ LINES 1 3
               path +
                   ": no polylines left after cleaning (skipped 1 duplicate vertex "
                   "(zero-length segments), 1 polyline with fewer than 2 vertices)");
+}
+
+// An MRtrix file ("mrtrix tracks" or "mrtrix track scalars") with the given count line and
+// little-endian floats.
+std::string writeMrtrix(const std::string& path, const char* magic, const std::string& count,
+                        const std::vector<float>& values) {
+    std::string header = std::string(magic) + "\ndatatype: Float32LE\n" + count + "file: . ";
+    const std::size_t offset = header.size() + 4 + 1 + 4;  // a 4-digit offset, "\n", "END\n"
+    char number[8];
+    std::snprintf(number, sizeof number, "%4zu", offset);
+    header += std::string(number) + "\nEND\n";
+    std::ofstream out(path, std::ios::binary);
+    out << header;
+    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(float)));
+    return path;
+}
+
+TEST(ReadLineSet, empty_tractograms_are_empty_line_sets) {
+    // The dataset (io/dataset.h) decides whether an empty one can be rendered; reading it is fine.
+    const float inf = std::numeric_limits<float>::infinity();
+    const std::string tck = writeMrtrix(testDir() + "/empty.tck", "mrtrix tracks", "count: 0\n", {inf, inf, inf});
+    CleanReport report;
+    const LineSet lines = readLineSet(tck, &report);
+    EXPECT_EQ(lines.polylineCount(), 0u);
+    EXPECT_EQ(lines.vertexCount(), 0u);
+    EXPECT_FALSE(report.any()) << report.summary();
+
+    // A TrackVis header without tracks (n_count 0, version 2, little-endian).
+    std::string trk(1000, '\0');
+    std::memcpy(trk.data(), "TRACK", 5);
+    const std::int32_t version = 2, headerSize = 1000;
+    std::memcpy(trk.data() + 992, &version, 4);
+    std::memcpy(trk.data() + 996, &headerSize, 4);
+    EXPECT_EQ(readLineSet(writeText(testDir() + "/empty.trk", trk)).polylineCount(), 0u);
+}
+
+TEST(ReadLineSet, what_a_native_reader_tolerated_reaches_the_report) {
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const std::string dir = testDir();
+    const std::string tck =
+        writeMrtrix(dir + "/t.tck", "mrtrix tracks", "count: 5\n",
+                    {0, 0, 0, 1, 0, 0, nan, nan, nan, 0, 1, 0, 0, 2, 0, nan, nan, nan, inf, inf, inf});
+    writeMrtrix(dir + "/t_fa.tsf", "mrtrix track scalars", "count: 3\n", {0.1f, 0.2f, nan, 0.3f, 0.4f, nan, inf});
+    CleanReport report;
+    const LineSet lines = readLineSet(tck, &report);
+    EXPECT_EQ(lines.polylineCount(), 2u);
+    EXPECT_EQ(lines.attribute("fa")->values, (std::vector<float>{0.1f, 0.2f, 0.3f, 0.4f}));
+    EXPECT_EQ(report.warnings, (std::vector<std::string>{"line 3: count: 5 tracks declared, the data holds 2; read 2",
+                                                         dir + "/t_fa.tsf: line 3: count: 3 tracks declared, the "
+                                                               "data holds 2; read 2"}));
+    EXPECT_TRUE(report.any());
+    EXPECT_EQ(report.summary(), report.warnings[0] + "; " + report.warnings[1]);
 }
 
 // A point cloud the way ParaView saves particles: vertex cells, a radius array, unsigned-char
