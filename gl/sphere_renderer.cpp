@@ -52,7 +52,8 @@ SphereRenderer::~SphereRenderer() = default;
 
 PixelBuffers SphereRenderer::pixelBuffers(const Scene& scene) {
     const bool opaque = scene.render.transparency == Transparency::Opaque;
-    return {16 + 16 + 4 + 4 + (opaque ? 0 : 16 + 4), 0, opaque ? "opaque spheres" : "transparent spheres"};
+    const std::size_t transparentBytes = opaque ? 0 : 16 + 4;
+    return {16 + 16 + 4 + 4 + transparentBytes, 0, opaque ? "opaque spheres" : "transparent spheres"};
 }
 
 std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const StyledParticles& particles) {
