@@ -48,12 +48,12 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME tubecast)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "headless batch renderer for dense 3D line sets and particles")
-set(CPACK_PACKAGE_DESCRIPTION
-    "tubecast renders streamlines, fiber tracts and particles from a dataset and a JSON scene to "
-    "PNG/EXR frames with depth, normal and id AOVs and timing CSVs, without a window or display: "
-    "OpenGL 4.5 offscreen through EGL or OSMesa (Mesa llvmpipe on machines without a GPU), or "
-    "Embree ray tracing on the CPU. Example scenes are in /usr/share/tubecast/configs.")
-string(JOIN "" CPACK_PACKAGE_DESCRIPTION ${CPACK_PACKAGE_DESCRIPTION})
+set(CPACK_PACKAGE_DESCRIPTION "\
+tubecast renders streamlines, fiber tracts and particles from a dataset and a
+JSON scene to PNG/EXR frames with depth, normal and id AOVs and timing CSVs,
+without a window or display: OpenGL 4.5 offscreen through EGL or OSMesa (Mesa
+llvmpipe on machines without a GPU), or Embree ray tracing on the CPU.
+Example scenes are in /usr/share/tubecast/configs.")
 set(CPACK_PACKAGE_CONTACT "tubecast maintainers" CACHE STRING "Maintainer field of the DEB")
 set(CPACK_INSTALL_CMAKE_PROJECTS "${CMAKE_BINARY_DIR};tubecast;runtime;/")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

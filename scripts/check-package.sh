@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Release check of the DEB on a fresh Debian 12: debootstraps a minimal bookworm into a temporary
 # directory, installs the package there with apt (Depends only, no Recommends: the declared
-# dependencies must suffice) and renders the demo from the installed files inside that chroot.
+# dependencies must suffice) and renders the demo from the installed files inside that chroot:
+# at full size, then at the golden's size through each GL backend (EGL, OSMesa), compared with
+# tests/golden/demo_256x192.png by the installed `tubecast compare` (tests/golden/README.md:
+# at most 0.5 % of the pixels off by more than 2/255).
 # Unlike the build and the tests this downloads (the Debian mirror: debootstrap and apt); it is
 # not part of scripts/test.sh. Needs root and debootstrap (apt-get install debootstrap).
 # Usage: scripts/check-package.sh [tubecast_<version>_amd64.deb]   (default: the one in the root)
@@ -32,6 +35,7 @@ mount --bind /dev "$root/dev"
 mount --bind /dev/pts "$root/dev/pts"
 cp /etc/resolv.conf "$root/etc/resolv.conf"
 cp "$deb" "$root/tmp/"
+cp tests/golden/demo_256x192.png "$root/tmp/"
 
 in_root() { chroot "$root" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root "$@"; }
 in_root apt-get update -qq
@@ -42,4 +46,12 @@ in_root tubecast --version
 in_root sh -c 'mkdir -p /tmp/demo && cd /tmp/demo && tubecast render /usr/share/tubecast/configs/demo.json -o out'
 in_root sh -c 'test -s /tmp/demo/out/demo.png && test -s /tmp/demo/out/demo.exr'
 ls -l "$root/tmp/demo/out"
+for backend in egl osmesa; do
+  in_root sh -c "cd /tmp/demo && tubecast render /usr/share/tubecast/configs/demo.json -o $backend -q \
+    --backend $backend --set image.width=256 --set image.height=192"
+  report=$(in_root tubecast compare "/tmp/demo/$backend/demo.png" /tmp/demo_256x192.png --threshold 0.0098)
+  over=$(awk '$1 == "pixels_over_threshold_percent" { print $2 }' <<<"$report")
+  echo "check-package: $backend at 256x192: $over % of the pixels off the golden"
+  awk -v p="$over" 'BEGIN { exit !(p != "" && p <= 0.5) }' || { echo "$report" >&2; exit 1; }
+done
 echo "check-package: PASS: $(basename "$deb") installs on a fresh Debian 12 and renders the demo"
