@@ -9,6 +9,9 @@
 
 namespace tc::cli {
 
+// Declared in cli/commands.h; compare --fail is the one subcommand that sets it.
+int g_exitCode = 0;
+
 void addCompareCommand(CLI::App& app) {
     struct Options {
         std::string a, b;

@@ -7,10 +7,6 @@
 #include "cli/commands.h"
 #include "core/error.h"
 
-namespace tc::cli {
-int g_exitCode = 0;
-}
-
 int main(int argc, char** argv) {
     CLI::App app{"tubecast " TUBECAST_VERSION " - headless batch renderer for dense 3D line sets"};
     app.set_version_flag("--version", std::string("tubecast ") + TUBECAST_VERSION);

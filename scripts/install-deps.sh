@@ -7,8 +7,8 @@
 set -euo pipefail
 
 packages=(
-  # toolchain
-  g++ cmake pkg-config make git ca-certificates
+  # toolchain; dpkg-dev: dpkg-shlibdeps finds the DEB's dependencies (scripts/package.sh)
+  g++ cmake pkg-config make git ca-certificates dpkg-dev
   # headless OpenGL: EGL (surfaceless / device) and OSMesa, Mesa's llvmpipe
   libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libgl1-mesa-dri libgbm-dev
   # libraries

@@ -141,7 +141,9 @@ TEST(VrcRepresentative, straight_line_representatives_lie_on_it_and_form_a_conne
                 }
         EXPECT_GE(valid, level.level < 4 ? 2u : 1u) << "level " << level.level;
         EXPECT_EQ(connected, faceEnds) << "level " << level.level;
-        if (level.level < 3) EXPECT_GT(faceEnds, 0u) << "level " << level.level;
+        if (level.level < 3) {
+            EXPECT_GT(faceEnds, 0u) << "level " << level.level;
+        }
     }
 }
 
