@@ -31,7 +31,9 @@ std::string radiusSource(const RadiusSpec& r, const ParticleSet* first) {
 std::string colorSource(const ColorSpec& c, const ParticleSet* first) {
     if (c.direction) return "colour: direction-encoded (|dx|, |dy|, |dz|) from the scene";
     if (!c.attribute.empty()) return "colour: attribute \"" + c.attribute + "\" through " + c.colormap + " from the scene";
-    const std::string rgb = "[" + number(c.constant.x) + ", " + number(c.constant.y) + ", " + number(c.constant.z) + "]";
+    std::ostringstream rgbText;  // a stream, not "[" + std::string: GCC 12's -Wrestrict misfires on that (GCC bug 105329)
+    rgbText << '[' << c.constant.x << ", " << c.constant.y << ", " << c.constant.z << ']';
+    const std::string rgb = rgbText.str();
     if (c.fromScene) return "colour: constant " + rgb + " from the scene";
     if (first && !first->colors.empty())
         return first->colorsFrom == Provenance::Elements ? "colour: element colours (CPK)"

@@ -282,15 +282,21 @@ LineSet traceStreamlines(const std::string& path, const TraceSpec& spec, CleanRe
         std::vector<vtkIdType> backward, forward;
         for (vtkIdType c : cells) {
             traced->GetCellPoints(c, ids);
-            std::vector<vtkIdType> pts(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfIds());
+            // Copied id by id: GCC 12 takes a vector built from the GetPointer(0) range for a
+            // pointer into the middle of an allocation (a false -Wfree-nonheap-object).
+            std::vector<vtkIdType> pts(std::size_t(ids->GetNumberOfIds()));
+            for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = ids->GetId(vtkIdType(k));
             if (pts.empty()) continue;
-            bool isBackward = time && pts.size() > 1 && time->GetComponent(pts.back(), 0) < 0;
-            (isBackward ? backward : forward) = pts;
+            const bool isBackward = time && pts.size() > 1 && time->GetComponent(pts.back(), 0) < 0;
+            if (isBackward) backward = std::move(pts);
+            else forward = std::move(pts);
         }
-        std::vector<vtkIdType> line(backward.rbegin(), backward.rend());
-        // Both halves start at the seed: keep it once.
-        std::size_t skip = !line.empty() && !forward.empty() ? 1 : 0;
-        line.insert(line.end(), forward.begin() + std::ptrdiff_t(std::min(skip, forward.size())), forward.end());
+        // The backward half reversed, then the forward half; both start at the seed: keep it once.
+        const std::size_t skip = !backward.empty() && !forward.empty() ? 1 : 0;
+        std::vector<vtkIdType> line;
+        line.reserve(backward.size() + forward.size());
+        for (auto it = backward.rbegin(); it != backward.rend(); ++it) line.push_back(*it);
+        for (std::size_t i = std::min(skip, forward.size()); i < forward.size(); ++i) line.push_back(forward[i]);
         if (line.size() < 2) continue;
         for (vtkIdType id : line) {
             double p[3];

@@ -374,7 +374,7 @@ TEST(TckReader, TsfFilesNextToTheTracksBecomeAttributes) {
     writeFile(dir + "/tracks_long_md.tsf", makeMrtrix<float>("mrtrix track scalars", {1, NAN, INFINITY}, false));
 
     LineSet lines = readNativeLineFile(dir + "/tracks.tck");
-    expectSampleTck(LineSet{lines.positions, lines.offsets, {}, {}});
+    expectSampleTck(LineSet{lines.positions, lines.offsets, {}, {}, {}});
     ASSERT_EQ(lines.attributes.size(), 2u);
     EXPECT_EQ(lines.attributes[0].name, "fa");
     EXPECT_EQ(lines.attributes[0].values, (std::vector<float>{0.1f, 0.2f, 0.3f, 0.4f, 0.5f}));

@@ -340,7 +340,7 @@ TEST(Scene, StyleColourWithAlphaIsAnErrorPointingToOpacity) {
 
 TEST(Scene, BadEnumValuesListTheValidOnes) {
     EXPECT_EQ(errorOf(with(R"({"render": {"transparency": "weighted"}})")),
-              "scene.json: render.transparency: expected one of \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", "
+              "scene.json: render.transparency: expected one of \"auto\", \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", "
               "\"opacity_optimization\", got \"weighted\"");
     EXPECT_EQ(errorOf(with(R"({"camera": {"projection": "fisheye"}})")),
               "scene.json: camera.projection: expected one of \"perspective\", \"orthographic\", got \"fisheye\"");
