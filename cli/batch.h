@@ -1,5 +1,5 @@
 #pragma once
-// Batch rendering at scale (M9, docs/batch.md): shards of a frame list, per-shard side files,
+// Batch rendering at scale (docs/batch.md): shards of a frame list, per-shard side files,
 // the scene hash stored in every frame, completeness checks for --resume, placeholders that keep
 // parallel jobs on a shared directory from rendering the same frame, merging timings, and the
 // llvmpipe thread count from the CPUs a job was given. No OpenGL here: the CLI tests compile

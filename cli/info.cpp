@@ -32,7 +32,7 @@ void addInfoCommand(CLI::App& app) {
     cmd->add_option("dataset", options->path, "Dataset file (.vtk, .vtp, ...) or scene file (.json)")->required();
     cmd->add_flag("--json", options->json, "Print JSON instead of text");
     cmd->callback([options] {
-        if (isParticleFile(options->path)) {  // particles (M6): cli/particle_info.cpp
+        if (isParticleFile(options->path)) {  // particles: cli/particle_info.cpp
             printParticleInfo(options->path, options->json);
             return;
         }

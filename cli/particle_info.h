@@ -1,5 +1,5 @@
 #pragma once
-// `tubecast info` for particle files (M6): frames, particle counts, bounds, radii and attributes.
+// `tubecast info` for particle files: frames, particle counts, bounds, radii and attributes.
 #include <string>
 
 #include "core/particle_set.h"

@@ -15,7 +15,7 @@ struct FrameImages {
     std::vector<float> depth;         // view-space depth of the first visible surface; +inf = background
     std::vector<float> normal;        // world-space unit normal of the first visible surface, 3 per pixel (0 on background)
     std::vector<std::uint32_t> id;    // polyline / particle index of the first visible surface; kBackgroundId
-    std::vector<float> ao;            // optional (M3), empty when not rendered
+    std::vector<float> ao;            // optional (ambient occlusion), empty when not rendered
 
     void allocate(int w, int h) {
         width = w;
@@ -29,7 +29,7 @@ struct FrameImages {
     }
     // Sizes the buffers for w x h without clearing them (ao emptied): for producers that write
     // every pixel of every buffer. A FrameImages reused across frames then keeps its pages: no
-    // page faults and no 72 MB fill per 1920x1080 frame (docs/performance.md, M10).
+    // page faults and no 72 MB fill per 1920x1080 frame.
     void resize(int w, int h) {
         width = w;
         height = h;

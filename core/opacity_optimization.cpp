@@ -235,10 +235,11 @@ void OpacityEnergy::releaseOcclusion(SparseMatrixF& into) {
 }
 
 void OpacityEnergy::setUpFromH(const OpacityParts& parts) {
-    // H is taken over as it is (occlusionMatrix builds it in this form). Before session 7 the
-    // set-up copied a double H into this one, 13-30 ms of an 8k-part warm frame's 80-100 ms solve
-    // stage (docs/performance.md M7, sessions 6 and 7). What is left reads H twice, in parallel,
-    // and sums in the order of the serial loops it replaced (so the diagonal is bit-identical).
+    // H is taken over as it is (occlusionMatrix builds it in this form), not copied: copying a
+    // double H into this one took 13-30 ms of an 8k-part warm frame's 80-100 ms solve stage
+    // (`FRAMES=8 SIZES="8000:assembled:1" scripts/bench/opacity_tables.sh`; the set-up alone:
+    // `tubecast_fragment_occlusion_bench FILE --assembled 1`). What is left reads H twice, in
+    // parallel, and sums in the order of serial loops (so the diagonal is bit-identical to theirs).
     const int* outer = m_h.outerIndexPtr();
     const int* inner = m_h.innerIndexPtr();
     const float* value = m_h.valuePtr();
@@ -311,7 +312,8 @@ OpacityEnergy::OpacityEnergy(std::shared_ptr<const FragmentOcclusion> occlusion,
     m_h.resize(m_n, m_n);
     // The squared sums of diag(Q) estimated from one pass: sum_j h_ij^2 c_j ~= k sum_j h_ij c_j,
     // k = squareEstimate. Exact when every non-zero h_ij equals k; an upper bound for k = 1 while
-    // h <= 1. Only the preconditioner sees it (measured at 8k parts, docs/performance.md M7).
+    // h <= 1. Only the preconditioner sees it (k chosen at 8k parts with `tubecast_opacity_bench
+    // --parts 8000 --occlusion fragments --square-estimate K`).
     Eigen::VectorXd rowSum, colSum;
     m_fragments->multiply(&m_colScale2, &rowSum, &m_colScale2, &colSum);
     setDiagonal(squareEstimate * rowSum, squareEstimate * colSum, parts);

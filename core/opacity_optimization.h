@@ -193,16 +193,18 @@ struct QpSolverOptions {
     int maxCgIterations = 50;
     // The projected gradient step along -diag(Q)^-1 g instead of -g (a diagonal scaling keeps
     // the projection a descent direction). Off: on the opacity problems at 2k and 8k parts it
-    // saved no products (docs/performance.md M7).
+    // saved no products (`tubecast_opacity_bench --parts 2000,8000 --scaled-gradient 1`, and 0).
     bool scaledGradientStep = false;
     // CG runs on the binding set: the free variables plus those at a bound whose gradient points
     // into the box, and the projected steepest-descent step is taken only when a CG step found no
     // decrease (projected Newton with the binding set, Bertsekas 1982, with GPCG's step as the
     // safeguard). Off: GPCG, a projected gradient step in every iteration whose face is not
-    // settled (two products when it is clipped). On the saved 8k / 32k / 128k-part systems the
-    // binding set took 17 / 26 / 35-36 products for a cold solve instead of 24 / 25 / 39, and
-    // 9-12 instead of 11 (8k, next frames of an orbit) and 23-27 instead of 23-37 (128k)
-    // (docs/performance.md M7, session 7).
+    // settled (two products when it is clipped). On 8k / 32k / 128k-part systems saved by
+    // `tubecast_opacity_bench --save-system FILE` and solved by `tubecast_fragment_occlusion_bench
+    // FILE --next FILE.frame1` (GPCG: with bindingSet false), the binding set took 17 / 26 / 35-36
+    // products for a cold solve instead of 24 / 25 / 39, and 9-12 instead of 11 (8k, next frames
+    // of an orbit) and 23-27 instead of 23-37 (128k); the cold solves are those of
+    // docs/performance.md, "Opacity optimization".
     bool bindingSet = true;
 };
 

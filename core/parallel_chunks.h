@@ -1,7 +1,8 @@
 #pragma once
 // Element-wise loops and sums over long vectors, split into fixed chunks run with oneTBB. The
 // opacity solver's vector work (a dozen passes over n doubles per product with Q) was serial:
-// running it in chunks made a 128k-part solve 10-18 % faster (docs/performance.md M7, session 7).
+// running it in chunks made a 128k-part solve 10-18 % faster (`tubecast_fragment_occlusion_bench
+// FILE --solves 3` on a system saved by `tubecast_opacity_bench --parts 128000 --save-system FILE`).
 // Eigen parallelises only matrix products (with OpenMP), not these passes, so they are spelled
 // out here. The chunks are fixed by n alone and sums are combined in a fixed tree
 // (parallel_deterministic_reduce), so every result is the same on any number of threads. Vectors

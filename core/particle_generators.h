@@ -1,5 +1,5 @@
 #pragma once
-// Built-in particle datasets (M6), deterministic by seed for any thread count.
+// Built-in particle datasets, deterministic by seed for any thread count.
 #include <cstdint>
 
 #include "core/particle_set.h"

@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference compositor for small particle scenes (M6): per pixel, every sphere interval the
+// CPU reference compositor for small particle scenes: per pixel, every sphere interval the
 // pixel ray crosses (core/sphere_glyph.h), sorted exactly by entry distance, composited front to
 // back with the same opacity and emission as the GPU (shaders/sphere_glyph.glsl). The ground
 // truth of the sphere renderer's tests: exact for spheres that do not intersect each other.

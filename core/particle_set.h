@@ -1,5 +1,5 @@
 #pragma once
-// Particle data (M6): points with an optional per-particle radius and colour and any number of
+// Particle data: points with an optional per-particle radius and colour and any number of
 // scalar attributes, one frame or a time series of frames. What particle readers and the
 // droplets generator produce and particle styling (core/particle_styling.h) consumes.
 #include <cstddef>

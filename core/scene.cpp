@@ -133,12 +133,12 @@ void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& over
         if (fs::path(d.path).is_relative() && !r.file().empty() && !overridden.count("dataset.path") &&
             !overridden.count("dataset"))
             d.path = (fs::path(r.file()).parent_path() / d.path).lexically_normal().string();
-        d.frame = r.getInt("frame", d.frame, -1, 10'000'000);  // time series (particles, M6)
+        d.frame = r.getInt("frame", d.frame, -1, 10'000'000);  // time series (particles)
         if (r.has("trace")) readTrace(r.child("trace"), d.trace.emplace());
     } else {
         d.generate = r.getEnum("generate", "tornado",
                                {"tornado", "propeller", "brain", "convection", "turbulence", "droplets"});
-        if (d.generate == "droplets") {  // particles (M6): "lines"/"points" do not apply
+        if (d.generate == "droplets") {  // particles: "lines"/"points" do not apply
             d.particles = r.getInt("particles", d.particles, 1, 100'000'000);
             d.seed = std::uint32_t(r.getInt("seed", int(d.seed), 0, std::numeric_limits<int>::max()));
             d.frame = r.getInt("frame", d.frame, -1, 10'000'000);
@@ -315,7 +315,7 @@ void readImage(SpecReader r, ImageSpec& im) {
     im.width = r.getInt("width", im.width, 1, 65536);
     im.height = r.getInt("height", im.height, 1, 65536);
     im.background = r.getColor("background", im.background);
-    // M9 large images (core/tiling.h): "auto" or [nx, ny] with tiles at least 2 pixels wide.
+    // Large images (core/tiling.h): "auto" or [nx, ny] with tiles at least 2 pixels wide.
     if (r.has("tiles")) {
         const json& t = r.raw("tiles");
         const bool isAuto = t.is_string() && t.get<std::string>() == "auto";
@@ -393,7 +393,7 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     o.finish();
 }
 
-// render.spheres (M6, Staib, Grottel & Gumhold 2015).
+// render.spheres (Staib, Grottel & Gumhold 2015).
 void readSpheres(SpecReader r, SpheresSpec& s) {
     std::string density = r.getEnum("density", "constant", {"constant", "l2", "hollow_constant", "hollow_l2"});
     s.density = density == "l2"                ? SphereDensity::L2

@@ -1,8 +1,8 @@
 #pragma once
 // 8-bit sRGB encoding of linear values by table: the output path converts every pixel of every
 // frame (2M pixels x 3 channels at 1920x1080), and three powf per pixel cost more than zlib's
-// fastest level (docs/performance.md, M10). The table is built from linearToSrgb itself
-// (core/color.h), so the result is bit-identical to the formula it replaces.
+// fastest level (docs/performance.md, "Design notes"). The table is built from linearToSrgb
+// itself (core/color.h), so the result is bit-identical to the formula it replaces.
 #include <cstdint>
 
 namespace tc {

@@ -12,7 +12,7 @@ namespace tc {
 
 // Per-vertex flags (bits of StyledLines::flags).
 enum VertexFlag : std::uint32_t {
-    FirstOfPolyline = 1u,  // keeps a full cap at the start (cap clipping, M2)
+    FirstOfPolyline = 1u,  // keeps a full cap at the start (cap clipping)
     LastOfPolyline = 2u,   // keeps a full cap at the end
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Particles resolved by styling into what the sphere renderer draws (M6): centre and radius,
+// Particles resolved by styling into what the sphere renderer draws: centre and radius,
 // linear straight RGBA (alpha = Theta_max of the density model, Staib et al. 2015, Eq. 15) and
 // the particle's index in its data frame (the id AOV).
 #include <cstdint>

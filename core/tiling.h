@@ -1,5 +1,5 @@
 #pragma once
-// Large and anti-aliased images (M9): the pure math behind rendering a frame as tiles and as
+// Large and anti-aliased images: the pure math behind rendering a frame as tiles and as
 // jittered sub-pixel samples. A render target is a *window* of the full image: its pixels are
 // full-image pixels shifted by an integer tile origin plus a sub-pixel sample offset. The GPU
 // turns a window into an exact off-axis sub-frustum of the full camera (ray origins and

@@ -1,5 +1,5 @@
 #pragma once
-// Small GL helpers shared by the passes: uniform look-up and texture read-back.
+// Small GL functions shared by the passes: uniform look-up and texture read-back.
 #include <cstddef>
 
 #include "gl/gl_api.h"

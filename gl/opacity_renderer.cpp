@@ -43,7 +43,7 @@ std::vector<std::uint32_t> polylineOffsets(const StyledLines& lines) {
 }
 
 // Process CPU time (all threads) since c0: on a shared machine a stage's wall time includes
-// waiting for the cores; its CPU time does not (docs/performance.md M7, session 7).
+// waiting for the cores; its CPU time does not.
 double cpuMsSince(std::clock_t c0) {
     return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
 }
@@ -319,7 +319,8 @@ void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameS
     // a product costs the fragments. Auto assembles while the pairs are at most
     // kAssembleBelowPairsPerFragment per fragment: at 8k parts (9.8 per fragment) assembling took
     // 13x the list operator's set-up and saved 15 ms of CPU per product, ~0.35 s per solve
-    // (docs/performance.md M7); at 2k parts (2.4) the two are about even.
+    // (`tubecast_opacity_bench --parts 2000,8000 --occlusion both` times both on the same system);
+    // at 2k parts (2.4) the two are about even.
     constexpr double kAssembleBelowPairsPerFragment = 4;
     using Occlusion = OpacityOptimizationSpec::Occlusion;
     occlusion.fromFragments = m_spec.occlusion == Occlusion::Fragments ||
@@ -363,9 +364,9 @@ void OpacityRenderer::solve(const FragmentLists& lists, const FrameSetup& setup,
         // render.opacity.coarse_scale: first the system of the lists subsampled at that scale
         // (much cheaper products), from the previous solution, then the real one
         // from its solution. The real solve stops at the same tolerance on the same energy; the
-        // coarse one only moves its starting point (docs/performance.md M7, session 6: at 8k-128k
-        // the cold solve took 15-22 products instead of 24-39 after coarse lists of 320 px; warm
-        // frames at 8k did not gain).
+        // coarse one only moves its starting point (at 8k-128k parts the cold solve took 15-22
+        // products instead of 24-39 after coarse lists of 320 px; warm frames at 8k did not gain:
+        // `tubecast_fragment_occlusion_bench FILE --coarse C --next FILE.frame1`).
         const FragmentLists coarseLists = subsampleLists(lists, setup.height, double(m_spec.coarseScale));
         const OpacityEnergy coarse(std::make_shared<const FragmentOcclusion>(coarseLists, n), m_importance, m_parts,
                                    weights());

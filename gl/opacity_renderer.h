@@ -120,7 +120,7 @@ private:
     std::vector<double> m_importance;
     Eigen::VectorXd m_solution, m_displayed;  // empty before the first frame
     // Assembled H: the assembly's buffers and the last frame's H arrays, refilled every frame
-    // instead of allocated and first-touched anew (docs/performance.md M7, session 7).
+    // instead of allocated and first-touched anew (page faults: core/occlusion_matrix.h).
     OcclusionAssembler m_assembler;
     SparseMatrixF m_recycledH;
     FrameStats m_stats;

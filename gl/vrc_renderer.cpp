@@ -159,12 +159,12 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     VrcBuildOptions options;
     options.resolution = scene.render.vrc.resolution;
     options.quantization = scene.render.vrc.quantization;
-    // The ray caster shades with the M3 density volume (see the header); the Eq. 1 pyramid is
-    // only built where it is asked for (tests, benchmarks).
+    // The ray caster shades with the density volume of gl/ambient_occlusion.h (see the header);
+    // the Eq. 1 pyramid is only built where it is asked for (tests, benchmarks).
     options.lod = false;
     // Without neighbour tests at render time, every piece is copied into the neighbours its tube
     // reaches at build time (core/vrc_model.h, Copies): the image of the neighbour tests with far
-    // fewer pieces tested per voxel (docs/performance.md, M8).
+    // fewer pieces tested per voxel (docs/performance.md, "Design notes").
     options.dilate = !scene.render.vrc.neighbors;
     const auto t0 = std::chrono::steady_clock::now();
     VrcModel model = buildVrcModel(lines, options);

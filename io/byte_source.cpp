@@ -76,7 +76,8 @@ FileSource::~FileSource() {
 void FileSource::readRaw(std::uint64_t offset, void* dst, std::size_t n) const {
     // Large reads (the arrays of a .tcb, 10^7 vertices = 120 MB of positions) go in parallel
     // chunks: one thread copying out of the page cache (and faulting in the destination pages)
-    // is slower than the disk, two keep the load I/O bound (docs/performance.md, M5).
+    // is slower than the disk, two keep the load I/O bound (docs/performance.md, "Batch throughput
+    // and reading").
     constexpr std::size_t kChunk = std::size_t(8) << 20;
     if (n >= 2 * kChunk) {
         tbb::parallel_for(std::size_t(0), (n + kChunk - 1) / kChunk, [&](std::size_t c) {

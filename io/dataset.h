@@ -10,7 +10,7 @@ namespace tc {
 
 struct DatasetLoad {
     LineSet lines;
-    ParticleData particles;  // particle datasets (M6): one or more frames; `lines` is empty then
+    ParticleData particles;  // particle datasets: one or more frames; `lines` is empty then
     CleanReport cleaned;   // what was skipped (NaN/Inf, duplicates, short polylines)
     std::string source;    // the path, or "generate:tornado(lines=..,points=..,seed=..)"
     double seconds = 0;

@@ -38,7 +38,7 @@ std::string oiioError(const std::string& objectError) {
 }
 
 // Rows converted per write_scanlines call: the conversion buffer holds this many rows, not the
-// image, so a 16384^2 frame (M9 tiles) needs no second full-size copy of its pixels.
+// image, so a 16384^2 frame (rendered in tiles) needs no second full-size copy of its pixels.
 constexpr int kRowsPerStrip = 64;
 
 // Writes the image to a temp file next to `path` and renames it into place. `fillRows(y0, y1,
@@ -108,7 +108,7 @@ void writePng(const FrameImages& frame, const std::string& path,
     const int channels = opaque ? 3 : 4;
     // Strips of rows (writeImage), each converted in parallel and sRGB by table (core/srgb8.h):
     // with the formula, three powf per pixel cost more than the compression (docs/performance.md,
-    // M10).
+    // "Design notes").
     auto fillRows = [&](int y0, int y1, unsigned char* pixels) {
         const std::size_t first = std::size_t(y0) * w;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::size_t(y1) * w, 4096),
@@ -132,7 +132,8 @@ void writePng(const FrameImages& frame, const std::string& path,
     spec.attribute("png:compressionLevel", zlibLevel);
     // No row filter (PNG_FILTER_NONE): libpng's default tries all five per row, which cost more
     // than the deflate itself; on a rendered 1920x1080 frame (large flat background, shaded tubes)
-    // unfiltered level 1 was 2.6x faster and 10 % smaller than filtered (docs/performance.md, M10).
+    // unfiltered level 1 was 2.6x faster and 10 % smaller than filtered (docs/performance.md,
+    // "Design notes").
     spec.attribute("png:filter", 8);
     // Without this, OIIO's PNG writer treats the data as premultiplied and divides by alpha
     // again (pngoutput: "oiio:UnassociatedAlpha" = 1 means the data is already straight).

@@ -17,7 +17,7 @@ namespace tc {
 // rounded to the nearest 8-bit value. Written through an AtomicFile. `text` becomes PNG tEXt
 // chunks (key -> value), e.g. the scene hash that --resume checks. `zlibLevel` 0..9 (zlib's
 // scale; 6 is libpng's default), rows unfiltered: at 1920x1080 libpng's defaults cost more than a
-// ray-traced frame, level 1 unfiltered a quarter of that (docs/performance.md, M10).
+// ray-traced frame, level 1 unfiltered a quarter of that (`scripts/bench/raytraced.sh 3 7 stages`).
 // Throws OutputError "PATH: cannot write PNG: <reason>".
 constexpr int kPngFrameZlibLevel = 1;
 void writePng(const FrameImages& frame, const std::string& path,

@@ -1,5 +1,5 @@
 #pragma once
-// Particle file readers (M6), chosen by extension:
+// Particle file readers, chosen by extension:
 //   .xyz / .extxyz   XYZ: count line, comment line, "element x y z" rows; extended XYZ when the
 //                    comment has Properties=name:type:cols:... (pos, radius, colour, any scalar);
 //                    concatenated blocks are frames.

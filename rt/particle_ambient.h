@@ -1,6 +1,6 @@
 #pragma once
-// Ambient occlusion A_O and coloured ambient light L_A of ray-traced particles (M10 with M6's
-// model, Staib, Grottel & Gumhold 2015, Eq. 2 and 7), the two render.ao.method variants:
+// Ambient occlusion A_O and coloured ambient light L_A of ray-traced particles (the model of
+// Staib, Grottel & Gumhold 2015, Eq. 2 and 7), the two render.ao.method variants:
 // - "cone_traced": the CPU twin of gl::SphereAmbient (gl/sphere_ambient.h), so the ray-traced
 //   spheres look like the GL `spheres` technique's: the spheres voxelized into an RGBA grid exactly
 //   as shaders/sphere_voxelize.comp + sphere_volume_resolve.comp do (3x3x3 sub-sample coverage in

@@ -21,7 +21,8 @@ namespace tc::rt {
 constexpr int kTile = 8;
 
 // How opaque primary rays traverse the BVH. All give identical hits; RaytracedRenderer's default
-// is the one measured fastest on the 1M tornado (docs/performance.md, M10), the others stay
+// is the one measured fastest on the 1M tornado (16-ray packets, docs/performance.md, "Design
+// notes"; `scripts/bench/raytraced.sh 3 7 stages` compares them all), the others stay
 // selectable for tests/bench/raytraced_bench.cpp.
 enum class Traversal {
     Single,   // rtcIntersect1 per pixel
@@ -94,7 +95,7 @@ bool pixelBlockMisses(const PixelRays& rays, const ImageWindow& window, int x0, 
 // is (core/tiling.h: tiles, image.samples); rays are those of the full image's pixels.
 // With `bounds`, a tile none of whose rays can meet them is passed with `outside` set and no rays
 // (in a fitted view of the 1M tornado two thirds of the tiles; their rays cost a third of an
-// opaque frame, docs/performance.md, M10).
+// opaque frame, docs/performance.md, "Design notes").
 template <class TileFn>
 void forEachTile(const Camera& camera, const ImageWindow& window, int width, int height, TileFn&& fn,
                  const SceneBounds* bounds = nullptr) {
@@ -113,7 +114,7 @@ void forEachTile(const Camera& camera, const ImageWindow& window, int width, int
                 continue;
             }
             // Rows and columns, not px(k) / py(k): two integer divisions per pixel were a
-            // measurable part of a frame whose rays mostly miss (docs/performance.md, M10).
+            // measurable part of a frame whose rays mostly miss (`tubecast_raytraced_bench SCENE`).
             for (int row = 0, k = 0; row < tile.h; ++row)
                 for (int col = 0; col < tile.w; ++col, ++k) {
                     const glm::vec2 p = fullImagePixel(window, float(tile.x0 + col), float(tile.y0 + row));

@@ -1,17 +1,18 @@
 #pragma once
-// Particles in the CPU ray tracer (M10 with M6's model): render.technique "raytraced" on a particle
-// dataset. One Embree RTC_GEOMETRY_TYPE_SPHERE_POINT geometry (primitive i = particle i), built
-// once per data frame. Per pixel-centre ray:
+// Particles in the CPU ray tracer, with the model of the `spheres` technique: render.technique
+// "raytraced" on a particle dataset. One Embree RTC_GEOMETRY_TYPE_SPHERE_POINT geometry
+// (primitive i = particle i), built once per data frame. Per pixel-centre ray:
 // - Opaque: the first sphere hit; depth / normal / id and the Blinn-Phong colour as
 //   core/particle_reference.h's opaque mode (sphereEmission with alpha_rv 1).
 // - Transparent: every sphere the ray crosses, sorted by its entry distance (clamped to 0 when the
 //   eye is inside it) and composited front to back ("under"), each with the emission-absorption
-//   interior of M6 evaluated from the entry / exit pair: opacity from the density model's optical
-//   depth over [tNear, tFar] (constant, squared-distance, hollow: core/sphere_glyph.h) and
-//   sphereEmission at the entry point. That is core/particle_reference.h's transparent mode (exact
-//   for spheres that do not intersect each other), stopping once the accumulated alpha reaches
-//   render.raytraced.alpha_cutoff (1 = exact). Hits are gathered by the context filter of
-//   rt/hit_collector.h: only entries count (a sphere's exit hit only when the eye is inside it).
+//   interior of the sphere glyphs evaluated from the entry / exit pair: opacity from the density
+//   model's optical depth over [tNear, tFar] (constant, squared-distance, hollow:
+//   core/sphere_glyph.h) and sphereEmission at the entry point. That is
+//   core/particle_reference.h's transparent mode (exact for spheres that do not intersect each
+//   other), stopping once the accumulated alpha reaches render.raytraced.alpha_cutoff (1 = exact).
+//   Hits are gathered by the context filter of rt/hit_collector.h: only entries count (a sphere's
+//   exit hit only when the eye is inside it).
 // With render.ao: A_O and coloured ambient light L_A at every shaded entry point, weighted as in
 // shaders/sphere.frag (rt/particle_ambient.h: "cone_traced" = the GL spheres' volume and cones on
 // the CPU, "ray_traced" = hemisphere rays against the same BVH); the ao AOV for opaque spheres.

@@ -60,7 +60,8 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     // Opaque images are the union of the rounded cones either way; joined tubes have fewer surfaces.
     // (Opaque without neighbour flags, each segment a closed rounded cone, traced no faster: same
-    // CPU time within noise on the 1M tornado, docs/performance.md M10 session 4.)
+    // CPU time within noise on the 1M tornado's opaque frames, `scripts/bench/frame_times.sh
+    // configs/tornado_1m.json 7 --set render.technique=raytraced`.)
     r->m_joinNeighbours = r->m_transparent ? rs.capClipping : true;
     r->m_jointEpsilon = 1e-3f * std::max(lines.maxRadius, 1e-12f);
     r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);

@@ -1,5 +1,5 @@
 #pragma once
-// render.technique "raytraced" (M10): the tubes of the rasterized path, ray traced on the CPU with
+// render.technique "raytraced": the tubes of the rasterized path, ray traced on the CPU with
 // Embree 3 round linear curves (rt/embree_lines.h) over 8x8 pixel tiles with oneTBB. Same camera
 // rays (core/camera.h), shading (core/shading.h), colour pipeline and AOVs as the GL techniques,
 // so switching technique gives the same picture up to float differences:

@@ -12,7 +12,7 @@
 // run masked). An unsorted list needs all k loads per fragment to find the nearest entry (every
 // SSBO access is a per-lane scalar loop on llvmpipe); measured on llvmpipe, this insertion costs
 // about the same as that unrolled scan, but the header lets kbuffer_resolve.frag read only the
-// filled slots, which made the resolve 4-7x cheaper (docs/performance.md, M2, session 4). The
+// filled slots, which made the resolve 4-7x cheaper (docs/performance.md, "Design notes"). The
 // evictions, hence the image, are the same for any list layout: the nearer of the fragment and
 // the nearest entry leaves.
 //

@@ -3,7 +3,7 @@
 // read in a fragment shader is a per-lane scalar load, and a segment covers tens of fragment lanes
 // (4x4 blocks, mostly partial on thin billboards): reading ~30 values and building the two cap
 // planes per lane cost more than the ray casting itself, while a flat varying is one broadcast
-// per block (docs/performance.md, M2). GLSL 4.50 chunk; the includer #defines one of
+// per block (docs/performance.md, "Design notes"). GLSL 4.50 chunk; the includer #defines one of
 //   SEGMENT_VARYINGS_COMPUTE  billboard_pass.comp: loadSegmentVaryings + storeSegmentRecord (the
 //                             per-segment record the vertex shader copies, LineGeometry owns it);
 //   SEGMENT_VARYINGS_OUT      billboard vertex / geometry shaders: the flat outputs, load, copy;

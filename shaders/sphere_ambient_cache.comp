@@ -3,7 +3,7 @@
 // sphere's surface whose normals are the coordinate axes, stored as an "ambient cube" (Mitchell,
 // McTaggart & Green 2006) that sphere.frag blends with the squared normal components. One
 // invocation per (sphere, face): 6 x particles cone sets per data frame instead of 3 cones per
-// covered fragment per frame (docs/performance.md, M6).
+// covered fragment per frame (docs/performance.md, "Particles as sphere glyphs").
 layout(local_size_x = 64) in;
 
 #include "sphere_ambient.glsl"

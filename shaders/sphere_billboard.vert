@@ -1,11 +1,12 @@
-// Sphere glyphs (M6): vertex pulling, 6 vertices (two triangles) per particle on the rectangle that
+// Sphere glyphs: vertex pulling, 6 vertices (two triangles) per particle on the rectangle that
 // contains the projected sphere exactly (perspective-correct tangent bounds, sphere_glyph.glsl),
 // padded by half a pixel. POINTS: one vertex per particle instead, a point sprite (square) around
 // the same rectangle, clamped to the target: a sixth of the vertex work, which on llvmpipe runs on
-// one thread and dominated the frame (docs/performance.md, M6). A sphere whose square exceeds the
-// implementation's largest point size is not drawn but counted in `oversized`; the renderer then
-// draws the frame again with quads. Depth is a constant 0.5 (NDC 0): the early-z chunks of Sect. 5.2 mark
-// finished pixels with depth 0 and let the depth test reject later particles before shading.
+// one thread and dominated the frame (docs/performance.md, "Design notes"). A sphere whose square
+// exceeds the implementation's largest point size is not drawn but counted in `oversized`; the
+// renderer then draws the frame again with quads. Depth is a constant 0.5 (NDC 0): the early-z
+// chunks of Sect. 5.2 mark finished pixels with depth 0 and let the depth test reject later
+// particles before shading.
 #include "camera.glsl"
 #include "frame_uniforms.glsl"
 #include "sphere_glyph.glsl"

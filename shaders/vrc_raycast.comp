@@ -84,8 +84,8 @@ layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 6) readonly buffer VrcPieces7 {
 // gathers a texel fetch with vector code, while a storage buffer read at per-lane addresses is a
 // loop over the lanes with a branch per lane and component, and the blocks need one read per
 // block (both sides of an if run on llvmpipe). With the candidate masks of testVoxel the piece
-// reads are a large part of the ray cast (docs/performance.md, M8, session 6; in session 5,
-// before the masks, texture buffers made no measurable difference).
+// reads are a large part of the ray cast (docs/performance.md, "Design notes"; without the masks,
+// texture buffers made no measurable difference).
 layout(binding = TEXTURE_VRC_PIECE_TEXELS) uniform usamplerBuffer vrcPieceTex;
 #endif
 
@@ -291,7 +291,7 @@ float hardShadowVisibility(vec3 pos) {
 // the farthest drops out when all are full). Named variables, not arrays: llvmpipe keeps a local
 // array in memory and pays every access per lane, also with constant indices; an insertion sort
 // and compositing loop over arrays was about half of the semi-transparent frame
-// (docs/performance.md, M8, session 5). The colour is kept with the hit: re-reading and decoding
+// (docs/performance.md, "Design notes"). The colour is kept with the hit: re-reading and decoding
 // the piece after sorting costs another per-lane SSBO gather.
 #ifdef TRANSPARENT
 #define VRC_SLOTS 8
@@ -371,7 +371,7 @@ void popHit(uint line) {
 }
 
 #if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
-// Opacity that depends on the path length inside the tube (M8): a tube of style alpha a is a
+// Opacity that depends on the path length inside the tube: a tube of style alpha a is a
 // homogeneous medium whose transmittance over a diameter is 1 - a, so over the ray's chord L it is
 // (1 - a)^(L / 2r) (Beer-Lambert). The chord is the hit piece's rounded-cone interval (entry to
 // exit; from the ray origin when the ray starts inside), r the mean of its two radii: a ray
@@ -390,7 +390,7 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 // 8-wide SIMD a branch runs whenever one lane takes it: with the pre-test inside the piece loop
 // the intersector ran for ~35 % of the pieces (any of 8 lanes passing) although ~5 % pass
 // (brain_2m: 427 pieces tested, 22.6 passing, 9.7 hits per ray); now it runs max-over-lanes of
-// the candidates (docs/performance.md, M8, session 6).
+// the candidates (docs/performance.md, "Design notes").
 void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize))) return;
     uvec2 h = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x];

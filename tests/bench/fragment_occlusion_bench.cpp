@@ -1,6 +1,7 @@
 // Products with H from the fragment lists (core/fragment_occlusion.h) and with Q, and cold solves,
-// on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of
-// M7 without the GL frame, for A/B runs of the product (docs/performance.md M7).
+// on a system saved by `tubecast_opacity_bench --save-system FILE`: the CPU part of opacity
+// optimization without the GL frame, for A/B runs of the product (docs/performance.md, "Opacity
+// optimization").
 //
 //   tubecast_fragment_occlusion_bench FILE [--reps 10] [--solves 1] [--block-slots 4096 (0: automatic)] [--assembled 1]
 //                                     [--reuse 1]   (with --assembled 1: buffers and H kept from call to call)

@@ -1,4 +1,4 @@
-// M10 benchmark of the ray tracer's frame, stage by stage, in ONE process so the variants are
+// Benchmark of the ray tracer's frame, stage by stage, in ONE process so the variants are
 // measured back to back on the same BVH (the machine is shared; ratios are what survive load):
 //   raytrace per traversal mode (rtcIntersect1 / rtcIntersect8 / rtcIntersect1M), then the output
 //   path of the frame loop: compositeUnder and writePng at the given zlib levels.

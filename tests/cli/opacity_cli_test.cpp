@@ -1,4 +1,4 @@
-// render.transparency "opacity_optimization" through the tubecast binary (M7): a two-frame orbit
+// render.transparency "opacity_optimization" through the tubecast binary: a two-frame orbit
 // of a small tornado with --dump-system. The dumped system is read back as another tool would
 // (Matrix Market Q, one value per line for the vectors) and checked against the solution.
 #include <gtest/gtest.h>

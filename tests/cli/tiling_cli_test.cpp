@@ -1,4 +1,4 @@
-// Large images through the binary (M9): a k-buffer frame over render.memory_budget_mb is tiled
+// Large images through the binary: a k-buffer frame over render.memory_budget_mb is tiled
 // automatically (instead of refused) and its EXR equals the untiled frame's in every channel;
 // image.samples anti-aliases the colour and keeps one sample's depth and id.
 #include <cmath>

@@ -60,7 +60,8 @@ TEST_F(TransparencyCli, KbufferOverTheMemoryBudgetIsExit2NamingTheKey) {
 }
 
 // Both backends run the same llvmpipe and the k-buffer's per-pixel order is deterministic there
-// (../shared/notes/llvmpipe.md): the images must agree exactly, AOVs included.
+// (llvmpipe bins by tile and one thread shades a tile's primitives in submission order): the
+// images must agree exactly, AOVs included.
 TEST_F(TransparencyCli, EglAndOsmesaRenderTheSameKbufferImage) {
     writeScene(R"("transparency": "kbuffer", "kbuffer": {"k": 4})", 60, 64, 48);
     RunResult egl = run("render scene.json --backend egl -o egl");
@@ -97,7 +98,7 @@ std::vector<std::vector<std::string>> readCsv(const fs::path& p) {
     return rows;
 }
 
-// The M2 quality target: the k-buffer with k = 8 within 40 dB PSNR of depth peeling. 120
+// The k-buffer's quality target: the k-buffer with k = 8 within 40 dB PSNR of depth peeling. 120
 // overlapping tornado streamlines at opacity 0.3 (moderately dense: the vortex core stacks
 // dozens of layers) on a 2-frame orbit.
 TEST_F(TransparencyCli, ReferenceDepthPeelingWritesQualityCsvWithPsnrOver40DbForKbuffer8) {

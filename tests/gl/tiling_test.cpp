@@ -1,4 +1,4 @@
-// Tiled and anti-aliased rendering (M9; core/tiling.h, core/tiled_technique.h, gl/view_window.h):
+// Tiled and anti-aliased rendering (core/tiling.h, core/tiled_technique.h, gl/view_window.h):
 // - tiled == untiled: a frame rendered as 3 x 2 tiles of uneven size (97 x 63) equals the untiled
 //   frame in every channel (colour, depth, normal, id, AO), bit for bit, for the rasterized
 //   opaque path (culling and AO on), the k-buffer (culling and AO on), depth peeling, spheres

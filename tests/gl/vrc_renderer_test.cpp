@@ -3,7 +3,8 @@
 // the neighbours, the default) is exact: the pieces of a straight tube are collinear sub-cones
 // whose union is the tube, and every piece whose tube reaches into a voxel is tested there when
 // radius < voxel size.
-//   - opaque: view depth, polyline id and colour == the opaque rounded-cone renderer (M1);
+//   - opaque: view depth, polyline id and colour == the opaque rounded-cone renderer
+//     (gl/rounded_cone_renderer.h);
 //   - transparent: colour and alpha == depth peeling of the same tubes (non-intersecting, so the
 //     per-ray order of the tubes is the same in both).
 // Pixels on silhouettes (3x3 neighbourhood with a different coverage / fragment set) are excluded:

@@ -1,7 +1,8 @@
 #!/bin/bash
 # A real Slurm on this machine runs tubecast's job array (scripts/slurm/):
 #   1. starts its own munged, slurmctld and slurmd (scripts/slurm/local_cluster.sh) with a generated minimal
-#      slurm.conf in a temp dir (no cgroups; /work/shared/notes/slurm.md);
+#      slurm.conf in a temp dir: a single-node Slurm on localhost, no cgroups (proctrack/pgid,
+#      task/none), run as root with slurm-wlm and munge installed (scripts/install-deps.sh);
 #   2. submit.sh renders an 8-frame orbit in 4 array tasks; every frame must exist, decode with the
 #      scene's hash (check.sh: nothing missing) and equal the frame rendered locally;
 #   3. a second array with slower frames; one task is cancelled after its first frame. check.sh

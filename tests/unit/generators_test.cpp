@@ -142,9 +142,9 @@ TEST(Generators, TornadoVelocitySwirlsAboutTheCoreAndRises) {
     EXPECT_GT(v.z, 0.0f);
 }
 
-// configs/tornado_1m.json is the 1,000,000-segment benchmark of the M1 closing note. Streamlines
-// that leave the cube are shorter than `points`, so its line count was chosen by generating;
-// this keeps it honest when the generator changes.
+// configs/tornado_1m.json is the 1,000,000-segment benchmark of docs/performance.md ("Rasterized
+// lines"). Streamlines that leave the cube are shorter than `points`, so its line count was chosen
+// by generating; this keeps it honest when the generator changes.
 TEST(Generators, TornadoBenchmarkConfigHasAboutAMillionSegments) {
     std::filesystem::path config =
         std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "configs" / "tornado_1m.json";

@@ -236,8 +236,7 @@ TEST(OpacitySolver, binding_set_stays_within_a_gpcg_budget_from_poor_starts) {
     // take many more products than GPCG. (The stagnation this guards against, a clipped CG step
     // cut at its first bound over and over, showed on saved 32k / 128k-part frames from a Jacobi
     // start, 192 products against GPCG's 100, and is checked there with
-    // tubecast_fragment_occlusion_bench, docs/performance.md M7 session 7; this random problem
-    // passes with and without that fix.)
+    // tubecast_fragment_occlusion_bench; this random problem passes with and without that fix.)
     std::mt19937 rng(23);
     const int n = 3000;
     std::vector<Eigen::Triplet<double>> entries;

@@ -1,4 +1,4 @@
-// Particles (M6, Staib, Grottel & Gumhold 2015): density-model opacity against closed forms, the
+// Particles (Staib, Grottel & Gumhold 2015): density-model opacity against closed forms, the
 // power-distance sort key, projected sphere bounds, the droplets generator, particle styling, the
 // CPU reference compositor and the render.spheres scene keys.
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Particles in the Embree ray tracer (rt/raytraced_particles.h) against the CPU particle reference
-// of M6 (core/particle_reference.h): opaque first hit, the emission-absorption interior of every
+// (core/particle_reference.h): opaque first hit, the emission-absorption interior of every
 // density model, the multi-pass continuation, the eye inside a sphere, and thread independence.
 #include <gtest/gtest.h>
 
