@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/technique.h"
 
@@ -42,12 +43,18 @@ struct TechniqueData {
     const LineSet* source = nullptr;          // kind Lines: as read (attributes the style did not map)
     const ParticleData* particles = nullptr;  // kind Particles: every data frame
     int firstFrame = 0;                       // the first animation frame that will be rendered
+    // Data-parallel rendering: draw only what enters the rays inside this box (core/region.h);
+    // the data may extend beyond it. Unbounded (the default) = the whole frame.
+    RegionBox region;
 };
 
 // Observers the frame loop attaches (a technique never writes files itself).
 struct TechniqueHooks {
     // Every frame's optimisation problem of opacity optimization (render.opacity.dump_dir).
     std::function<void(const OpacitySystem&)> opacitySystem;
+    // Data-parallel rendering: replaces a density grid (the ambient occlusion volume's finest
+    // level, x fastest) by the sum of every rank's, so AO sees all the data; null = as built.
+    std::function<void(std::vector<float>& grid)> reduceDensity;
 };
 
 // Memory a GL technique allocates per pixel of its render target; tiling plans against it
