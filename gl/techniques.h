@@ -17,7 +17,8 @@ TechniqueDescriptor voxelRaycastTechnique();  // gl/vrc_renderer.cpp
 void registerTechniques(TechniqueRegistry& registry);
 
 // The GL technique render.technique names, made for a line dataset through its descriptor (for
-// tests and benchmarks that hold styled lines; the frame loop goes through the registry). Needs a
+// tests and benchmarks that hold styled lines; the frame loop goes through the registry). "auto"
+// technique and transparency resolve as in the frame loop, among the GL techniques. Needs a
 // current context; throws InputError as TechniqueRegistry::validate.
 std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines);
 

@@ -16,6 +16,8 @@ packages=(
   nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev libembree-dev
   # sanitizer and libFuzzer build of core/ and io/ (ctest label fuzz)
   clang libclang-rt-14-dev
+  # the formatting check (scripts/check-format.sh)
+  clang-format
   # a real single-machine Slurm for the batch tests (ctest label slurm)
   slurm-wlm munge
   # tests and benchmarks

@@ -28,13 +28,10 @@ using Track = std::vector<std::array<float, 3>>;
 // An MRtrix .tck as MRtrix writes it: text header, Float32LE triplets, a NaN triplet after each
 // track and an Inf triplet at the end. `count` is what the header claims.
 void writeTck(const fs::path& path, const std::vector<Track>& tracks, long count) {
-    std::string header = "mrtrix tracks\ndatatype: Float32LE\ncount: " + std::to_string(count) + "\nfile: . ";
-    // The offset counts its own digits: pad to a fixed width.
-    const std::size_t offset = header.size() + 6 + 4;
-    header += std::to_string(offset);
-    header.resize(offset - 4, ' ');
-    header += "\nEND";
-    header.resize(offset, '\n');
+    // The data starts at a fixed offset after the header's END line (the bytes between are padding).
+    std::string header =
+        "mrtrix tracks\ndatatype: Float32LE\ncount: " + std::to_string(count) + "\nfile: . 128\nEND\n";
+    header.resize(128, '\0');
     std::vector<float> data;
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     for (const Track& t : tracks) {
