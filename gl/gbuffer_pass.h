@@ -1,8 +1,10 @@
 #pragma once
 // The G-buffer pass of the rasterized line techniques, as a visibility buffer: the draw ray-casts
 // rounded cones and writes only depth (gl_FragDepth, depth-tested) and the segment id; one
-// full-screen pass then re-intersects each pixel's visible segment and writes linear albedo,
-// outward world normal + view depth, and polyline id. The opaque technique shades it (deferred); the transparent techniques use
+// full-screen pass then re-intersects each pixel's visible segment, gives a depth tie with its
+// polyline predecessors to the lowest of them (so the result does not depend on the draw order,
+// which culling changes), and writes linear albedo, outward world normal + view depth, and
+// polyline id. The opaque technique shades it (deferred); the transparent techniques use
 // it for the depth / normal / id AOVs, which are the first surface of the union of all tubes.
 #include "core/frame_images.h"
 #include "gl/line_geometry.h"

@@ -21,11 +21,11 @@ void main() {
     if (cullFragment(ivec2(gl_FragCoord.xy), cullNearestDepth(vConeA, vConeB))) discard;
 #endif
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
-    float t;
+    float t, fragDepth;
     vec3 n;
-    if (!visibleHit(ray, varyingCone(), t, n)) discard;
-    float depth = viewDepth(ray, t);
-    if (depth <= 0.0) discard;
+    if (!visibleFragmentDepth(ray, varyingCone(), t, n, fragDepth)) discard;
+    // GL_LESS keeps the first of equal depths, so which segment id survives a tie depends on the
+    // draw order; surface_attributes.frag resolves ties independently of it.
     outSegment = vSegment;
-    gl_FragDepth = clamp(depth / uFarDepth, 0.0, 1.0);
+    gl_FragDepth = fragDepth;
 }
