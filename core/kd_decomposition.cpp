@@ -92,7 +92,9 @@ struct TreeBuilder {
         lowerBox.hi[axis] = split;
         upperBox.lo[axis] = split;
         auto lower = [&] { build(begin, middle, lowerNode, firstRegion, lowerRegions, lowerBox); };
-        auto upper = [&] { build(middle, end, upperNode, firstRegion + lowerRegions, regions - lowerRegions, upperBox); };
+        auto upper = [&] {
+            build(middle, end, upperNode, firstRegion + lowerRegions, regions - lowerRegions, upperBox);
+        };
         if (m >= kParallelBuildPoints) {
             tbb::parallel_invoke(lower, upper);
         } else {
@@ -150,9 +152,8 @@ RegionItems assignChunked(const KdDecomposition& tree, std::size_t units, std::s
     chunk = std::max(chunk, (units + kMaxChunks - 1) / kMaxChunks);
     const std::size_t chunks = (units + chunk - 1) / chunk;
     std::vector<RegionItems> perChunk(chunks, RegionItems(regionCount));
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-        fill(c * chunk, std::min(units, (c + 1) * chunk), perChunk[c]);
-    });
+    tbb::parallel_for(std::size_t(0), chunks,
+                      [&](std::size_t c) { fill(c * chunk, std::min(units, (c + 1) * chunk), perChunk[c]); });
     RegionItems result(regionCount);
     tbb::parallel_for(std::size_t(0), regionCount, [&](std::size_t r) {
         std::size_t total = 0;
@@ -177,7 +178,8 @@ template <class Radius>
 RegionItems assignSegmentsWith(const KdDecomposition& tree, const LineSet& lines, Radius radius) {
     // Chunks of polylines sized for about kVectorChunk segments each.
     const std::size_t polylines = lines.polylineCount();
-    const std::size_t meanSegments = std::max<std::size_t>(1, lines.segmentCount() / std::max<std::size_t>(1, polylines));
+    const std::size_t meanSegments =
+        std::max<std::size_t>(1, lines.segmentCount() / std::max<std::size_t>(1, polylines));
     const std::size_t chunk = std::max<std::size_t>(1, std::size_t(kVectorChunk) / meanSegments);
     return assignChunked(tree, polylines, chunk, [&](std::size_t begin, std::size_t end, RegionItems& items) {
         std::vector<int> regions;
@@ -297,8 +299,8 @@ nlohmann::json KdDecomposition::toJson() const {
         if (n.leaf())
             nodes.push_back({{"region", n.region}});
         else
-            nodes.push_back({{"axis", kAxisNames[n.axis]}, {"split", double(n.split)}, {"lower", n.lower},
-                             {"upper", n.upper}});
+            nodes.push_back(
+                {{"axis", kAxisNames[n.axis]}, {"split", double(n.split)}, {"lower", n.lower}, {"upper", n.upper}});
     }
     return {{"regions", regionCount()}, {"nodes", std::move(nodes)}};
 }
@@ -321,11 +323,12 @@ KdDecomposition KdDecomposition::fromJson(const nlohmann::json& tree, const std:
             nodes[i].region = n.getInt("region", -1, 0, regions - 1);
         } else {
             const std::string axis = n.getEnum("axis", "", {"x", "y", "z"});
-            if (axis.empty()) n.fail("axis", "missing required key (a split node has axis, split, lower, upper; a leaf has region)");
+            if (axis.empty())
+                n.fail("axis", "missing required key (a split node has axis, split, lower, upper; a leaf has region)");
             nodes[i].axis = axis[0] - 'x';
             if (!n.has("split")) n.fail("split", "missing required key");
-            nodes[i].split = n.getFloat("split", 0.0f, -std::numeric_limits<float>::max(),
-                                        std::numeric_limits<float>::max());
+            nodes[i].split =
+                n.getFloat("split", 0.0f, -std::numeric_limits<float>::max(), std::numeric_limits<float>::max());
             if (!n.has("lower") || !n.has("upper")) n.fail(n.has("lower") ? "upper" : "lower", "missing required key");
             nodes[i].lower = n.getInt("lower", -1, 1, kMaxIndex);
             nodes[i].upper = n.getInt("upper", -1, 1, kMaxIndex);

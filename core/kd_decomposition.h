@@ -35,7 +35,7 @@ namespace tc {
 // One node of the tree. A split node sends points with p[axis] < split to `lower` and the others
 // (p[axis] >= split) to `upper`, matching RegionBox's half-open [lo, hi).
 struct KdNode {
-    int axis = -1;      // 0, 1, 2 (x, y, z) for a split; -1 for a leaf
+    int axis = -1;  // 0, 1, 2 (x, y, z) for a split; -1 for a leaf
     float split = 0.0f;
     int lower = -1, upper = -1;  // child node indices (split nodes)
     int region = -1;             // leaf: its region index
@@ -106,7 +106,9 @@ private:
 
 // The point that places a segment: its midpoint. Computed the same way everywhere (build, owner,
 // reloading a partitioned set), so the owner of a segment is the same bit for bit.
-inline glm::vec3 segmentMidpoint(const glm::vec3& a, const glm::vec3& b) { return 0.5f * (a + b); }
+inline glm::vec3 segmentMidpoint(const glm::vec3& a, const glm::vec3& b) {
+    return 0.5f * (a + b);
+}
 
 // Segment s of a line set joins vertices v and v + 1 with v = s + p, p its polyline: segments are
 // numbered polyline by polyline in vertex order, the order of StyledLines::segmentVertices.

@@ -69,7 +69,8 @@ std::vector<RunOrigin> readRuns(const std::string& path, std::uint64_t expectedR
         source.failAt(8, "unsupported runs version " + std::to_string(version) + " (this build reads version 1)");
     const auto count = loadLittle<std::uint64_t>(h + 16);
     if (count != expectedRuns)
-        source.failAt(16, std::to_string(count) + " runs, the brick has " + std::to_string(expectedRuns) + " polylines");
+        source.failAt(16,
+                      std::to_string(count) + " runs, the brick has " + std::to_string(expectedRuns) + " polylines");
     if (source.size() != kRunsHeaderBytes + kRunBytes * count)
         source.failAt(source.size(), "file size " + std::to_string(source.size()) + " does not match " +
                                          std::to_string(count) + " runs (" +
@@ -88,7 +89,9 @@ json facesJson(const glm::vec3& v) {
     return a;
 }
 
-json optionalNumber(float v) { return std::isnan(v) ? json(nullptr) : json(double(v)); }
+json optionalNumber(float v) {
+    return std::isnan(v) ? json(nullptr) : json(double(v));
+}
 
 std::uint64_t getCount(SpecReader& r, const std::string& key) {
     const json& v = r.raw(key);
@@ -126,7 +129,9 @@ std::string getFileName(SpecReader& r, const std::string& key) {
     return name;
 }
 
-std::string regionName(int k, const char* extension) { return "region-" + std::to_string(k) + extension; }
+std::string regionName(int k, const char* extension) {
+    return "region-" + std::to_string(k) + extension;
+}
 
 json indexJson(const PartitionIndex& index) {
     json attributes = json::array();
@@ -145,23 +150,26 @@ json indexJson(const PartitionIndex& index) {
                            {"assigned_segments", b.assignedSegments},
                            {"owned_segments", b.ownedSegments}});
     }
-    return {{"format", kFormat},
-            {"version", kPartitionVersion},
-            {"kind", "lines"},
-            {"source", index.source},
-            {"radius", double(index.radius)},
-            {"counts", {{"polylines", index.polylines}, {"vertices", index.vertices}, {"segments", index.segments}}},
-            {"bounds", index.bounds.empty() ? json(nullptr)
-                                            : json{{"lo", facesJson(index.bounds.lo)}, {"hi", facesJson(index.bounds.hi)}}},
-            {"attributes", std::move(attributes)},
-            {"velocity", index.velocity},
-            {"tree", index.tree.toJson()},
-            {"regions", std::move(regions)}};
+    return {
+        {"format", kFormat},
+        {"version", kPartitionVersion},
+        {"kind", "lines"},
+        {"source", index.source},
+        {"radius", double(index.radius)},
+        {"counts", {{"polylines", index.polylines}, {"vertices", index.vertices}, {"segments", index.segments}}},
+        {"bounds", index.bounds.empty() ? json(nullptr)
+                                        : json{{"lo", facesJson(index.bounds.lo)}, {"hi", facesJson(index.bounds.hi)}}},
+        {"attributes", std::move(attributes)},
+        {"velocity", index.velocity},
+        {"tree", index.tree.toJson()},
+        {"regions", std::move(regions)}};
 }
 
 void readBrick(SpecReader& r, int k, const KdDecomposition& tree, PartitionBrick& b) {
     const int region = r.getInt("region", -1, 0, std::numeric_limits<int>::max());
-    if (region != k) r.fail("region", "expected " + std::to_string(k) + " (regions are listed in order), got " + std::to_string(region));
+    if (region != k)
+        r.fail("region",
+               "expected " + std::to_string(k) + " (regions are listed in order), got " + std::to_string(region));
     b.file = getFileName(r, "file");
     b.runsFile = getFileName(r, "runs");
     SpecReader box = r.child("box");
@@ -176,8 +184,8 @@ void readBrick(SpecReader& r, int k, const KdDecomposition& tree, PartitionBrick
     b.ownedSegments = getCount(r, "owned_segments");
     if (b.segments + b.polylines != b.vertices)
         r.fail("segments", std::to_string(b.segments) + " segments in " + std::to_string(b.polylines) +
-                               " polylines need " + std::to_string(b.segments + b.polylines) + " vertices, the index says " +
-                               std::to_string(b.vertices));
+                               " polylines need " + std::to_string(b.segments + b.polylines) +
+                               " vertices, the index says " + std::to_string(b.vertices));
     if (b.ownedSegments > b.assignedSegments || b.assignedSegments > b.segments)
         r.fail("owned_segments", "expected owned <= assigned <= segments, got " + std::to_string(b.ownedSegments) +
                                      ", " + std::to_string(b.assignedSegments) + ", " + std::to_string(b.segments));
@@ -244,7 +252,8 @@ PartitionIndex readPartitionIndex(const std::string& path) {
     if (fs::is_directory(path, ec)) {
         index.path = (fs::path(path) / kIndexName).string();
         if (!fs::exists(index.path, ec))
-            throw InputError(path + ": no " + kIndexName + " (not a partitioned data set; `tubecast partition` writes one)");
+            throw InputError(path + ": no " + kIndexName +
+                             " (not a partitioned data set; `tubecast partition` writes one)");
     } else {
         index.path = path;
     }
@@ -293,9 +302,10 @@ PartitionIndex readPartitionIndex(const std::string& path) {
     index.tree = KdDecomposition::fromJson(r.raw("tree"), index.path);
     const json& regions = r.raw("regions");
     if (!regions.is_array() || regions.size() != std::size_t(index.tree.regionCount()))
-        r.fail("regions", "expected an array of " + std::to_string(index.tree.regionCount()) +
-                              " regions (one per region of the tree), got " +
-                              (regions.is_array() ? std::to_string(regions.size()) + " entries" : describeJson(regions)));
+        r.fail("regions",
+               "expected an array of " + std::to_string(index.tree.regionCount()) +
+                   " regions (one per region of the tree), got " +
+                   (regions.is_array() ? std::to_string(regions.size()) + " entries" : describeJson(regions)));
     std::uint64_t owned = 0;
     for (std::size_t k = 0; k < regions.size(); ++k) {
         SpecReader b(regions[k], index.path, "regions[" + std::to_string(k) + "]");
@@ -312,7 +322,8 @@ PartitionIndex readPartitionIndex(const std::string& path) {
 LineSet readPartitionRegion(const PartitionIndex& index, int region, std::vector<RunOrigin>* origins) {
     if (region < 0 || region >= index.regionCount())
         throw InputError(index.path + ": region " + std::to_string(region) + " requested, the set has " +
-                         std::to_string(index.regionCount()) + " regions (0.." + std::to_string(index.regionCount() - 1) + ")");
+                         std::to_string(index.regionCount()) + " regions (0.." +
+                         std::to_string(index.regionCount() - 1) + ")");
     const PartitionBrick& brick = index.bricks[std::size_t(region)];
     const std::string path = index.brickPath(region);
     const std::string listed = " (region " + std::to_string(region) + " of " + index.path + ")";
@@ -362,7 +373,8 @@ LineSet readPartitionWhole(const PartitionIndex& index) {
     LineSet out;
     out.velocity = index.velocity;
     out.positions.resize(vertexCount);
-    for (const AttributeRange& a : index.attributes) out.attributes.push_back({a.name, std::vector<float>(vertexCount)});
+    for (const AttributeRange& a : index.attributes)
+        out.attributes.push_back({a.name, std::vector<float>(vertexCount)});
     // Per source segment (by its first vertex): claimed by its owner's brick yet? Per polyline: the
     // vertex range its owned segments cover.
     std::vector<std::uint8_t> claimed(vertexCount, 0);
@@ -406,8 +418,8 @@ LineSet readPartitionWhole(const PartitionIndex& index) {
     // The owned segments cover every source segment once (their count is the index's and none was
     // claimed twice); polylines must then follow each other without gaps.
     if (claimedCount != index.segments)
-        throw InputError(index.path + ": the bricks own " + std::to_string(claimedCount) + " segments, counts.segments is " +
-                         std::to_string(index.segments));
+        throw InputError(index.path + ": the bricks own " + std::to_string(claimedCount) +
+                         " segments, counts.segments is " + std::to_string(index.segments));
     out.offsets.assign(1, 0);
     for (std::uint64_t p = 0; p < polylineCount; ++p) {
         if (first[p] != out.offsets.back())

@@ -199,8 +199,7 @@ TEST_F(BrokenPartition, a_box_that_is_not_the_trees_is_refused) {
     index["regions"][1]["box"]["lo"][0] = 123.0;
     save();
     const std::string e = wholeError();
-    EXPECT_NE(e.find(dir + "/index.json: regions[1].box: does not match region 1 of the tree"), std::string::npos)
-        << e;
+    EXPECT_NE(e.find(dir + "/index.json: regions[1].box: does not match region 1 of the tree"), std::string::npos) << e;
 }
 
 TEST_F(BrokenPartition, a_truncated_runs_file_names_it) {
@@ -217,8 +216,7 @@ TEST(Partition, scenes_and_other_json_files_are_not_partitions) {
     EXPECT_FALSE(isPartitionPath(dir + "/missing.json"));
     EXPECT_FALSE(isPartitionPath(""));
     EXPECT_NE(errorOf([&] { readPartitionIndex(dir); }).find(dir + ": no index.json"), std::string::npos);
-    EXPECT_NE(errorOf([&] { readPartitionIndex(dir + "/scene.json"); }).find("scene.json: format:"),
-              std::string::npos);
+    EXPECT_NE(errorOf([&] { readPartitionIndex(dir + "/scene.json"); }).find("scene.json: format:"), std::string::npos);
 }
 
 }  // namespace

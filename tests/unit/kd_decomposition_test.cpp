@@ -164,8 +164,8 @@ TEST(KdDecomposition, build_is_deterministic_and_independent_of_point_order) {
 
 // Walks rays in small steps and checks that the regions they pass through come in the view
 // order: the position of the region in the order never decreases.
-void expectRaysFollowOrder(const KdDecomposition& tree, const std::vector<int>& order, glm::vec3 origin,
-                           glm::vec3 dir, float t0, float t1, int steps) {
+void expectRaysFollowOrder(const KdDecomposition& tree, const std::vector<int>& order, glm::vec3 origin, glm::vec3 dir,
+                           float t0, float t1, int steps) {
     std::vector<int> rank(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) rank[std::size_t(order[i])] = int(i);
     int previous = -1;
@@ -173,8 +173,8 @@ void expectRaysFollowOrder(const KdDecomposition& tree, const std::vector<int>& 
         const float t = t0 + (t1 - t0) * float(i) / float(steps);
         const int r = rank[std::size_t(tree.regionOf(origin + t * dir))];
         ASSERT_GE(r, previous) << "ray from " << origin.x << " " << origin.y << " " << origin.z << " dir " << dir.x
-                               << " " << dir.y << " " << dir.z << " goes back from region " << order[std::size_t(previous)]
-                               << " to " << order[std::size_t(r)] << " at t = " << t;
+                               << " " << dir.y << " " << dir.z << " goes back from region "
+                               << order[std::size_t(previous)] << " to " << order[std::size_t(r)] << " at t = " << t;
         previous = r;
     }
 }
@@ -310,7 +310,8 @@ TEST(KdDecomposition, extracted_runs_hold_the_assigned_segments_and_one_neighbou
     const KdDecomposition tree = KdDecomposition::build(segmentMidpoints(lines), 6);
     const RegionItems items = assignSegments(tree, lines, 0.02f);
     auto isAssigned = [&](int r, std::size_t v) {  // the segment starting at source vertex v
-        std::size_t p = std::size_t(std::upper_bound(lines.offsets.begin(), lines.offsets.end(), v) - lines.offsets.begin()) - 1;
+        std::size_t p =
+            std::size_t(std::upper_bound(lines.offsets.begin(), lines.offsets.end(), v) - lines.offsets.begin()) - 1;
         return assigned(items, r, std::uint32_t(v - p));
     };
     for (int r = 0; r < 6; ++r) {
@@ -326,7 +327,8 @@ TEST(KdDecomposition, extracted_runs_hold_the_assigned_segments_and_one_neighbou
             ASSERT_LT(last, end);
             for (std::size_t i = 0; i < n; ++i) {
                 EXPECT_EQ(sub.lines.positions[sub.lines.offsets[q] + i], lines.positions[first + i]);
-                EXPECT_EQ(sub.lines.attributes[0].values[sub.lines.offsets[q] + i], lines.attributes[0].values[first + i]);
+                EXPECT_EQ(sub.lines.attributes[0].values[sub.lines.offsets[q] + i],
+                          lines.attributes[0].values[first + i]);
             }
             for (std::size_t v = first; v < last; ++v) EXPECT_TRUE(covered.insert(v).second) << "segment twice";
             // Ends: the polyline's own end, or one unassigned neighbour before an assigned segment.
