@@ -2,6 +2,7 @@
 // one brick per region plus index.json (io/partition.h), so that each rank of a data-parallel
 // render reads only its brick. DATA is a dataset file or a scene (its dataset), as for convert.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -82,10 +83,13 @@ void addPartitionCommand(CLI::App& app) {
                 throw InputError(options->in + ": style: " + e.what());
             }
         }
-        float radius = options->radius;
-        if (radius <= 0)
-            radius =
-                scene ? sceneMaxRadius(spec.style) : kDefaultLineRadiusFraction * glm::length(lines.bounds.extent());
+        if (!std::isfinite(options->radius))
+            throw InputError("--radius: expected a finite radius > 0, got " + std::to_string(options->radius));
+        float radius = options->radius;  // 0: not given
+        if (radius == 0 && scene) radius = sceneMaxRadius(spec.style);
+        // The default scene's radius (core/default_scene.h); no lines, nothing to assign.
+        if (radius == 0 && !lines.bounds.empty())
+            radius = kDefaultLineRadiusFraction * glm::length(lines.bounds.extent());
 
         ensureWritableDir(options->out);
         if (!options->overwrite) {

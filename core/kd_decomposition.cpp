@@ -414,6 +414,8 @@ std::vector<std::uint32_t> ownedParticles(const KdDecomposition& tree, int regio
 // --- extraction ----------------------------------------------------------------------------
 
 RegionLines extractRegionLines(const LineSet& lines, std::span<const std::uint32_t> segments) {
+    TC_CHECK(std::is_sorted(segments.begin(), segments.end()));
+    TC_CHECK(segments.empty() || segments.back() < lines.segmentCount());
     RegionLines out;
     out.lines.velocity = lines.velocity;
     for (const Attribute& a : lines.attributes) out.lines.attributes.push_back({a.name, {}, a.min, a.max});
