@@ -17,6 +17,7 @@ void addValidateCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
+void addPartitionCommand(CLI::App& app);
 void addMergeTimingsCommand(CLI::App& app);  // cli/batch_commands.cpp
 void addTechniquesCommand(CLI::App& app);
 void addSceneCommand(CLI::App& app);

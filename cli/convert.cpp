@@ -10,6 +10,7 @@
 #include "io/dataset.h"
 #include "io/line_formats.h"
 #include "io/line_reader.h"
+#include "io/partition.h"
 
 namespace tc::cli {
 
@@ -20,7 +21,10 @@ void addConvertCommand(CLI::App& app) {
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("convert", "Write a dataset (or a scene's dataset) as .vtp or .tcb");
-    cmd->add_option("input", options->in, "Dataset file, or a scene .json whose dataset to write")->required();
+    cmd->add_option("input", options->in,
+                    "Dataset file, a partitioned set (its directory or index.json), or a scene .json whose dataset to "
+                    "write")
+        ->required();
     cmd->add_option("output", options->out, "Output .vtp (VTK XML polydata) or .tcb (tubecast binary) file")->required();
     cmd->add_option("--set", options->overrides, "Override a scene key (scene input only)");
     cmd->callback([options] {
@@ -28,7 +32,9 @@ void addConvertCommand(CLI::App& app) {
         if (!options->out.ends_with(".vtp") && !tcb)
             throw InputError(options->out + ": output must end in .vtp (VTK XML polydata) or .tcb (tubecast binary)");
         DatasetSpec spec;
-        if (options->in.ends_with(".json")) spec = loadScene(options->in, options->overrides).dataset;
+        // A partitioned set's index.json is data (read whole), not a scene.
+        if (options->in.ends_with(".json") && !isPartitionPath(options->in))
+            spec = loadScene(options->in, options->overrides).dataset;
         else spec.path = options->in;
         DatasetLoad data = loadDataset(spec);
         if (data.isParticles()) {

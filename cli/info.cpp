@@ -17,6 +17,7 @@
 #include "core/scene.h"
 #include "io/dataset.h"
 #include "io/paraview_preset.h"
+#include "io/partition.h"
 
 namespace tc::cli {
 
@@ -38,7 +39,8 @@ void addInfoCommand(CLI::App& app) {
         }
         // A scene: its dataset (file, generator or dataset.trace) plus the derived attributes
         // its style names, i.e. exactly what `render` would style.
-        const bool isScene = fs::path(options->path).extension() == ".json";
+        const bool isPartition = isPartitionPath(options->path);  // read whole, as render reads it
+        const bool isScene = fs::path(options->path).extension() == ".json" && !isPartition;
         CleanReport cleaned;
         LineSet lines;
         std::vector<std::string> derived;
@@ -71,6 +73,8 @@ void addInfoCommand(CLI::App& app) {
                 return;
             }
             lines = std::move(data.lines);
+        } else if (isPartition) {
+            lines = readPartitionWhole(readPartitionIndex(options->path));
         } else {
             lines = readLineSet(options->path, &cleaned);
         }

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     tc::cli::addInfoCommand(app);
     tc::cli::addCompareCommand(app);
     tc::cli::addConvertCommand(app);
+    tc::cli::addPartitionCommand(app);
     tc::cli::addMergeTimingsCommand(app);
     tc::cli::addTechniquesCommand(app);
     tc::cli::addSceneCommand(app);

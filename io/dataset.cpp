@@ -8,6 +8,7 @@
 #include "core/generators.h"
 #include "io/line_formats.h"
 #include "io/line_reader.h"
+#include "io/partition.h"
 #include "io/particle_reader.h"
 #include "io/stream_tracer.h"
 #include "core/particle_generators.h"
@@ -31,6 +32,9 @@ DatasetLoad loadDataset(const DatasetSpec& spec) {
     } else if (spec.trace) {
         load.lines = traceStreamlines(spec.path, *spec.trace, &load.cleaned);
         load.source = spec.path + " (traced)";
+    } else if (isPartitionPath(spec.path)) {  // the whole set: every brick, each segment once
+        load.lines = readPartitionWhole(readPartitionIndex(spec.path));
+        load.source = spec.path;
     } else if (isVtkFile(spec.path)) {
         VtkFileData data = readVtkFile(spec.path, &load.cleaned);  // lines, or points as particles
         if (data.isPoints) load.particles.frames.push_back(std::move(data.points));
@@ -51,7 +55,8 @@ DatasetLoad loadDataset(const DatasetSpec& spec) {
 bool isDatasetFile(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext != ".json" && (isNativeLineFormat(ext) || isVtkFile(path) || isParticleFile(path));
+    return (ext != ".json" && (isNativeLineFormat(ext) || isVtkFile(path) || isParticleFile(path))) ||
+           isPartitionPath(path);
 }
 
 }  // namespace tc

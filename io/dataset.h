@@ -18,12 +18,13 @@ struct DatasetLoad {
     bool isParticles() const { return !particles.frames.empty(); }
 };
 
+// A partitioned line set (io/partition.h) is read whole: every brick, each segment once.
 // Throws InputError for unreadable data; a dataset with no polylines left after cleaning is an
 // error naming the file and what was skipped. A file with no polylines at all is an empty dataset.
 DatasetLoad loadDataset(const DatasetSpec& spec);
 
-// Whether `path` names a dataset file by its extension (a line, particle or VTK format), as
-// opposed to a scene (.json).
+// Whether `path` names a dataset file by its extension (a line, particle or VTK format) or is a
+// partitioned line set (io/partition.h: its directory or index.json), as opposed to a scene (.json).
 bool isDatasetFile(const std::string& path);
 
 }  // namespace tc
