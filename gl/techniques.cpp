@@ -8,16 +8,27 @@ void registerTechniques(TechniqueRegistry& registry) {
     registry.add(voxelRaycastTechnique());
 }
 
-std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {
+namespace {
+
+const TechniqueRegistry& glRegistry() {
     static const TechniqueRegistry registry = [] {
         TechniqueRegistry r;
         registerTechniques(r);
         return r;
     }();
-    const TechniqueDescriptor& d = registry.validate(scene, DataKind::Lines);
+    return registry;
+}
+
+}  // namespace
+
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {
     TechniqueData data;
     data.lines = &lines;
-    return d.create(scene, data, {});
+    return createTechnique(scene, data);
+}
+
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const TechniqueData& data, const TechniqueHooks& hooks) {
+    return glRegistry().validate(scene, data.kind).create(scene, data, hooks);
 }
 
 }  // namespace tc::gl

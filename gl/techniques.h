@@ -20,5 +20,9 @@ void registerTechniques(TechniqueRegistry& registry);
 // tests and benchmarks that hold styled lines; the frame loop goes through the registry). Needs a
 // current context; throws InputError as TechniqueRegistry::validate.
 std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines);
+// The same for any dataset with the frame loop's inputs (data-parallel rendering: `data.region`,
+// `data.bounds`, `hooks.reduceDensity`).
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const TechniqueData& data,
+                                           const TechniqueHooks& hooks = {});
 
 }  // namespace tc::gl

@@ -26,6 +26,11 @@ void main() {
     if (!visibleHit(ray, varyingCone(), t, n)) discard;
     float depth = viewDepth(ray, t);
     if (depth <= 0.0) discard;
+#ifdef REGION_CLIP
+    // This segment's visible point belongs to another region: the nearest one in this region wins
+    // the depth test, so the regions' depth images Z-composite to the whole frame's first hit.
+    if (!inRegion(ray.origin + t * ray.dir)) discard;
+#endif
     outSegment = vSegment;
     gl_FragDepth = clamp(depth / uFarDepth, 0.0, 1.0);
 }
