@@ -83,6 +83,11 @@ void requireTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind
         throw InputError(sceneName(scene) + ": " + problem->key + ": " + problem->message);
 }
 
+void refuseRegion(const Scene& scene, const std::string& key, const std::string& what, const std::string& supported) {
+    throw InputError(sceneName(scene) + ": " + key + ": " + what +
+                     " does not support data-parallel rendering (--mpi); supported: " + supported);
+}
+
 bool isSoftwareRasterizer(const std::string& glRenderer) {
     std::string lower = glRenderer;
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });

@@ -46,6 +46,12 @@ struct TechniqueData {
     // Data-parallel rendering: draw only what enters the rays inside this box (core/region.h);
     // the data may extend beyond it. Unbounded (the default) = the whole frame.
     RegionBox region;
+    // Data-parallel rendering: the bounds of the whole dataset (every rank's data) and its largest
+    // tube or sphere radius, from which the AO grid, the AO cone length and the depth range
+    // derive, so that they are the same on every rank and as in one process. Empty bounds / 0
+    // (the defaults) = those of the data above.
+    Bounds bounds;
+    float maxRadius = 0;
 };
 
 // Observers the frame loop attaches (a technique never writes files itself).
@@ -56,6 +62,24 @@ struct TechniqueHooks {
     // level, x fastest) by the sum of every rank's, so AO sees all the data; null = as built.
     std::function<void(std::vector<float>& grid)> reduceDensity;
 };
+
+// The region part of `data` and `hooks`, as the renderers take it (core/region.h).
+inline RegionSetup regionSetup(const TechniqueData& data, const TechniqueHooks& hooks) {
+    RegionSetup r;
+    r.box = data.region;
+    r.dataBounds = data.bounds;
+    r.dataMaxRadius = data.maxRadius;
+    r.reduceDensity = hooks.reduceDensity;
+    return r;
+}
+
+// The InputError of a technique (or a mode of one) that cannot render one region of a
+// data-parallel frame: "<file>: <key>: <what> does not support data-parallel rendering (--mpi);
+// supported: <supported>", by default the techniques that do. Thrown by create() when
+// TechniqueData::region is set.
+inline constexpr const char* kRegionTechniques = "rasterized (opaque, kbuffer, depth_peeling), raytraced, spheres";
+[[noreturn]] void refuseRegion(const Scene& scene, const std::string& key, const std::string& what,
+                               const std::string& supported = kRegionTechniques);
 
 // Memory a GL technique allocates per pixel of its render target; tiling plans against it
 // (core/tiling.h planSceneTiles). CPU techniques allocate nothing per pixel but their output.

@@ -198,7 +198,7 @@ bool voxelizeSegment(const glm::vec4& pa, const glm::vec4& pb, float alphaA, flo
 
 }  // namespace
 
-void voxelizeLines(const StyledLines& lines, DensityGrid& grid) {
+void voxelizeLines(const StyledLines& lines, DensityGrid& grid, const RegionBox& owner) {
     TC_CHECK(grid.voxelSize > 0.0f);
     TC_CHECK_OP(lines.color.size(), ==, lines.positionRadius.size());
     const std::size_t voxels = grid.voxelCount();
@@ -215,6 +215,7 @@ void voxelizeLines(const StyledLines& lines, DensityGrid& grid) {
                           for (std::size_t s = r.begin(); s != r.end(); ++s) {
                               const std::uint32_t ia = lines.segmentVertices[2 * s];
                               const std::uint32_t ib = lines.segmentVertices[2 * s + 1];
+                              if (!owner.contains(glm::vec3(lines.positionRadius[ia]))) continue;
                               localClamped += voxelizeSegment(
                                   lines.positionRadius[ia], lines.positionRadius[ib],
                                   lines.color[ia].w, lines.color[ib].w, grid, acc, pending);
@@ -255,6 +256,17 @@ void voxelizeLines(const StyledLines& lines, DensityGrid& grid) {
         });
     TC_CHECK(!overflow.load());
     grid.clampedSegments = clamped.load();
+}
+
+DensityGrid buildLineDensity(const StyledLines& lines, int resolution, const RegionSetup& region) {
+    DensityGrid grid = makeDensityGrid(region.boundsOr(lines.bounds), resolution);
+    voxelizeLines(lines, grid, region.densityOwner());
+    if (region.reduceDensity) {
+        const std::size_t voxels = grid.density.size();
+        region.reduceDensity(grid.density);
+        TC_CHECK_OP(grid.density.size(), ==, voxels);
+    }
+    return grid;
 }
 
 }  // namespace tc

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "core/line_set.h"
+#include "core/region.h"
 #include "core/styled_lines.h"
 
 namespace tc {
@@ -83,7 +84,15 @@ DensityGrid makeDensityGrid(const Bounds& bounds, int resolution);
 // kDensityFixedPointScale) with atomic adds into 8^3-voxel bricks: integer addition is
 // associative, so the result is bit-identical for any thread count, schedule or segment order. Peak
 // memory: grid.bytes() + grid.accumulatorBytes().
-void voxelizeLines(const StyledLines& lines, DensityGrid& grid);
+// `owner`: only the segments whose first vertex lies in it deposit (RegionSetup::densityOwner,
+// data-parallel rendering); the default box holds every finite point.
+void voxelizeLines(const StyledLines& lines, DensityGrid& grid, const RegionBox& owner = {});
+
+// The density grid of line AO as the renderers build it: makeDensityGrid over
+// region.boundsOr(lines.bounds) at `resolution`, voxelizeLines with region.densityOwner(), then
+// region.reduceDensity (when set) replaces the densities by the sum over all ranks, so a rank
+// holding part of the data sees the density of all of it. clampedSegments counts this rank's.
+DensityGrid buildLineDensity(const StyledLines& lines, int resolution, const RegionSetup& region);
 
 // Amanatides & Woo traversal of a line a + s d in grid coordinates (voxel v covers [v, v + 1)),
 // shared by the density voxelization and the VRC model (core/vrc_model.cpp).

@@ -8,12 +8,13 @@
 
 namespace tc::gl {
 
-AmbientOcclusion AmbientOcclusion::create(const AoSpec& spec, const StyledLines& lines) {
+AmbientOcclusion AmbientOcclusion::create(const AoSpec& spec, const StyledLines& lines, const RegionSetup& region) {
     AmbientOcclusion ao;
     ao.m_spec = spec;
     auto t0 = std::chrono::steady_clock::now();
-    DensityGrid grid = makeDensityGrid(lines.bounds, spec.resolution);
-    voxelizeLines(lines, grid);
+    // Built on the CPU, so a reduction over ranks needs no read-back: it runs before the upload
+    // and the mip pyramid is built from the sum.
+    DensityGrid grid = buildLineDensity(lines, spec.resolution, region);
     auto t1 = std::chrono::steady_clock::now();
     ao.m_volume = DensityVolume::create(grid);
     glFinish();
@@ -21,7 +22,7 @@ AmbientOcclusion AmbientOcclusion::create(const AoSpec& spec, const StyledLines&
     ao.m_voxelizeMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
     ao.m_uploadMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
     ao.m_clampedSegments = grid.clampedSegments;
-    ao.m_distance = spec.distance * glm::length(lines.bounds.extent());
+    ao.m_distance = spec.distance * glm::length(region.boundsOr(lines.bounds).extent());
     // A tube must not occlude itself: shaders/cone_tracing.glsl ("Self-occlusion") removes the
     // shaded tube's own deposit from every read that can reach it, so the start offset only skips
     // the sub-voxel steps at the apex (one voxel).

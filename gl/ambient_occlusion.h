@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "gl/ao_line_cache.h"
@@ -19,7 +20,10 @@ namespace tc::gl {
 class AmbientOcclusion {
 public:
     // Voxelizes `lines` at spec.resolution and uploads the volume. Needs a current context.
-    static AmbientOcclusion create(const AoSpec& spec, const StyledLines& lines);
+    // `region` (data-parallel rendering): the grid and cone length come from its data bounds, and
+    // with its reduceDensity the volume holds every rank's density (core/voxel_density.h
+    // buildLineDensity).
+    static AmbientOcclusion create(const AoSpec& spec, const StyledLines& lines, const RegionSetup& region = {});
 
     // Binds the volume and sets the cone tracing uniforms of `program` (uAoCones, uAoAperture,
     // uAoDistance, uAoStrength, uAoStartOffset and the density uniforms).

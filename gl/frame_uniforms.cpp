@@ -25,6 +25,11 @@ FrameUniforms frameUniforms(const FrameSetup& setup, const LightingSpec& lightin
     return u;
 }
 
+void setRegionUniforms(FrameUniforms& u, const RegionBox& region) {
+    u.regionLo = glm::vec4(region.lo, 0.0f);
+    u.regionHi = glm::vec4(region.hi, 0.0f);
+}
+
 void uploadFrameUniforms(Buffer& buffer, const FrameUniforms& uniforms) {
     if (!buffer) buffer = makeBuffer(sizeof(FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferSubData(buffer.id(), 0, sizeof(FrameUniforms), &uniforms);

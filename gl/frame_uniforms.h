@@ -5,9 +5,11 @@
 // what the GL reports). The technique fills it once per frame or tile and uploads it to a buffer
 // bound at binding::kFrameUniforms; passes no longer set camera or light uniforms by name.
 #include <cstdint>
+#include <limits>
 
 #include <glm/glm.hpp>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/technique.h"
 #include "gl/objects.h"
@@ -43,12 +45,22 @@ struct alignas(16) FrameUniforms {
     glm::vec2 viewport{0.0f};                                   // uViewport
     glm::vec2 pixelOffset{0.0f};                                // uPixelOffset
     glm::vec2 targetSize{0.0f};                                 // uTargetSize
+    // Not in the GLSL block: std140 starts the next vec4 at the following 16-byte boundary. A
+    // member, so the bytes are defined (tests/gl/frame_uniforms_test.cpp compares them).
+    glm::vec2 padding0{0.0f};
+    // Data-parallel rendering: the region box [lo, hi) of core/region.h (xyz; faces may be
+    // infinite), read only by programs compiled with REGION_CLIP (shaders/region.glsl).
+    alignas(16) glm::vec4 regionLo{-std::numeric_limits<float>::infinity()};  // uRegionLo
+    alignas(16) glm::vec4 regionHi{std::numeric_limits<float>::infinity()};   // uRegionHi
 };
 static_assert(sizeof(FrameUniforms) % 16 == 0, "std140 blocks are padded to 16 bytes");
 
-// The camera, view window and light of `setup` and `lighting`; viewProj, farDepth and capClipping
-// keep their defaults for the technique to set.
+// The camera, view window and light of `setup` and `lighting`; viewProj, farDepth, capClipping
+// and the region keep their defaults for the technique to set (setRegionUniforms).
 FrameUniforms frameUniforms(const FrameSetup& setup, const LightingSpec& lighting);
+
+// The region box of data-parallel rendering (core/region.h) into uRegionLo / uRegionHi.
+void setRegionUniforms(FrameUniforms& uniforms, const RegionBox& region);
 
 // Uploads `uniforms` into `buffer` (allocated on first use) and binds it at
 // binding::kFrameUniforms (GL_UNIFORM_BUFFER); touches no other state.

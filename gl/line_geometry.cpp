@@ -29,12 +29,13 @@ std::size_t LineGeometry::uploadBytes(const StyledLines& lines) {
            bytes(lines.segmentVertices);
 }
 
-LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path) {
+LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path, const RegionSetup& region) {
     LineGeometry g;
     g.m_path = path;
     g.m_segmentCount = lines.segmentCount();
-    g.m_maxRadius = lines.maxRadius;
-    g.m_bounds = lines.bounds;
+    g.m_maxRadius = region.maxRadiusOr(lines.maxRadius);
+    g.m_bounds = region.boundsOr(lines.bounds);
+    g.m_region = region.box;
     g.m_positionRadius = upload(lines.positionRadius);
     g.m_colors = upload(lines.color);
     g.m_polylineIds = upload(lines.polylineId);
@@ -84,10 +85,12 @@ void LineGeometry::setFrame(const FrameSetup& setup, const LightingSpec& lightin
     u.viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
     u.farDepth = far;
     u.capClipping = m_capClipping ? 1 : 0;
+    setRegionUniforms(u, m_region);
     uploadFrameUniforms(m_frameUniforms, u);
 }
 
 Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {
+    if (!m_region.unbounded()) defines.push_back("REGION_CLIP");
     switch (m_path) {
     case BillboardPath::Compute:
         defines.push_back("BILLBOARDS_PRECOMPUTED");

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/technique.h"
@@ -17,8 +18,10 @@ namespace tc::gl {
 class LineGeometry {
 public:
     // Uploads positions+radius, colours, polyline ids, vertex flags and the segment index
-    // buffer. Needs a current context.
-    static LineGeometry create(const StyledLines& lines, BillboardPath path);
+    // buffer. Needs a current context. `region` (data-parallel rendering, core/region.h): with a
+    // box, every draw program clips fragments to it (REGION_CLIP); the depth range comes from its
+    // data bounds.
+    static LineGeometry create(const StyledLines& lines, BillboardPath path, const RegionSetup& region = {});
     // Bytes create() uploads for `lines` besides the per-frame billboard buffers: positions +
     // radius, colours, polyline ids and flags per vertex, two vertex indices per segment.
     static std::size_t uploadBytes(const StyledLines& lines);
@@ -38,14 +41,15 @@ public:
     // so every program of this geometry reads uCapClipping of the frame uniforms.
     void setCapClipping(bool enabled) { m_capClipping = enabled; }
     // Uploads this frame's (or tile's) uniform block: frameUniforms(setup, lighting) with the
-    // lines' uViewProj, uFarDepth and uCapClipping, and binds it. Every pass of the frame reads it,
+    // lines' uViewProj, uFarDepth, uCapClipping and region box, and binds it. Every pass of the frame reads it,
     // so call it first.
     void setFrame(const FrameSetup& setup, const LightingSpec& lighting);
     // Linear depth scale: gl_FragDepth = view depth / farDepth(setup).
     float farDepth(const FrameSetup& setup) const;
 
     // Compiles a program drawing the lines' billboards with `fragmentShader`, for this
-    // geometry's billboard path; `defines` go to every stage.
+    // geometry's billboard path; `defines` go to every stage, and REGION_CLIP when the geometry
+    // has a region box (the fragment shaders then drop what enters the ray outside it).
     Program compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines = {}) const;
     // Builds this frame's billboards (BillboardPath::Compute; no-op otherwise) as stage
     // "billboards" of `timer`, for the camera of setFrame.
@@ -63,9 +67,10 @@ private:
 
     BillboardPath m_path = BillboardPath::Compute;
     std::size_t m_segmentCount = 0;
-    float m_maxRadius = 0;
+    float m_maxRadius = 0;  // of the whole dataset (RegionSetup::maxRadiusOr): the depth range
     bool m_capClipping = false;
-    Bounds m_bounds;
+    Bounds m_bounds;  // of the whole dataset (RegionSetup::boundsOr): the depth range
+    RegionBox m_region;
     Buffer m_positionRadius, m_colors, m_polylineIds, m_flags, m_segmentVertices, m_billboardCorners;
     Buffer m_segmentRecords;  // BillboardPath::Compute: what the fragment shaders need per segment
     Buffer m_frameUniforms;   // gl/frame_uniforms.h, set per frame

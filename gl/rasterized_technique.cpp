@@ -63,10 +63,15 @@ TechniqueDescriptor rasterizedTechnique() {
     };
     d.create = [](const Scene& scene, const TechniqueData& data,
                   const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
+        const RegionSetup region = regionSetup(data, hooks);
         switch (scene.render.transparency) {
-        case Transparency::Opaque: return RoundedConeRenderer::create(scene, *data.lines);
-        case Transparency::OpacityOptimization: return createOpacityOptimization(scene, data, hooks);
-        default: return TransparentRenderer::create(scene, *data.lines);
+        case Transparency::Opaque: return RoundedConeRenderer::create(scene, *data.lines, region);
+        case Transparency::OpacityOptimization:
+            // One optimisation over all of a pixel's fragments, blended into the next frame's
+            // opacities: a region's part of it is not the whole frame's.
+            if (region.clips()) refuseRegion(scene, "render.transparency", "opacity_optimization");
+            return createOpacityOptimization(scene, data, hooks);
+        default: return TransparentRenderer::create(scene, *data.lines, region);
         }
     };
     return d;

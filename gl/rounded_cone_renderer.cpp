@@ -8,8 +8,9 @@
 
 namespace tc::gl {
 
-std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& scene, const StyledLines& lines) {
-    LineGeometry geometry = LineGeometry::create(lines, scene.render.billboards);
+std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& scene, const StyledLines& lines,
+                                                                 const RegionSetup& region) {
+    LineGeometry geometry = LineGeometry::create(lines, scene.render.billboards, region);
     std::optional<HierarchicalCulling> culling;
     if (scene.render.culling.enabled)
         culling = HierarchicalCulling::create(HierarchicalCulling::Target::MaxDepth, scene.render.culling, geometry);
@@ -18,11 +19,11 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
         new RoundedConeRenderer(std::move(geometry), std::move(gbuffer), std::move(culling)));
     if (r->m_culling)
         r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::LargeChange, scene.render.culling,
-                                          lines.bounds.center(), /*frustumTest=*/true);
+                                          region.boundsOr(lines.bounds).center(), /*frustumTest=*/true);
     r->m_lighting = scene.lighting;
     std::vector<std::string> defines;
     if (scene.render.ao.enabled) {
-        r->m_ao = AmbientOcclusion::create(scene.render.ao, lines);
+        r->m_ao = AmbientOcclusion::create(scene.render.ao, lines, region);
         r->m_ao->buildLineCache(r->m_geometry, lines);
         defines = r->m_ao->lineDefines();
     }

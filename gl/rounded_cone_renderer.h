@@ -19,8 +19,12 @@ namespace tc::gl {
 
 class RoundedConeRenderer final : public Technique {
 public:
-    // Uploads the lines and compiles the programs. Needs a current context.
-    static std::unique_ptr<RoundedConeRenderer> create(const Scene& scene, const StyledLines& lines);
+    // Uploads the lines and compiles the programs. Needs a current context. `region`
+    // (data-parallel rendering, core/region.h): each pixel shows the nearest visible point
+    // (core/cpu_reference.h's rule per segment) that lies in region.box, so the regions' images
+    // Z-composite to the whole frame; AO sees every rank's density through region.reduceDensity.
+    static std::unique_ptr<RoundedConeRenderer> create(const Scene& scene, const StyledLines& lines,
+                                                       const RegionSetup& region = {});
     // Per-pixel GPU memory for `scene`: the G-buffer, the shaded colour and AO factor, the pyramid.
     static PixelBuffers pixelBuffers(const Scene& scene);
 

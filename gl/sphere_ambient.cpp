@@ -34,13 +34,14 @@ SphereAmbient SphereAmbient::create(const AoSpec& spec, bool cached) {
     return a;
 }
 
-void SphereAmbient::voxelize(const StyledParticles& particles, const Bounds& bounds) {
+void SphereAmbient::voxelize(const StyledParticles& particles, const Bounds& bounds, const RegionSetup& region) {
     Buffer centerRadius = makeBuffer(particles.size() * sizeof(glm::vec4), particles.centerRadius.data());
     Buffer colors = makeBuffer(particles.size() * sizeof(glm::vec4), particles.color.data());
-    voxelize(centerRadius, colors, particles.size(), bounds);
+    voxelize(centerRadius, colors, particles.size(), bounds, region);
 }
 
-void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds) {
+void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds,
+                             const RegionSetup& region) {
     // The grid: spec.resolution cubic voxels along the longest axis of the spheres' bounds.
     glm::vec3 extent = bounds.empty() ? glm::vec3(1.0f) : glm::max(bounds.extent(), glm::vec3(1e-6f));
     const float longest = std::max({extent.x, extent.y, extent.z});
@@ -67,7 +68,15 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     m_voxelSize = voxel;
     m_distance = m_spec.distance * glm::length(extent);
 
-    GLuint p = m_voxelize.id();
+    // Only the owned spheres with a reduction (a variant, so the plain voxelization is unchanged).
+    const RegionBox owner = region.densityOwner();
+    if (!owner.unbounded() && !m_voxelizeOwned)
+        m_voxelizeOwned = compileProgram({{GL_COMPUTE_SHADER, "sphere_voxelize.comp"}}, {"DENSITY_OWNER"});
+    GLuint p = owner.unbounded() ? m_voxelize.id() : m_voxelizeOwned.id();
+    if (!owner.unbounded()) {
+        glProgramUniform3fv(p, uniformLocation(p, "uOwnerLo"), 1, &owner.lo[0]);
+        glProgramUniform3fv(p, uniformLocation(p, "uOwnerHi"), 1, &owner.hi[0]);
+    }
     glProgramUniform1ui(p, uniformLocation(p, "uCount"), GLuint(count));
     glProgramUniform3fv(p, uniformLocation(p, "uOrigin"), 1, &origin[0]);
     glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), voxel);
@@ -92,6 +101,18 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     const std::size_t groupsX = std::min(groups, kMaxGroups);
     glDispatchCompute(GLuint(groupsX), GLuint((groups + groupsX - 1) / groupsX), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    if (region.reduceDensity) {
+        // Every rank's spheres: level 0 is linear in the deposits (sphere_volume_resolve.comp), so
+        // the sum of the ranks' levels is the level of all spheres (to float rounding); the mips
+        // below are built from the sum.
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+        std::vector<float> level0(4 * voxels);
+        glGetTextureImage(m_volume.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(level0.size() * sizeof(float)), level0.data());
+        region.reduceDensity(level0);
+        TC_CHECK_OP(level0.size(), ==, 4 * voxels);
+        glTextureSubImage3D(m_volume.id(), 0, 0, 0, 0, size.x, size.y, size.z, GL_RGBA, GL_FLOAT, level0.data());
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
 
     p = m_mip.id();
     glUseProgram(p);

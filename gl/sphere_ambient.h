@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/line_set.h"
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
 #include "gl/objects.h"
@@ -31,9 +32,14 @@ public:
     // fraction of the voxel inside a sphere: 1 when the voxel lies inside it, 0 when it is
     // disjoint, else the fraction of 3x3x3 sub-sample points inside; w and w x colour add up over
     // the spheres. Called once per data frame.
-    void voxelize(const StyledParticles& particles, const Bounds& bounds);
+    // `region` (data-parallel rendering, core/region.h): with region.reduceDensity, only the
+    // spheres whose centre lies in region.box deposit (RegionSetup::densityOwner), and level 0 is
+    // read back, replaced by the sum over all ranks and uploaded again before the mips are built;
+    // `bounds` must then be the same on every rank (region.dataBounds).
+    void voxelize(const StyledParticles& particles, const Bounds& bounds, const RegionSetup& region = {});
     // The same from particle buffers already on the GPU (vec4 centre+radius, vec4 linear RGBA).
-    void voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds);
+    void voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds,
+                  const RegionSetup& region = {});
 
     // Binds the volume (and the cache) and sets the cone tracing uniforms of `program`.
     void apply(GLuint program) const;
@@ -55,7 +61,7 @@ private:
 
     AoSpec m_spec;
     bool m_cached = false;
-    Program m_voxelize, m_resolve, m_mip, m_cacheBuild;
+    Program m_voxelize, m_voxelizeOwned, m_resolve, m_mip, m_cacheBuild;
     Buffer m_cache;  // 6 uint per sphere
     std::size_t m_cacheCount = 0;
     Buffer m_accumulator;  // 4 uint per voxel: sub-sample counts x colour (fixed point), count

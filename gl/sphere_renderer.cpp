@@ -48,10 +48,13 @@ PixelBuffers SphereRenderer::pixelBuffers(const Scene& scene) {
     return {16 + 16 + 4 + 4 + blend, 0, opaque ? "opaque spheres" : "transparent spheres"};
 }
 
-std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const StyledParticles& particles) {
+std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const StyledParticles& particles,
+                                                       const RegionSetup& region) {
     const RenderSpec& rs = scene.render;
     requireTechnique(spheresTechnique(), scene, DataKind::Particles);
     std::unique_ptr<SphereRenderer> r(new SphereRenderer());
+    r->m_region = region;
+    if (region.clips()) r->m_defines.push_back("REGION_CLIP");
     r->m_opaque = rs.transparency == Transparency::Opaque;
     r->m_aovs = scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId;
     r->m_spheres = rs.spheres;
@@ -155,7 +158,10 @@ void SphereRenderer::setFrame(const FrameSetup& setup) {
     const Camera& cam = setup.camera;
     FrameUniforms u = frameUniforms(setup, m_lighting);
     // Linear depth for the opaque depth test: beyond everything the data can reach.
-    u.farDepth = glm::distance(cam.eye, m_bounds.center()) + m_bounds.radius() + 2.0f * m_maxRadius + 1e-6f;
+    const Bounds& bounds = m_region.boundsOr(m_bounds);
+    u.farDepth = glm::distance(cam.eye, bounds.center()) + bounds.radius() + 2.0f * m_region.maxRadiusOr(m_maxRadius) +
+                 1e-6f;
+    setRegionUniforms(u, m_region.box);
     uploadFrameUniforms(m_frameUniforms, u);
 }
 
@@ -344,7 +350,7 @@ void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink
     if (m_ambient && m_voxelsStale) {
         // Once per data frame (the paper's dynamic-data timings voxelize every frame).
         timer.begin("voxelize");
-        m_ambient->voxelize(m_centerRadius, m_colors, m_count, m_bounds);
+        m_ambient->voxelize(m_centerRadius, m_colors, m_count, m_region.boundsOr(m_bounds), m_region);
         timer.setItems(m_count);
         timer.end();
         m_voxelsStale = false;
@@ -433,12 +439,15 @@ TechniqueDescriptor spheresTechnique() {
     d.exactTransparency = Transparency::ObjectOrder;
     d.ao = {AoSpec::Method::ConeTraced};
     d.pixelBuffers = [](const Scene& scene, DataKind) { return SphereRenderer::pixelBuffers(scene); };
-    d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
-        if (data.kind == DataKind::Lines) return SphereRenderer::create(scene, particlesFromLineVertices(*data.lines));
+    d.create = [](const Scene& scene, const TechniqueData& data,
+                  const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
+        const RegionSetup region = regionSetup(data, hooks);
+        if (data.kind == DataKind::Lines)
+            return SphereRenderer::create(scene, particlesFromLineVertices(*data.lines), region);
         return std::make_unique<ParticleSeriesTechnique>(
             scene, *data.particles, data.firstFrame,
-            [&scene](const StyledParticles& first, ParticleSeriesTechnique::Upload& upload) {
-                std::unique_ptr<SphereRenderer> r = SphereRenderer::create(scene, first);
+            [&scene, region](const StyledParticles& first, ParticleSeriesTechnique::Upload& upload) {
+                std::unique_ptr<SphereRenderer> r = SphereRenderer::create(scene, first, region);
                 upload = [renderer = r.get()](const StyledParticles& p, StageSink& sink) { renderer->upload(p, sink); };
                 return std::unique_ptr<Technique>(std::move(r));
             });

@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
 #include "core/technique_registry.h"
@@ -29,8 +30,12 @@ class SphereAmbient;
 class SphereRenderer final : public Technique {
 public:
     // Compiles the programs and uploads `particles`. Needs a current context. Throws InputError
-    // for a transparency mode spheres do not have.
-    static std::unique_ptr<SphereRenderer> create(const Scene& scene, const StyledParticles& particles);
+    // for a transparency mode spheres do not have. `region` (data-parallel rendering,
+    // core/region.h): a sphere is drawn only where its entry point along the ray lies in
+    // region.box; the depth range and the AO grid come from region.dataBounds, and with
+    // region.reduceDensity the AO volume holds every rank's spheres (SphereAmbient::voxelize).
+    static std::unique_ptr<SphereRenderer> create(const Scene& scene, const StyledParticles& particles,
+                                                  const RegionSetup& region = {});
     // Per-pixel GPU memory for `scene` (resize()): the opaque pass's colour, normal + depth, id and
     // depth; transparent also the blend colour and depth.
     static PixelBuffers pixelBuffers(const Scene& scene);
@@ -73,7 +78,8 @@ private:
                       const std::string& stage);
 
     bool m_opaque = false;
-    bool m_aovs = false;  // depth/normal/id requested: an opaque pass supplies them in transparent mode
+    bool m_aovs = false;
+    RegionSetup m_region;  // depth/normal/id requested: an opaque pass supplies them in transparent mode
     SpheresSpec m_spheres;
     LightingSpec m_lighting;
     std::size_t m_count = 0;

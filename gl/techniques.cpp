@@ -19,25 +19,41 @@ void registerTechniques(TechniqueRegistry& registry) {
     registry.add(voxelRaycastTechnique());
 }
 
-std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {
+namespace {
+
+const TechniqueRegistry& glRegistry() {
     static const TechniqueRegistry registry = [] {
         TechniqueRegistry r;
         registerTechniques(r);
         return r;
     }();
+    return registry;
+}
+
+}  // namespace
+
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines) {
+    TechniqueData data;
+    data.lines = &lines;
+    return createTechnique(scene, data);
+}
+
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const TechniqueData& data, const TechniqueHooks& hooks) {
+    const TechniqueRegistry& registry = glRegistry();
     // "auto" as the frame loop resolves it, among the GL techniques: a scene file read as is
     // (render.technique and render.transparency default to "auto") renders as it would on a GPU.
     Scene resolved = scene;
     if (resolved.render.technique.isAuto())
         resolved.render.technique =
-            RenderTechnique(registry.resolveAuto(resolved, DataKind::Lines, currentRenderer()).descriptor->name);
-    if (resolved.render.transparency == Transparency::Auto)
+            RenderTechnique(registry.resolveAuto(resolved, data.kind, currentRenderer()).descriptor->name);
+    if (resolved.render.transparency == Transparency::Auto) {
+        const bool translucent = data.kind == DataKind::Lines
+                                     ? data.lines && anyTranslucent(*data.lines)
+                                     : data.particles && anyTranslucent(resolved.style, *data.particles);
         if (const TechniqueDescriptor* d = registry.find(resolved.render.technique.name()))
-            resolved.render.transparency = resolveTransparency(*d, anyTranslucent(lines)).mode;
-    const TechniqueDescriptor& d = registry.validate(resolved, DataKind::Lines);
-    TechniqueData data;
-    data.lines = &lines;
-    return d.create(resolved, data, {});
+            resolved.render.transparency = resolveTransparency(*d, translucent).mode;
+    }
+    return registry.validate(resolved, data.kind).create(resolved, data, hooks);
 }
 
 }  // namespace tc::gl

@@ -21,5 +21,9 @@ void registerTechniques(TechniqueRegistry& registry);
 // technique and transparency resolve as in the frame loop, among the GL techniques. Needs a
 // current context; throws InputError as TechniqueRegistry::validate.
 std::unique_ptr<Technique> createTechnique(const Scene& scene, const StyledLines& lines);
+// The same for any dataset with the frame loop's inputs (data-parallel rendering: `data.region`,
+// `data.bounds`, `hooks.reduceDensity`).
+std::unique_ptr<Technique> createTechnique(const Scene& scene, const TechniqueData& data,
+                                           const TechniqueHooks& hooks = {});
 
 }  // namespace tc::gl

@@ -20,9 +20,10 @@ void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
 
 }  // namespace
 
-std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& scene, const StyledLines& lines) {
+std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& scene, const StyledLines& lines,
+                                                                 const RegionSetup& region) {
     std::unique_ptr<TransparentRenderer> r(
-        new TransparentRenderer(LineGeometry::create(lines, scene.render.billboards)));
+        new TransparentRenderer(LineGeometry::create(lines, scene.render.billboards, region)));
     const RenderSpec& rs = scene.render;
     r->m_mode = rs.transparency;
     r->m_k = rs.kbufferK;
@@ -38,7 +39,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     // in-order per-pixel shading with blending on, else a warning.
     std::vector<std::string> syncDefines;
     if (rs.ao.enabled) {
-        r->m_ao = AmbientOcclusion::create(rs.ao, lines);
+        r->m_ao = AmbientOcclusion::create(rs.ao, lines, region);
         r->m_ao->buildLineCache(r->m_geometry, lines);
         syncDefines = r->m_ao->lineDefines();
     }
@@ -100,7 +101,8 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         TC_CHECK(false);
     }
     if (r->m_mode != Transparency::DepthPeeling)
-        r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::EveryChange, rs.culling, lines.bounds.center(),
+        r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::EveryChange, rs.culling,
+                                          region.boundsOr(lines.bounds).center(),
                                           /*frustumTest=*/rs.culling.enabled);
     r->m_emptyVao = VertexArray::create();
     // Allocate (and check the memory budget) now, before the frame loop writes any output.

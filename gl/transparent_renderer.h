@@ -21,7 +21,12 @@ namespace tc::gl {
 
 class TransparentRenderer final : public Technique {
 public:
-    static std::unique_ptr<TransparentRenderer> create(const Scene& scene, const StyledLines& lines);
+    // `region` (data-parallel rendering, core/region.h): only the fragments whose entry point lies
+    // in region.box are blended (and the AOVs are the first such surface), so the regions' images
+    // composited "under" in view order are the whole frame's; AO sees every rank's density
+    // through region.reduceDensity.
+    static std::unique_ptr<TransparentRenderer> create(const Scene& scene, const StyledLines& lines,
+                                                       const RegionSetup& region = {});
     // Per-pixel GPU memory for `scene` (resize()): the colour target; k-buffer entries and ring
     // header, or the two peeling key buffers; the AOV G-buffer when AOVs are written; the pyramid.
     static PixelBuffers pixelBuffers(const Scene& scene);

@@ -494,6 +494,9 @@ TechniqueDescriptor voxelRaycastTechnique() {
     d.ao = {AoSpec::Method::ConeTraced};
     d.pixelBuffers = [](const Scene& scene, DataKind) { return VrcRenderer::pixelBuffers(scene); };
     d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
+        // Region clipping is not implemented for the voxel model's ray marching (its per-voxel
+        // line lists would need the entry-point rule of core/region.h at every sample).
+        if (!data.region.unbounded()) refuseRegion(scene, "render.technique", "voxel_raycast");
         return VrcRenderer::create(scene, *data.lines);
     };
     return d;

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
 
@@ -24,7 +25,10 @@ public:
     virtual nlohmann::json describe() const = 0;
 };
 
-// By spec.method. `embree` must outlive the estimator (ray_traced traces against it).
-std::unique_ptr<AoEstimator> makeAoEstimator(const AoSpec& spec, const StyledLines& lines, const EmbreeLines& embree);
+// By spec.method. `embree` must outlive the estimator (ray_traced traces against it). `region`:
+// data bounds and density reduction of data-parallel rendering, for "cone_traced" (the caller
+// refuses "ray_traced" with a region: its rays would see only this rank's data).
+std::unique_ptr<AoEstimator> makeAoEstimator(const AoSpec& spec, const StyledLines& lines, const EmbreeLines& embree,
+                                             const RegionSetup& region = {});
 
 }  // namespace tc::rt

@@ -150,25 +150,18 @@ float coneTracedOcclusion(const DensityPyramid& volume, const ConeTracingParams&
     return visible / weightSum;
 }
 
-namespace {
-DensityGrid voxelized(const AoSpec& spec, const StyledLines& lines) {
-    DensityGrid grid = makeDensityGrid(lines.bounds, spec.resolution);
-    voxelizeLines(lines, grid);
-    return grid;
-}
-}  // namespace
-
-ConeTracedAo::ConeTracedAo(const AoSpec& spec, const StyledLines& lines)
+ConeTracedAo::ConeTracedAo(const AoSpec& spec, const StyledLines& lines, const RegionSetup& region)
     : m_lines(&lines), m_volume([&] {
           auto t0 = std::chrono::steady_clock::now();
-          DensityPyramid v(voxelized(spec, lines));
+          // The pyramid is built from the (reduced) finest level, as gl::AmbientOcclusion does.
+          DensityPyramid v(buildLineDensity(lines, spec.resolution, region));
           m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
           return v;
       }()) {
     // The parameters of gl::AmbientOcclusion::create (gl/ambient_occlusion.cpp explains them).
     m_params.cones = spec.cones;
     m_params.apertureRad = glm::radians(spec.apertureDeg);
-    m_params.maxDistance = spec.distance * glm::length(lines.bounds.extent());
+    m_params.maxDistance = spec.distance * glm::length(region.boundsOr(lines.bounds).extent());
     m_params.strength = spec.strength;
     m_params.startOffset = m_volume.voxelSize();
 }

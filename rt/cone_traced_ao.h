@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/voxel_density.h"
@@ -73,8 +74,9 @@ class ConeTracedAo final : public AoEstimator {
 public:
     // Voxelizes `lines` at spec.resolution and builds the pyramid (once per dataset), with the
     // parameters gl::AmbientOcclusion::create derives from `spec`. `lines` must outlive it
-    // (visibility excludes the shaded segment's own tube).
-    ConeTracedAo(const AoSpec& spec, const StyledLines& lines);
+    // (visibility excludes the shaded segment's own tube). `region`: data bounds and density
+    // reduction of data-parallel rendering (core/voxel_density.h buildLineDensity).
+    ConeTracedAo(const AoSpec& spec, const StyledLines& lines, const RegionSetup& region = {});
     float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel, std::uint32_t segment) const override;
     nlohmann::json describe() const override;
 

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/camera.h"
+#include "core/error.h"
 #include "core/sphere_glyph.h"
 #include "core/tangent_frame.h"
 #include "rt/ray_traced_ao.h"
@@ -36,10 +37,11 @@ const glm::vec3 kFaceNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0},
 
 // --- SphereVolume ------------------------------------------------------------------------------
 
-SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles) {
+SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region) {
     // The grid of gl::SphereAmbient::voxelize: spec.resolution cubic voxels along the longest axis
     // of the spheres' bounds, from bounds.lo.
-    const Bounds& bounds = particles.bounds;
+    const Bounds& bounds = region.boundsOr(particles.bounds);
+    const RegionBox owner = region.densityOwner();
     const glm::vec3 extent = bounds.empty() ? glm::vec3(1.0f) : glm::max(bounds.extent(), glm::vec3(1e-6f));
     const float longest = std::max({extent.x, extent.y, extent.z});
     const float voxel = longest / float(spec.resolution);
@@ -56,6 +58,7 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles)
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, particles.size(), 1024), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const glm::vec4 cr = particles.centerRadius[i];
+            if (!owner.contains(glm::vec3(cr))) continue;
             const glm::vec4 color = glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f));
             const std::uint32_t opacity = std::uint32_t(std::round(color.w * 255.0f));
             if (opacity == 0u) continue;
@@ -102,6 +105,16 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles)
                                   float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
     });
     acc = {};
+    if (region.reduceDensity) {
+        // Level 0 is linear in the deposits: the ranks' levels sum to the level of all spheres.
+        std::vector<float> flat(4 * voxels);
+        for (std::size_t v = 0; v < voxels; ++v)
+            for (int c = 0; c < 4; ++c) flat[4 * v + std::size_t(c)] = level0[v][c];
+        region.reduceDensity(flat);
+        TC_CHECK_OP(flat.size(), ==, 4 * voxels);
+        for (std::size_t v = 0; v < voxels; ++v)
+            for (int c = 0; c < 4; ++c) level0[v][c] = flat[4 * v + std::size_t(c)];
+    }
     // shaders/density_mip.comp with MIP_RGBA (same taps and summation order).
     m_mip = MipPyramid<glm::vec4>(size, std::move(level0));
 }
@@ -109,14 +122,14 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles)
 // --- ParticleAmbient ---------------------------------------------------------------------------
 
 ParticleAmbient::ParticleAmbient(const AoSpec& spec, const SpheresSpec& spheres, bool opaque,
-                                 const StyledParticles& particles, RTCScene scene)
+                                 const StyledParticles& particles, RTCScene scene, const RegionSetup& region)
     : m_spec(spec), m_spheres(spheres), m_opaque(opaque), m_particles(particles), m_scene(scene) {
     auto t0 = std::chrono::steady_clock::now();
-    const Bounds& b = particles.bounds;
+    const Bounds& b = region.boundsOr(particles.bounds);
     const glm::vec3 extent = b.empty() ? glm::vec3(1.0f) : glm::max(b.extent(), glm::vec3(1e-6f));
     m_distance = spec.distance * glm::length(extent);  // as gl::SphereAmbient
     if (spec.method == AoSpec::Method::ConeTraced) {
-        m_volume = std::make_unique<SphereVolume>(spec, particles);
+        m_volume = std::make_unique<SphereVolume>(spec, particles, region);
         // gl::SphereAmbient::apply: the shaded sphere deposited itself around the point.
         m_startOffset = 1.5f * m_volume->voxelSize();
         if (spec.cache == AoSpec::Cache::Precomputed) {

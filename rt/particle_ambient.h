@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/mip_pyramid.h"
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
 
@@ -35,7 +36,10 @@ namespace tc::rt {
 // The RGBA sphere volume (premultiplied colour, alpha = coverage x opacity) with its mip pyramid.
 class SphereVolume {
 public:
-    SphereVolume(const AoSpec& spec, const StyledParticles& particles);
+    // `region` (data-parallel rendering): the grid of region.boundsOr(particles.bounds); with
+    // region.reduceDensity only the spheres whose centre lies in region.box deposit and level 0
+    // is replaced by the sum over all ranks before the mips (as gl::SphereAmbient::voxelize).
+    SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region = {});
 
     int levels() const { return m_mip.levels(); }
     const glm::ivec3& size() const { return m_mip.size(); }
@@ -64,8 +68,9 @@ public:
     // Builds the volume (cone_traced) for `particles`, which must outlive this object, as must
     // `scene` (ray_traced traces against it; geometry 0 = the particles as sphere points).
     // `opaque`: the spheres are drawn opaque (ray_traced: a hit blocks with the particle opacity).
+    // `region`: data bounds and density reduction of data-parallel rendering (SphereVolume).
     ParticleAmbient(const AoSpec& spec, const SpheresSpec& spheres, bool opaque, const StyledParticles& particles,
-                    RTCScene scene);
+                    RTCScene scene, const RegionSetup& region = {});
     ~ParticleAmbient();
 
     // The terms at point p on sphere `sphere` with outward unit normal n, seen from pixel `pixel`

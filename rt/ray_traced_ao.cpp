@@ -44,9 +44,10 @@ nlohmann::json RayTracedAo::describe() const {
             {"strength", m_strength}};
 }
 
-std::unique_ptr<AoEstimator> makeAoEstimator(const AoSpec& spec, const StyledLines& lines, const EmbreeLines& embree) {
+std::unique_ptr<AoEstimator> makeAoEstimator(const AoSpec& spec, const StyledLines& lines, const EmbreeLines& embree,
+                                             const RegionSetup& region) {
     if (spec.method == AoSpec::Method::RayTraced) return std::make_unique<RayTracedAo>(spec, lines, embree);
-    return std::make_unique<ConeTracedAo>(spec, lines);
+    return std::make_unique<ConeTracedAo>(spec, lines, region);
 }
 
 }  // namespace tc::rt

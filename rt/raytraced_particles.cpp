@@ -64,8 +64,10 @@ struct RaytracedParticles::Bvh {
 
 RaytracedParticles::~RaytracedParticles() = default;
 
-std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scene, const StyledParticles& particles) {
+std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scene, const StyledParticles& particles,
+                                                               const RegionSetup& region) {
     std::unique_ptr<RaytracedParticles> r(new RaytracedParticles());
+    r->m_region = region;
     const RenderSpec& rs = scene.render;
     requireTechnique(raytracedTechnique(), scene, DataKind::Particles);
     r->m_transparent = rs.transparency != Transparency::Opaque;
@@ -102,7 +104,55 @@ void RaytracedParticles::upload(const StyledParticles& particles) {
     m_bvh->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     // Per data frame, as the GL sphere renderer re-voxelizes (after the BVH: ray_traced uses it).
     if (m_aoSpec)
-        m_ambient = std::make_unique<ParticleAmbient>(*m_aoSpec, m_spheres, !m_transparent, m_particles, m_bvh->scene);
+        m_ambient = std::make_unique<ParticleAmbient>(*m_aoSpec, m_spheres, !m_transparent, m_particles,
+                                                      m_bvh->scene, m_region);
+}
+
+SceneBounds RaytracedParticles::traceBounds() const {
+    SceneBounds bounds = sceneBounds(m_bvh->scene);
+    if (m_region.clips()) {
+        // As the tubes (rt/raytraced_renderer.cpp): tiles that cannot meet the region's part of
+        // the spheres are background.
+        const RegionBox& region = m_region.box;
+        const glm::vec3 pad = 1e-5f * (glm::abs(region.lo) + glm::abs(region.hi)) + 1e-30f;
+        bounds.lo = glm::max(bounds.lo, region.lo - pad);
+        bounds.hi = glm::min(bounds.hi, region.hi + pad);
+    }
+    return bounds;
+}
+
+RayInterval RaytracedParticles::regionRayInterval(const Ray& ray) const {
+    RayInterval iv = rayInterval(ray, m_region.box);
+    // A margin for the rounding of hit points on a face; RegionBox::contains decides.
+    if (!iv.empty()) iv = {iv.t0 - 1e-5f * std::abs(iv.t0), iv.t1 + 1e-5f * std::abs(iv.t1)};
+    return iv;
+}
+
+std::uint64_t RaytracedParticles::regionFirstHit(const Ray& ray, FirstHit& first) const {
+    first.hit = false;
+    const RayInterval iv = regionRayInterval(ray);
+    if (iv.empty() || iv.t1 < 0.0f) return 0;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    std::uint64_t hits = 0;
+    float tnear = std::max(iv.t0, 0.0f);
+    // Each pass starts behind the last sphere, so the loop ends at the box's far side.
+    for (;;) {
+        RTCRayHit rh = makeRayHit(ray, tnear);
+        rh.ray.tfar = iv.t1;
+        rtcIntersect1(m_bvh->scene, &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hits;
+        ++hits;
+        const std::uint32_t i = rh.hit.primID;
+        const glm::vec4& cr = m_particles.centerRadius[i];
+        const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
+        const float tEntry = s.hit ? s.tNear : rh.ray.tfar;  // grazing: Embree's, as render() does
+        if (m_region.box.contains(ray.origin + tEntry * ray.dir)) {
+            first = {true, i, rh.ray.tfar, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)};
+            return hits;
+        }
+        tnear = std::nextafter(rh.ray.tfar, kInf);
+    }
 }
 
 void RaytracedParticles::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
@@ -130,12 +180,17 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
         return m_ambient->at(i, ray.origin + tNear * ray.dir, n, std::uint32_t(pixel));
     };
 
-    const SceneBounds bounds = sceneBounds(m_bvh->scene);
+    const RegionBox& region = m_region.box;
+    const bool clips = m_region.clips();
+    const SceneBounds bounds = traceBounds();
+
     forEachTile(camera, window, width, height, [&](const Tile& tile) {
         if (tile.outside) return storeBackground(out, tile, width);
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
-        if (!m_transparent) traceFirstHits(m_bvh->scene, m_traversal, tile, firstHits);
+        if (!m_transparent && !clips) traceFirstHits(m_bvh->scene, m_traversal, tile, firstHits);
+        if (!m_transparent && clips)
+            for (int k = 0; k < tile.count(); ++k) hits += regionFirstHit(tile.rays[k], firstHits[k]);
         HitCollector collector;
         rtcInitIntersectContext(&collector.context);
         collector.context.filter = collectEntry;
@@ -168,11 +223,18 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
             }
             glm::vec4 acc(0.0f);
             bool first = true, done = false;
-            float tnear = 0.0f;
+            float tnear = 0.0f, tfar = kInf;
+            if (clips) {
+                const RayInterval iv = regionRayInterval(ray);
+                done = iv.empty() || iv.t1 < 0.0f;
+                tnear = std::max(iv.t0, 0.0f);
+                tfar = iv.t1;
+            }
             collector.haveLast = false;
             while (!done) {
                 collector.count = 0;
                 RTCRayHit rh = makeRayHit(ray, tnear);
+                rh.ray.tfar = tfar;
                 rtcIntersect1(m_bvh->scene, &collector.context, &rh);
                 const int n = collector.count;
                 for (int h = 0; h < n && !done; ++h) {
@@ -182,6 +244,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                     const glm::vec4& col = S.color[i];
                     const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
                     if (!s.hit) continue;  // grazing: no optical depth
+                    if (clips && !region.contains(ray.origin + s.tNear * ray.dir)) continue;  // another region's
                     const float alpha = sphereOpacity(
                         col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
                     const glm::vec3 nrm = entryNormal(ray, i, s.tNear);

@@ -13,6 +13,9 @@
 //   other), stopping once the accumulated alpha reaches render.raytraced.alpha_cutoff (1 = exact).
 //   Hits are gathered by the context filter of rt/hit_collector.h: only entries count (a sphere's
 //   exit hit only when the eye is inside it).
+// Region (data-parallel rendering, core/region.h): a sphere counts only where its entry point
+// (the eye when the eye is inside it) lies in the region box: opaque, the nearest such sphere;
+// transparent, every such sphere. Rays are restricted to the box's parameter interval.
 // With render.ao: A_O and coloured ambient light L_A at every shaded entry point, weighted as in
 // shaders/sphere.frag (rt/particle_ambient.h: "cone_traced" = the GL spheres' volume and cones on
 // the CPU, "ray_traced" = hemisphere rays against the same BVH); the ao AOV for opaque spheres.
@@ -24,6 +27,7 @@
 
 #include "core/camera.h"
 #include "core/frame_images.h"
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
 #include "core/technique.h"
@@ -37,7 +41,10 @@ class RaytracedParticles final : public Technique {
 public:
     // Builds the BVH of `particles` (a copy is kept), and with render.ao the ambient data. Throws
     // InputError for transparency modes the ray tracer does not implement for particles.
-    static std::unique_ptr<RaytracedParticles> create(const Scene& scene, const StyledParticles& particles);
+    // `region`: data-parallel rendering (see above; AO through region.reduceDensity and
+    // region.dataBounds, rt/particle_ambient.h).
+    static std::unique_ptr<RaytracedParticles> create(const Scene& scene, const StyledParticles& particles,
+                                                      const RegionSetup& region = {});
     ~RaytracedParticles() override;
 
     // Replaces the particles (a new data frame of a time series): rebuilds the BVH and AO data.
@@ -59,8 +66,17 @@ public:
 private:
     RaytracedParticles() = default;
     struct Bvh;
+    // Bounds of what rays can hit (the BVH's, cut with the region box): tiles missing them are
+    // background.
+    SceneBounds traceBounds() const;
+    // The part of `ray` a region traces: its interval in the box, widened by a rounding margin.
+    RayInterval regionRayInterval(const Ray& ray) const;
+    // Region opaque rays: the first sphere whose entry point lies in the box, traced from the
+    // box's entry past the spheres that belong to other regions. Returns the Embree hits taken.
+    std::uint64_t regionFirstHit(const Ray& ray, FirstHit& first) const;
 
     StyledParticles m_particles;
+    RegionSetup m_region;
     SpheresSpec m_spheres;
     LightingSpec m_lighting;
     bool m_transparent = true;

@@ -49,8 +49,10 @@ struct RaytracedRenderer::PixelContext {
 
 RaytracedRenderer::~RaytracedRenderer() = default;
 
-std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene, const StyledLines& lines) {
+std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene, const StyledLines& lines,
+                                                             const RegionSetup& region) {
     std::unique_ptr<RaytracedRenderer> r(new RaytracedRenderer());
+    r->m_region = region.box;
     const RenderSpec& rs = scene.render;
     requireTechnique(raytracedTechnique(), scene, DataKind::Lines);
     // Every transparent mode is exact compositing here (up to render.raytraced.alpha_cutoff).
@@ -63,10 +65,20 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     // CPU time within noise on the 1M tornado's opaque frames, `scripts/bench/frame_times.sh
     // configs/tornado_1m.json 7 --set render.technique=raytraced`.)
     r->m_joinNeighbours = r->m_transparent ? rs.capClipping : true;
-    r->m_jointEpsilon = 1e-3f * std::max(lines.maxRadius, 1e-12f);
+    // From the whole dataset's largest radius (data-parallel), so every rank and one process test
+    // joint duplicates with the same epsilon.
+    r->m_jointEpsilon = 1e-3f * std::max(region.maxRadiusOr(lines.maxRadius), 1e-12f);
     r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);
     r->m_bounds = sceneBounds(r->m_embree->scene());
-    if (rs.ao.enabled) r->m_ao = makeAoEstimator(rs.ao, r->m_lines, *r->m_embree);
+    if (region.clips()) {
+        // Tiles whose rays cannot meet the region's part of the data are background: the box
+        // (grown by a little of its coordinates, covering the rounding of hit points) cut with
+        // the BVH's bounds. An empty cut makes every tile background (pixelBlockMisses).
+        const glm::vec3 pad = 1e-5f * (glm::abs(r->m_region.lo) + glm::abs(r->m_region.hi)) + 1e-30f;
+        r->m_bounds.lo = glm::max(r->m_bounds.lo, r->m_region.lo - pad);
+        r->m_bounds.hi = glm::min(r->m_bounds.hi, r->m_region.hi + pad);
+    }
+    if (rs.ao.enabled) r->m_ao = makeAoEstimator(rs.ao, r->m_lines, *r->m_embree, region);
     return r;
 }
 
@@ -80,6 +92,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     const glm::vec3 forward = camera.forward();
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
     const bool ortho = camera.projection == Projection::Orthographic;
+    const bool clips = !m_region.unbounded();
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
@@ -87,13 +100,14 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
         if (tile.outside) return storeBackground(out, tile, width);
         std::uint64_t hits = 0;
         FirstHit firstHits[kTile * kTile];
-        if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
+        // Region opaque rays trace one at a time from the box (regionSurface).
+        if (!m_transparent && !clips) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
         for (int row = 0, k = 0; row < tile.h; ++row) {
             const std::uint32_t rowStart = std::uint32_t(tile.y0 + row) * std::uint32_t(width) + std::uint32_t(tile.x0);
             for (int col = 0; col < tile.w; ++col, ++k) {
                 PixelContext c;
                 c.pixel = rowStart + std::uint32_t(col);
-                if (!m_transparent && !firstHits[k].hit) {
+                if (!m_transparent && !clips && !firstHits[k].hit) {
                     // Background: PixelContext's defaults are FrameImages::allocate's clear values.
                     storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
                     if (ao) ao[c.pixel] = c.ao;
@@ -102,8 +116,14 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
                 c.ray = tile.rays[k];
                 c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
                 c.lightDir = lightDir;
-                if (m_transparent) shadeTransparent(c);
-                else shadeOpaque(c, firstHits[k]);
+                if (m_transparent) {
+                    shadeTransparent(c);
+                } else if (clips) {
+                    Surface s;
+                    if (regionSurface(c, s)) shadeSurface(c, s);
+                } else {
+                    shadeOpaque(c, firstHits[k]);
+                }
                 hits += c.hits;
                 storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
                 if (ao) ao[c.pixel] = c.ao;
@@ -116,9 +136,8 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     sink.end();
 }
 
-void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const {
-    c.hits = 1;
-
+bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool inRegion, Surface& surface,
+                                       bool& anyCandidate) const {
     // Re-intersect the hit segment and its polyline neighbours exactly as the CPU reference does
     // (see the header): Embree's curve intersector solves the same surface with other float
     // operations, and at joints it may attribute a point to either neighbour.
@@ -128,18 +147,21 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const 
     float best = kInf;
     std::uint32_t bestSeg = hitSeg;
     glm::vec3 bestN(0.0f);
+    anyCandidate = false;
     // The CPU reference's rule on one segment: nearest wins, equal t to the lower segment.
     auto consider = [&](std::uint32_t s) {
         const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
         const glm::vec4& a = L.positionRadius[v0];
         const glm::vec4& b = L.positionRadius[v1];
-        ConeInterval iv = intersectRoundedCone(c.ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
+        ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
         if (!iv.hit) return;
         float t;
         glm::vec3 n;
         if (iv.tIn > 0.0f) t = iv.tIn, n = iv.nIn;
         else if (iv.tOut > 0.0f) t = iv.tOut, n = iv.nOut;
         else return;
+        anyCandidate = true;
+        if (inRegion && !m_region.contains(ray.origin + t * ray.dir)) return;
         if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;
     };
     consider(hitSeg);
@@ -155,9 +177,9 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const 
             // bound, so a skipped neighbour could neither win nor tie: images stay identical.
             const glm::vec4& a = L.positionRadius[v0];
             const glm::vec4& b = L.positionRadius[v1];
-            const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b)) - c.ray.origin;
+            const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b)) - ray.origin;
             const float R = 0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + std::max(a.w, b.w);
-            const float along = glm::dot(m, c.ray.dir);
+            const float along = glm::dot(m, ray.dir);
             const float miss2 = glm::dot(m, m) - along * along;
             const float slack = 1e-4f * (std::abs(along) + R + best);
             const float R2 = (R + slack) * (R + slack);
@@ -167,12 +189,63 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const 
         }
         consider(s);
     }
-    if (best == kInf) {
-        // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
-        best = hit.t;
-        bestN = glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir;
-    }
+    if (best == kInf) return false;
+    surface = {best, bestSeg, bestN};
+    return true;
+}
 
+void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const {
+    c.hits = 1;
+    Surface s;
+    bool anyCandidate = false;
+    if (!visibleSurface(c.ray, hit, false, s, anyCandidate)) {
+        // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
+        s.t = hit.t;
+        s.segment = hit.prim;
+        s.normal = glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir;
+    }
+    shadeSurface(c, s);
+}
+
+RayInterval RaytracedRenderer::regionRayInterval(const Ray& ray) const {
+    RayInterval iv = rayInterval(ray, m_region);
+    if (iv.empty()) return iv;
+    // Float slack for hit points on a box face, and room for the hit just before the face that a
+    // joint duplicate is tested against (shadeTransparent): a few joint epsilons.
+    auto pad = [&](float t) { return 4.0f * m_jointEpsilon + 1e-5f * std::abs(t); };
+    return {iv.t0 - pad(iv.t0), iv.t1 + pad(iv.t1)};
+}
+
+bool RaytracedRenderer::regionSurface(PixelContext& c, Surface& s) const {
+    const RayInterval iv = regionRayInterval(c.ray);
+    if (iv.empty() || iv.t1 < 0.0f) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    float tnear = std::max(iv.t0, 0.0f);
+    // Each pass starts behind the last hit, so the loop ends at the box's far side.
+    for (;;) {
+        RTCRayHit rh = makeRayHit(c.ray, tnear);
+        rh.ray.tfar = iv.t1;
+        rtcIntersect1(m_embree->scene(), &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        ++c.hits;
+        const FirstHit hit{true, rh.hit.primID, rh.ray.tfar, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)};
+        bool anyCandidate = false;
+        if (visibleSurface(c.ray, hit, true, s, anyCandidate)) return true;
+        if (!anyCandidate && m_region.contains(c.ray.origin + hit.t * c.ray.dir)) {
+            // Grazing, as shadeOpaque: Embree's hit, in this region by its own point.
+            s = {hit.t, hit.prim, glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir};
+            return true;
+        }
+        tnear = std::nextafter(hit.t, kInf);
+    }
+}
+
+void RaytracedRenderer::shadeSurface(PixelContext& c, const Surface& s) const {
+    const StyledLines& L = m_lines;
+    const float best = s.t;
+    const std::uint32_t bestSeg = s.segment;
+    const glm::vec3 bestN = s.normal;
     const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
     const glm::vec3 x0(L.positionRadius[v0]), x1(L.positionRadius[v1]);
     const glm::vec3 p = c.ray.origin + best * c.ray.dir;
@@ -204,10 +277,18 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     float alpha = 0.0f;
     bool havePrev = false, first = true;
     RayHitRecord prev{};
-    float tnear = 0.0f;
+    float tnear = 0.0f, tfar = kInf;
+    const bool clips = !m_region.unbounded();
+    if (clips) {
+        const RayInterval iv = regionRayInterval(c.ray);
+        if (iv.empty() || iv.t1 < 0.0f) return;
+        tnear = std::max(iv.t0, 0.0f);
+        tfar = iv.t1;
+    }
     for (;;) {
         collector.count = 0;
         RTCRayHit rh = makeRayHit(c.ray, tnear);
+        rh.ray.tfar = tfar;
         rtcIntersect1(m_embree->scene(), &collector.context, &rh);
         const int n = collector.count;
         bool done = false;
@@ -233,6 +314,9 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
                 if (!(sdRoundedCone(c.ray.origin, {glm::vec3(a), a.w, glm::vec3(b), b.w}) < 0.0f)) continue;
             }
             const glm::vec3 p = c.ray.origin + h.t * c.ray.dir;
+            // Another region composites this entry (after the duplicate test, which every region
+            // makes on the same hits, so a joint's pair counts once over all regions).
+            if (clips && !m_region.contains(p)) continue;
             const glm::vec3 ba = glm::vec3(b) - glm::vec3(a);
             const float m0 = glm::dot(ba, ba);
             const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - glm::vec3(a), ba) / m0, 0.0f, 1.0f) : 0.0f;

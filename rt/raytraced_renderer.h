@@ -19,6 +19,12 @@
 //   once. A back-facing hit counts only when the ray origin lies inside that segment's rounded
 //   cone (an eye inside a tube sees its inner wall, as the references). The depth / normal / id
 //   AOVs describe the first contributing hit.
+// - Region (data-parallel rendering, core/region.h): only contributions whose entry point lies in
+//   the region box. Opaque: the nearest visible t (the rule above, per segment) whose point is in
+//   the box, so the regions' depth images Z-composite to the whole frame's; transparent: the hits
+//   whose point is in the box, composited "under" per region and across regions in view order.
+//   Rays are restricted to the box's parameter interval (with a margin, so the joint duplicate
+//   test sees the hit before the box face).
 // - AO (render.ao): "cone_traced" samples the CPU twin of the GL density volume with the algorithm
 //   of shaders/cone_tracing.glsl (rt/cone_traced_ao.h); "ray_traced" shoots render.ao.samples
 //   stratified cosine-weighted hemisphere rays per shaded point (rt/ray_traced_ao.h).
@@ -30,6 +36,7 @@
 
 #include "core/camera.h"
 #include "core/frame_images.h"
+#include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/technique.h"
@@ -45,8 +52,10 @@ class AoEstimator;
 class RaytracedRenderer final : public Technique {
 public:
     // Builds the BVH (once per dataset) and, with render.ao, the AO data. Keeps a copy of `lines`.
-    // Throws InputError for transparency modes the ray tracer does not implement.
-    static std::unique_ptr<RaytracedRenderer> create(const Scene& scene, const StyledLines& lines);
+    // Throws InputError for transparency modes the ray tracer does not implement. `region`:
+    // data-parallel rendering (see above; AO through region.reduceDensity and region.dataBounds).
+    static std::unique_ptr<RaytracedRenderer> create(const Scene& scene, const StyledLines& lines,
+                                                     const RegionSetup& region = {});
     ~RaytracedRenderer() override;
 
     // Renders one frame into `out` (allocated to width x height): rgba linear premultiplied,
@@ -74,8 +83,24 @@ public:
 private:
     RaytracedRenderer() = default;
     struct PixelContext;
+    // The visible surface the CPU reference's rule gives for Embree's hit `hit` (see the header):
+    // t, segment and outward normal, over the hit segment and its polyline neighbours; with
+    // `inRegion`, only points in the region box count. False when no candidate qualifies
+    // (`anyCandidate` then says whether some did before the region test).
+    struct Surface {
+        float t = 0;
+        std::uint32_t segment = 0;
+        glm::vec3 normal{0.0f};
+    };
+    bool visibleSurface(const Ray& ray, const FirstHit& hit, bool inRegion, Surface& s, bool& anyCandidate) const;
     void shadeOpaque(PixelContext& px, const FirstHit& hit) const;
+    void shadeSurface(PixelContext& px, const Surface& s) const;
+    // Region opaque rays: the first Embree hit whose surface (visibleSurface) lies in the box,
+    // traced from the box's entry; false: background.
+    bool regionSurface(PixelContext& px, Surface& s) const;
     void shadeTransparent(PixelContext& px) const;
+    // The part of `ray` a region traces: its interval in the box, widened by the margin.
+    RayInterval regionRayInterval(const Ray& ray) const;
 
     StyledLines m_lines;
     LightingSpec m_lighting;
@@ -83,6 +108,7 @@ private:
     bool m_joinNeighbours = true;
     float m_alphaCutoff = 0.99f;
     float m_jointEpsilon = 0;  // world units: hits of adjacent segments this close count once
+    RegionBox m_region;
     std::unique_ptr<EmbreeLines> m_embree;
     std::unique_ptr<AoEstimator> m_ao;
     Traversal m_traversal = Traversal::Packet16;

@@ -19,12 +19,17 @@ TechniqueDescriptor raytracedTechnique() {
     d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced};
-    d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
-        if (data.kind == DataKind::Lines) return RaytracedRenderer::create(scene, *data.lines);
+    d.create = [](const Scene& scene, const TechniqueData& data,
+                  const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
+        const RegionSetup region = regionSetup(data, hooks);
+        // Hemisphere rays would meet only this rank's share of the data.
+        if (region.clips() && scene.render.ao.enabled && scene.render.ao.method == AoSpec::Method::RayTraced)
+            refuseRegion(scene, "render.ao.method", "\"ray_traced\"", "\"cone_traced\"");
+        if (data.kind == DataKind::Lines) return RaytracedRenderer::create(scene, *data.lines, region);
         return std::make_unique<ParticleSeriesTechnique>(
             scene, *data.particles, data.firstFrame,
-            [&scene](const StyledParticles& first, ParticleSeriesTechnique::Upload& upload) {
-                std::unique_ptr<RaytracedParticles> r = RaytracedParticles::create(scene, first);
+            [&scene, region](const StyledParticles& first, ParticleSeriesTechnique::Upload& upload) {
+                std::unique_ptr<RaytracedParticles> r = RaytracedParticles::create(scene, first, region);
                 upload = [renderer = r.get()](const StyledParticles& p, StageSink& sink) {
                     sink.begin("upload");  // the BVH rebuild
                     renderer->upload(p);

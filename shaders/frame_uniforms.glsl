@@ -28,6 +28,10 @@ layout(std140, binding = UBO_FRAME_UNIFORMS) uniform FrameUniforms {
     vec2 uViewport;     // the full image in pixels
     vec2 uPixelOffset;  // full-image window coordinate of the target's origin (y up)
     vec2 uTargetSize;   // the render target in pixels
+    // Data-parallel rendering: the region box [lo, hi) of core/region.h in xyz (faces may be
+    // infinite); read only by programs compiled with REGION_CLIP (region.glsl).
+    vec4 uRegionLo;
+    vec4 uRegionHi;
 };
 
 vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
@@ -42,3 +46,6 @@ RayCamera frameCamera() {
 float viewDepth(Ray ray, float t) {
     return uOrthographic ? t : t * dot(ray.dir, uForward);
 }
+
+// inRegion (programs compiled with REGION_CLIP): after the block, whose box it reads.
+#include "region.glsl"

@@ -24,6 +24,11 @@ void main() {
     float t, fragDepth;
     vec3 n;
     if (!visibleFragmentDepth(ray, varyingCone(), t, n, fragDepth)) discard;
+#ifdef REGION_CLIP
+    // This segment's visible point belongs to another region: the nearest one in this region wins
+    // the depth test, so the regions' depth images Z-composite to the whole frame's first hit.
+    if (!inRegion(ray.origin + t * ray.dir)) discard;
+#endif
     // GL_LESS keeps the first of equal depths, so which segment id survives a tie depends on the
     // draw order; surface_attributes.frag resolves ties independently of it.
     outSegment = vSegment;

@@ -45,6 +45,10 @@ void main() {
     if (!s.hit) discard;
     vec4 base = vColor;
     vec3 p = ray.origin + s.tNear * ray.dir;
+#ifdef REGION_CLIP
+    // The sphere's entry point (the eye, when the eye is inside it) lies in another region.
+    if (!inRegion(p)) discard;
+#endif
     vec3 n = (p - cr.xyz) / cr.w;
     float ao = 1.0;
     vec3 ambientLight = vec3(0.0);

@@ -16,11 +16,21 @@ uniform uint uCount;
 uniform vec3 uOrigin;
 uniform float uVoxelSize;
 uniform ivec3 uSize;
+#ifdef DENSITY_OWNER
+// Data-parallel rendering: only the spheres whose centre lies in this rank's region box
+// [uOwnerLo, uOwnerHi) deposit, so the sum over ranks counts each sphere once (core/region.h
+// RegionSetup::densityOwner).
+uniform vec3 uOwnerLo;
+uniform vec3 uOwnerHi;
+#endif
 
 void main() {
     uint i = uFirst + gl_GlobalInvocationID.x;
     if (i >= uCount) return;
     vec4 cr = centerRadius[i];
+#ifdef DENSITY_OWNER
+    if (!(all(greaterThanEqual(cr.xyz, uOwnerLo)) && all(lessThan(cr.xyz, uOwnerHi)))) return;
+#endif
     vec4 color = clamp(colors[i], vec4(0.0), vec4(1.0));
     uint opacity = uint(round(color.a * 255.0));
     if (opacity == 0u) return;

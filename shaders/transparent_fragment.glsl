@@ -37,6 +37,10 @@ bool lineFragment(out LineFragment f) {
     f.depth = viewDepth(ray, t);
     if (!(f.depth > 0.0)) return false;
     vec3 p = ray.origin + t * ray.dir;
+#ifdef REGION_CLIP
+    // The entry lies in another region, which blends it (core/region.h).
+    if (!inRegion(p)) return false;
+#endif
     vec3 axis = b.xyz - a.xyz;
     float len2 = dot(axis, axis);
     float s = len2 > 0.0 ? clamp(dot(p - a.xyz, axis) / len2, 0.0, 1.0) : 0.0;

@@ -41,6 +41,8 @@ const std::vector<Member>& members() {
         {"uViewport", offsetof(FrameUniforms, viewport)},
         {"uPixelOffset", offsetof(FrameUniforms, pixelOffset)},
         {"uTargetSize", offsetof(FrameUniforms, targetSize)},
+        {"uRegionLo", offsetof(FrameUniforms, regionLo)},
+        {"uRegionHi", offsetof(FrameUniforms, regionHi)},
     };
     return all;
 }
@@ -91,11 +93,13 @@ TEST_F(GlTest, frame_uniform_block_reads_every_member_as_the_cpp_struct_wrote_it
     u.viewport = {values[44], values[45]};
     u.pixelOffset = {values[46], values[47]};
     u.targetSize = {values[48], values[49]};
+    u.regionLo = {values[52], values[53], values[54], values[55]};
+    u.regionHi = {values[56], values[57], values[58], values[59]};
 
     const gl::Program program = gl::compileProgram({{GL_COMPUTE_SHADER, "test_frame_uniforms.comp"}});
     gl::Buffer uniforms;
     gl::uploadFrameUniforms(uniforms, u);
-    const std::size_t used = offsetof(FrameUniforms, targetSize) + sizeof u.targetSize;
+    const std::size_t used = offsetof(FrameUniforms, regionHi) + sizeof u.regionHi;
     gl::Buffer out = gl::makeBuffer(used, nullptr, 0);
     glUseProgram(program.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());

@@ -24,5 +24,7 @@ void main() {
     putVec(i, uLightTerms, 4);
     putVec(i, uNdcToTarget, 4);
     putVec(i, vec4(uViewport, uPixelOffset), 4);
-    putVec(i, vec4(uTargetSize, 0.0, 0.0), 2);
+    putVec(i, vec4(uTargetSize, 0.0, 0.0), 4);  // two words of std140 padding (0, as the C++ struct's)
+    putVec(i, uRegionLo, 4);
+    putVec(i, uRegionHi, 4);
 }
