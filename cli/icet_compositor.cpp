@@ -68,10 +68,10 @@ float viewDepthOfKey(float key) {
     return std::bit_cast<float>(std::bit_cast<std::uint32_t>(key) + kKeyShift);
 }
 
-IcetCompositor::IcetCompositor(const MpiSession& session, int width, int height)
-    : m_session(session), m_width(width), m_height(height) {
+IcetCompositor::IcetCompositor(const MpiSession& mpi, int width, int height)
+    : m_mpi(mpi), m_width(width), m_height(height) {
     TC_CHECK(width > 0 && height > 0);
-    m_communicator = icetCreateMPICommunicator(session.comm());
+    m_communicator = icetCreateMPICommunicator(mpi.comm());
     m_context = icetCreateContext(m_communicator);
     // IceT prints its errors (with the rank) to stdout; warnings would mix into tubecast's output.
     icetDiagnostics(ICET_DIAG_ERRORS | ICET_DIAG_ALL_NODES);
@@ -94,7 +94,7 @@ IcetCompositor::~IcetCompositor() {
 void IcetCompositor::checkAgreement(const FrameImages& images, CompositeMode mode,
                                     std::span<const int> order) const {
     const std::size_t n = std::size_t(m_width) * std::size_t(m_height);
-    const int size = m_session.size();
+    const int size = m_mpi.size();
     bool ok = images.width == m_width && images.height == m_height && images.rgba.size() == 4 * n &&
               images.depth.size() == n && images.normal.size() == 3 * n && images.id.size() == n &&
               (images.ao.empty() || images.ao.size() == n);
@@ -114,7 +114,7 @@ void IcetCompositor::checkAgreement(const FrameImages& images, CompositeMode mod
     const int hasAo = images.ao.empty() ? 0 : 1;
     // Minimum over ranks of each value and of its negation: min and max in one MPI_Allreduce.
     int v[7] = {ok ? 1 : 0, hasAo, -hasAo, int(mode), -int(mode), orderHash, -orderHash};
-    MPI_Allreduce(MPI_IN_PLACE, v, 7, MPI_INT, MPI_MIN, m_session.comm());
+    MPI_Allreduce(MPI_IN_PLACE, v, 7, MPI_INT, MPI_MIN, m_mpi.comm());
     if (v[0] == 0) {
         throw Error(ExitCode::Internal,
                     "composite: a rank passed images that are not " + std::to_string(m_width) + "x" +
@@ -133,9 +133,9 @@ void IcetCompositor::composite(FrameImages& images, CompositeMode mode, std::spa
     icetSetContext(m_context);
     m_stats = {};
     const std::size_t n = images.pixelCount();
-    const bool root = m_session.isRoot();
+    const bool root = m_mpi.isRoot();
 
-    std::vector<IceTInt> order(static_cast<std::size_t>(m_session.size()));
+    std::vector<IceTInt> order(static_cast<std::size_t>(m_mpi.size()));
     if (frontToBack.empty()) {
         std::iota(order.begin(), order.end(), 0);
     } else {

@@ -64,9 +64,9 @@ struct CompositeStats {
 
 class IcetCompositor {
 public:
-    // Collective. An IceT context on a duplicate of session.comm() for width x height frames,
-    // displayed on rank 0. The session must outlive the compositor.
-    IcetCompositor(const MpiSession& session, int width, int height);
+    // Collective. An IceT context on a duplicate of mpi.comm() for width x height frames,
+    // displayed on rank 0. `mpi` must outlive the compositor.
+    IcetCompositor(const MpiSession& mpi, int width, int height);
     ~IcetCompositor();
     IcetCompositor(const IcetCompositor&) = delete;
     IcetCompositor& operator=(const IcetCompositor&) = delete;
@@ -87,7 +87,7 @@ public:
 private:
     void checkAgreement(const FrameImages& images, CompositeMode mode, std::span<const int> order) const;
 
-    const MpiSession& m_session;
+    const MpiSession& m_mpi;
     int m_width;
     int m_height;
     IceTCommunicatorStruct* m_communicator = nullptr;

@@ -26,7 +26,7 @@ void checkMpi(int rc, const char* call) {
 
 int chunkCount(std::size_t n, std::size_t chunk) { return int((n + chunk - 1) / chunk); }
 
-// "rank R (host H)" of a session destroyed by an error the other ranks do not know of; empty
+// "rank R (host H)" of an MpiSession destroyed by an error the other ranks do not know of; empty
 // while there is none. Read by abortIfLeftAlone.
 std::string g_leftAlone;
 

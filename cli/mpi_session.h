@@ -12,7 +12,7 @@
 // rank, its host and its error, and barrier() throws RankFailure on every rank with the exit code
 // of the lowest failing rank. Outputs are written only after the barrier that follows the composite,
 // so a failed job leaves no partial frame. A rank that leaves with an exception outside this
-// protocol cannot meet the others in their next collective: the session's destructor notices it
+// protocol cannot meet the others in their next collective: MpiSession's destructor notices it
 // (the stack unwinds through it with anything but a RankFailure) and leaves MPI initialised, and
 // the error handler of main(), after printing the error, calls MpiSession::abortIfLeftAlone, which
 // ends every rank of the job with MPI_Abort and the error's exit code. abort() is the same last
@@ -97,7 +97,7 @@ public:
     // The last resort for a rank that cannot reach the next collective: prints
     // "error: rank R (host H): message" and ends every rank of the job (MPI_Abort). Does not return.
     [[noreturn]] void abort(int exitCode, std::string_view message) const;
-    // For main()'s error handler, after it printed the error: if a session was destroyed by that
+    // For main()'s error handler, after it printed the error: if an MpiSession was destroyed by that
     // error (see the class comment), prints "error: rank R (host H) left the job with the error
     // above; ending every rank" and calls MPI_Abort(exitCode). Otherwise does nothing.
     static void abortIfLeftAlone(int exitCode);

@@ -17,15 +17,15 @@
 namespace {
 
 int run(const std::string& mode, int failRank, int code, const std::string& outFile) {
-    tc::cli::MpiSession session;
-    const bool fails = session.rank() == failRank;
-    const std::string message = "data.tcb: cannot read brick " + std::to_string(session.rank());
+    tc::cli::MpiSession mpi;
+    const bool fails = mpi.rank() == failRank;
+    const std::string message = "data.tcb: cannot read brick " + std::to_string(mpi.rank());
     if (mode == "abort" && fails) throw tc::Error(tc::ExitCode(code), message);
-    session.phase("load", [&] {
+    mpi.phase("load", [&] {
         if (fails) throw tc::Error(tc::ExitCode(code), message);
     });
-    session.phase("composite", [] {});
-    if (session.isRoot()) std::ofstream(outFile) << "frame\n";
+    mpi.phase("composite", [] {});
+    if (mpi.isRoot()) std::ofstream(outFile) << "frame\n";
     return 0;
 }
 

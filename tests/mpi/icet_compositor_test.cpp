@@ -112,7 +112,7 @@ std::vector<int> nearestRanks(const std::vector<FrameImages>& layers, std::size_
 template <class Make>
 std::vector<FrameImages> allLayers(Make make) {
     std::vector<FrameImages> layers;
-    for (int r = 0; r < session().size(); ++r) layers.push_back(make(r));
+    for (int r = 0; r < mpi().size(); ++r) layers.push_back(make(r));
     return layers;
 }
 
@@ -134,7 +134,7 @@ int aovSource(const FrameImages& out, const std::vector<FrameImages>& layers, co
 }
 
 void checkOpaque(bool ao) {
-    MpiSession& s = session();
+    MpiSession& s = mpi();
     IcetCompositor compositor(s, kW, kH);
     FrameImages images = opaqueLayer(s.rank(), ao);
     CpuStageTimer timer;
@@ -187,7 +187,7 @@ TEST(Compositor, opaque_takes_every_buffer_from_the_nearest_rank_bit_for_bit) { 
 TEST(Compositor, opaque_with_ambient_occlusion_takes_ao_from_the_nearest_rank) { checkOpaque(true); }
 
 TEST(Compositor, transparent_equals_front_to_back_under_in_the_given_order) {
-    MpiSession& s = session();
+    MpiSession& s = mpi();
     const std::vector<int> order = viewOrder(s.size());
     IcetCompositor compositor(s, kW, kH);
     FrameImages images = transparentLayer(s.rank(), true);
@@ -216,7 +216,7 @@ TEST(Compositor, transparent_equals_front_to_back_under_in_the_given_order) {
 TEST(Compositor, blend_operator_is_tubecasts_under_of_the_background) {
     // The front layer on the first rank of the order, a uniform premultiplied layer on the second:
     // IceT's blend must equal core's compositeUnder of that colour as a background.
-    MpiSession& s = session();
+    MpiSession& s = mpi();
     if (s.size() < 2) GTEST_SKIP() << "needs two ranks";
     const std::vector<int> order = viewOrder(s.size());
     const glm::vec4 backgroundSrgb(0.2f, 0.55f, 0.9f, 0.8f);
@@ -247,7 +247,7 @@ TEST(Compositor, blend_operator_is_tubecasts_under_of_the_background) {
 TEST(Compositor, region_order_decides_which_colour_is_in_front) {
     // Two nearly opaque layers, red on one rank and green on another, covering the whole image:
     // front to back in one order the image is red, in the other green.
-    MpiSession& s = session();
+    MpiSession& s = mpi();
     if (s.size() < 2) GTEST_SKIP() << "needs two ranks";
     const int red = s.size() - 1, green = 0;
     auto layer = [&](int r) {
@@ -286,7 +286,7 @@ TEST(Compositor, region_order_decides_which_colour_is_in_front) {
 }
 
 TEST(Compositor, every_rank_throws_when_the_ranks_disagree) {
-    MpiSession& s = session();
+    MpiSession& s = mpi();
     IcetCompositor compositor(s, kW, kH);
     CpuStageTimer timer;
     FrameImages images = opaqueLayer(s.rank(), s.rank() == 0);  // only rank 0 has ao

@@ -18,8 +18,8 @@ using cli::RankFailure;
 
 // Restores the default message size after a test that lowered it.
 struct ChunkBytes {
-    explicit ChunkBytes(std::size_t bytes) { session().setChunkBytes(bytes); }
-    ~ChunkBytes() { session().setChunkBytes(std::size_t(1) << 30); }
+    explicit ChunkBytes(std::size_t bytes) { mpi().setChunkBytes(bytes); }
+    ~ChunkBytes() { mpi().setChunkBytes(std::size_t(1) << 30); }
 };
 
 Bytes pattern(int from, int to, std::size_t n) {
@@ -28,8 +28,8 @@ Bytes pattern(int from, int to, std::size_t n) {
     return b;
 }
 
-TEST(Session, knows_every_rank_and_its_host) {
-    MpiSession& s = session();
+TEST(MpiSession, knows_every_rank_and_its_host) {
+    MpiSession& s = mpi();
     EXPECT_GE(s.size(), 1);
     EXPECT_GE(s.rank(), 0);
     EXPECT_LT(s.rank(), s.size());
@@ -39,7 +39,7 @@ TEST(Session, knows_every_rank_and_its_host) {
     EXPECT_TRUE(MpiSession::launchedByMpi());
 }
 
-TEST(Session, attempt_turns_exceptions_into_exit_codes_and_messages) {
+TEST(MpiSession, attempt_turns_exceptions_into_exit_codes_and_messages) {
     PhaseResult ok = MpiSession::attempt([] {});
     EXPECT_TRUE(ok.ok());
     PhaseResult output = MpiSession::attempt([] { throw OutputError("out/f.png: cannot write: disk full"); });
@@ -53,15 +53,15 @@ TEST(Session, attempt_turns_exceptions_into_exit_codes_and_messages) {
     EXPECT_EQ(other.message, "internal error: boom");
 }
 
-TEST(Session, barrier_passes_when_every_rank_succeeded) {
-    EXPECT_NO_THROW(session().barrier("load", PhaseResult::success()));
+TEST(MpiSession, barrier_passes_when_every_rank_succeeded) {
+    EXPECT_NO_THROW(mpi().barrier("load", PhaseResult::success()));
     int calls = 0;
-    EXPECT_NO_THROW(session().phase("render", [&] { ++calls; }));
+    EXPECT_NO_THROW(mpi().phase("render", [&] { ++calls; }));
     EXPECT_EQ(calls, 1);
 }
 
-TEST(Session, barrier_makes_every_rank_throw_the_failing_ranks_code_and_rank_0_report_it) {
-    MpiSession& s = session();
+TEST(MpiSession, barrier_makes_every_rank_throw_the_failing_ranks_code_and_rank_0_report_it) {
+    MpiSession& s = mpi();
     const int failing = s.size() - 1;
     PhaseResult mine = s.rank() == failing ? PhaseResult::failure(int(ExitCode::InvalidInput), "data.tcb: brick 3 truncated")
                                            : PhaseResult::success();
@@ -83,8 +83,8 @@ TEST(Session, barrier_makes_every_rank_throw_the_failing_ranks_code_and_rank_0_r
     EXPECT_TRUE(thrown);
 }
 
-TEST(Session, barrier_reports_every_failing_rank_with_the_lowest_ranks_code) {
-    MpiSession& s = session();
+TEST(MpiSession, barrier_reports_every_failing_rank_with_the_lowest_ranks_code) {
+    MpiSession& s = mpi();
     // Every odd rank fails (rank 0 too with one rank), each with its own code.
     const bool fails = s.size() == 1 || s.rank() % 2 == 1;
     const int code = s.rank() == 0 ? 3 : 4 + s.rank();
@@ -117,8 +117,8 @@ TEST(Session, barrier_reports_every_failing_rank_with_the_lowest_ranks_code) {
     }
 }
 
-TEST(Session, gathers_byte_buffers_of_any_size_in_chunks) {
-    MpiSession& s = session();
+TEST(MpiSession, gathers_byte_buffers_of_any_size_in_chunks) {
+    MpiSession& s = mpi();
     ChunkBytes small(7);
     Bytes mine = pattern(s.rank(), -1, std::size_t(s.rank() * 13 % 29));  // rank 0 sends nothing
     std::vector<Bytes> all = s.gatherBytes(mine, 0);
@@ -135,8 +135,8 @@ TEST(Session, gathers_byte_buffers_of_any_size_in_chunks) {
     }
 }
 
-TEST(Session, gathers_json_and_timing_rows_exactly) {
-    MpiSession& s = session();
+TEST(MpiSession, gathers_json_and_timing_rows_exactly) {
+    MpiSession& s = mpi();
     const double exact = 0.1 + 1e-16 * s.rank();
     std::vector<nlohmann::json> json = s.gatherJson({{"rank", s.rank()}, {"host", s.host()}, {"x", exact}});
     std::vector<TimingRow> rows = {{7, "render", 1.25 + s.rank(), 0.1 + 1e-16 * s.rank(), 12345678901234ull},
@@ -166,8 +166,8 @@ TEST(Session, gathers_json_and_timing_rows_exactly) {
     }
 }
 
-TEST(Session, broadcasts_a_byte_buffer_in_chunks) {
-    MpiSession& s = session();
+TEST(MpiSession, broadcasts_a_byte_buffer_in_chunks) {
+    MpiSession& s = mpi();
     ChunkBytes small(5);
     const int root = s.size() - 1;
     Bytes buffer = s.rank() == root ? pattern(root, 99, 1003) : Bytes(3, 0xAB);
@@ -175,8 +175,8 @@ TEST(Session, broadcasts_a_byte_buffer_in_chunks) {
     EXPECT_EQ(buffer, pattern(root, 99, 1003));
 }
 
-TEST(Session, scatters_one_part_to_each_rank) {
-    MpiSession& s = session();
+TEST(MpiSession, scatters_one_part_to_each_rank) {
+    MpiSession& s = mpi();
     ChunkBytes small(4);
     for (int root : {0, s.size() - 1}) {
         std::vector<Bytes> parts;
@@ -188,8 +188,8 @@ TEST(Session, scatters_one_part_to_each_rank) {
     }
 }
 
-TEST(Session, exchanges_byte_buffers_between_all_pairs) {
-    MpiSession& s = session();
+TEST(MpiSession, exchanges_byte_buffers_between_all_pairs) {
+    MpiSession& s = mpi();
     ChunkBytes small(4);
     auto size = [](int from, int to) { return std::size_t((from * 7 + to * 3) % 11); };  // some empty
     std::vector<Bytes> outgoing;
@@ -201,8 +201,8 @@ TEST(Session, exchanges_byte_buffers_between_all_pairs) {
     }
 }
 
-TEST(Session, allreduce_sums_a_float_vector_on_every_rank) {
-    MpiSession& s = session();
+TEST(MpiSession, allreduce_sums_a_float_vector_on_every_rank) {
+    MpiSession& s = mpi();
     ChunkBytes small(12);  // 3 floats per MPI_Allreduce: 34 values take 12 calls
     std::vector<float> v(34);
     for (std::size_t i = 0; i < v.size(); ++i) v[i] = float(s.rank() + 1) * 0.5f + float(i);  // sums are exact

@@ -12,7 +12,7 @@
 namespace tc::test {
 
 namespace {
-cli::MpiSession* g_session = nullptr;
+cli::MpiSession* g_mpi = nullptr;
 
 // The other ranks' failures, one line each (gtest's own printer would repeat every test's name
 // N times).
@@ -32,24 +32,24 @@ private:
 };
 }  // namespace
 
-cli::MpiSession& session() { return *g_session; }
+cli::MpiSession& mpi() { return *g_mpi; }
 
 }  // namespace tc::test
 
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
-    tc::cli::MpiSession session;
-    tc::test::g_session = &session;
-    if (!session.isRoot()) {
+    tc::cli::MpiSession mpi;
+    tc::test::g_mpi = &mpi;
+    if (!mpi.isRoot()) {
         auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
         delete listeners.Release(listeners.default_result_printer());
-        listeners.Append(new tc::test::RankFailurePrinter(session.rank()));
+        listeners.Append(new tc::test::RankFailurePrinter(mpi.rank()));
     } else {
-        std::cout << "tubecast_mpi_tests: " << session.size() << " rank(s)" << std::endl;
+        std::cout << "tubecast_mpi_tests: " << mpi.size() << " rank(s)" << std::endl;
     }
     int failed = RUN_ALL_TESTS() != 0 ? 1 : 0;
     int anyFailed = 0;
-    MPI_Allreduce(&failed, &anyFailed, 1, MPI_INT, MPI_MAX, session.comm());
-    if (session.isRoot() && anyFailed && !failed) std::cerr << "tests failed on another rank (see above)" << std::endl;
+    MPI_Allreduce(&failed, &anyFailed, 1, MPI_INT, MPI_MAX, mpi.comm());
+    if (mpi.isRoot() && anyFailed && !failed) std::cerr << "tests failed on another rank (see above)" << std::endl;
     return anyFailed;
 }

@@ -8,7 +8,7 @@
 
 namespace tc::test {
 
-cli::MpiSession& session();
+cli::MpiSession& mpi();
 
 // A hash of (a, b, c) to 64 bits (splitmix64's finaliser over a combination of the inputs).
 inline std::uint64_t hash3(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
