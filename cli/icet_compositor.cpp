@@ -3,6 +3,7 @@
 #include <IceT.h>
 #include <IceTMPI.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
