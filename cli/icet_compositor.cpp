@@ -24,13 +24,20 @@ constexpr float kMinKey = 0x1p-126f;  // the smallest normal float: keys stay cl
 
 const char* icetErrorName(IceTEnum e) {
     switch (e) {
-        case ICET_SANITY_CHECK_FAIL: return "ICET_SANITY_CHECK_FAIL";
-        case ICET_INVALID_ENUM: return "ICET_INVALID_ENUM";
-        case ICET_BAD_CAST: return "ICET_BAD_CAST";
-        case ICET_OUT_OF_MEMORY: return "ICET_OUT_OF_MEMORY";
-        case ICET_INVALID_OPERATION: return "ICET_INVALID_OPERATION";
-        case ICET_INVALID_VALUE: return "ICET_INVALID_VALUE";
-        default: return "unknown IceT error";
+        case ICET_SANITY_CHECK_FAIL:
+            return "ICET_SANITY_CHECK_FAIL";
+        case ICET_INVALID_ENUM:
+            return "ICET_INVALID_ENUM";
+        case ICET_BAD_CAST:
+            return "ICET_BAD_CAST";
+        case ICET_OUT_OF_MEMORY:
+            return "ICET_OUT_OF_MEMORY";
+        case ICET_INVALID_OPERATION:
+            return "ICET_INVALID_OPERATION";
+        case ICET_INVALID_VALUE:
+            return "ICET_INVALID_VALUE";
+        default:
+            return "unknown IceT error";
     }
 }
 
@@ -92,8 +99,7 @@ IcetCompositor::~IcetCompositor() {
     icetDestroyMPICommunicator(m_communicator);
 }
 
-void IcetCompositor::checkAgreement(const FrameImages& images, CompositeMode mode,
-                                    std::span<const int> order) const {
+void IcetCompositor::checkAgreement(const FrameImages& images, CompositeMode mode, std::span<const int> order) const {
     const std::size_t n = std::size_t(m_width) * std::size_t(m_height);
     const int size = m_mpi.size();
     bool ok = images.width == m_width && images.height == m_height && images.rgba.size() == 4 * n &&
@@ -117,10 +123,10 @@ void IcetCompositor::checkAgreement(const FrameImages& images, CompositeMode mod
     int v[7] = {ok ? 1 : 0, hasAo, -hasAo, int(mode), -int(mode), orderHash, -orderHash};
     MPI_Allreduce(MPI_IN_PLACE, v, 7, MPI_INT, MPI_MIN, m_mpi.comm());
     if (v[0] == 0) {
-        throw Error(ExitCode::Internal,
-                    "composite: a rank passed images that are not " + std::to_string(m_width) + "x" +
-                        std::to_string(m_height) + " with every buffer, or an order that is not a permutation of the " +
-                        std::to_string(size) + " ranks");
+        throw Error(ExitCode::Internal, "composite: a rank passed images that are not " + std::to_string(m_width) +
+                                            "x" + std::to_string(m_height) +
+                                            " with every buffer, or an order that is not a permutation of the " +
+                                            std::to_string(size) + " ranks");
     }
     if (v[1] != -v[2]) throw Error(ExitCode::Internal, "composite: some ranks have ambient occlusion, others not");
     if (v[3] != -v[4]) throw Error(ExitCode::Internal, "composite: the ranks passed different modes");
@@ -161,8 +167,7 @@ void IcetCompositor::composite(FrameImages& images, CompositeMode mode, std::spa
         icetSetDepthFormat(ICET_IMAGE_DEPTH_NONE);
     }
     icetSetColorFormat(ICET_IMAGE_COLOR_RGBA_FLOAT);
-    IceTImage result =
-        runPass(images.rgba.data(), mode == CompositeMode::Opaque ? m_keys.data() : nullptr, m_stats);
+    IceTImage result = runPass(images.rgba.data(), mode == CompositeMode::Opaque ? m_keys.data() : nullptr, m_stats);
     if (root) {
         const float* color = icetImageGetColorcf(result);
         if (mode == CompositeMode::Opaque) {

@@ -57,8 +57,8 @@ float viewDepthOfKey(float key);
 // What the last composite cost (IceT's own counters, summed over its passes).
 struct CompositeStats {
     int passes = 0;
-    double icetCompositeMs = 0;  // ICET_COMPOSITE_TIME: compositing work on this rank
-    double icetTotalMs = 0;      // ICET_TOTAL_DRAW_TIME: the icetCompositeImage calls
+    double icetCompositeMs = 0;   // ICET_COMPOSITE_TIME: compositing work on this rank
+    double icetTotalMs = 0;       // ICET_TOTAL_DRAW_TIME: the icetCompositeImage calls
     std::uint64_t bytesSent = 0;  // ICET_BYTES_SENT by this rank
 };
 

@@ -24,7 +24,9 @@ void checkMpi(int rc, const char* call) {
     throw Error(ExitCode::Internal, std::string(call) + " failed: " + std::string(text, std::size_t(len)));
 }
 
-int chunkCount(std::size_t n, std::size_t chunk) { return int((n + chunk - 1) / chunk); }
+int chunkCount(std::size_t n, std::size_t chunk) {
+    return int((n + chunk - 1) / chunk);
+}
 
 // "rank R (host H)" of an MpiSession destroyed by an error the other ranks do not know of; empty
 // while there is none. Read by abortIfLeftAlone.
@@ -56,9 +58,9 @@ MpiSession::MpiSession() {
     int len = 0;
     MPI_Get_processor_name(name, &len);
     std::vector<char> all(std::size_t(m_size) * MPI_MAX_PROCESSOR_NAME);
-    checkMpi(MPI_Allgather(name, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR,
-                           m_comm),
-             "MPI_Allgather");
+    checkMpi(
+        MPI_Allgather(name, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR, m_comm),
+        "MPI_Allgather");
     for (int r = 0; r < m_size; ++r) {
         const char* s = &all[std::size_t(r) * MPI_MAX_PROCESSOR_NAME];
         m_hosts.emplace_back(s, strnlen(s, MPI_MAX_PROCESSOR_NAME));
@@ -120,8 +122,7 @@ void MpiSession::barrier(std::string_view phase, const PhaseResult& mine) {
     }
     // Only failing ranks have something to say; the others send nothing.
     std::string_view text = mine.ok() ? std::string_view() : std::string_view(mine.message);
-    std::vector<Bytes> messages =
-        gatherBytes({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, 0);
+    std::vector<Bytes> messages = gatherBytes({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, 0);
     m_agreedFailure = true;
     const ExitCode exitCode = ExitCode(codes[std::size_t(failed.front())]);
     // Built by appending: GCC 12's -Wrestrict misfires on "literal" + std::string temporaries
@@ -277,16 +278,16 @@ std::vector<Bytes> MpiSession::exchangeBytes(const std::vector<Bytes>& outgoing)
         for (int c = 0; c < chunkCount(in.size(), m_chunkBytes); ++c) {
             std::size_t at = std::size_t(c) * m_chunkBytes;
             requests.emplace_back();
-            checkMpi(MPI_Irecv(in.data() + at, int(std::min(m_chunkBytes, in.size() - at)), MPI_BYTE, r,
-                               kTagExchange, m_comm, &requests.back()),
+            checkMpi(MPI_Irecv(in.data() + at, int(std::min(m_chunkBytes, in.size() - at)), MPI_BYTE, r, kTagExchange,
+                               m_comm, &requests.back()),
                      "MPI_Irecv");
         }
         const Bytes& out = outgoing[std::size_t(r)];
         for (int c = 0; c < chunkCount(out.size(), m_chunkBytes); ++c) {
             std::size_t at = std::size_t(c) * m_chunkBytes;
             requests.emplace_back();
-            checkMpi(MPI_Isend(out.data() + at, int(std::min(m_chunkBytes, out.size() - at)), MPI_BYTE, r,
-                               kTagExchange, m_comm, &requests.back()),
+            checkMpi(MPI_Isend(out.data() + at, int(std::min(m_chunkBytes, out.size() - at)), MPI_BYTE, r, kTagExchange,
+                               m_comm, &requests.back()),
                      "MPI_Isend");
         }
     }
@@ -298,8 +299,7 @@ void MpiSession::allreduceSum(std::span<float> values) const {
     const std::size_t chunk = std::max<std::size_t>(1, m_chunkBytes / sizeof(float));
     for (std::size_t at = 0; at < values.size(); at += chunk) {
         int count = int(std::min(chunk, values.size() - at));
-        checkMpi(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, count, MPI_FLOAT, MPI_SUM, m_comm),
-                 "MPI_Allreduce");
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, count, MPI_FLOAT, MPI_SUM, m_comm), "MPI_Allreduce");
     }
 }
 

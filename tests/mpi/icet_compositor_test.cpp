@@ -41,8 +41,8 @@ float depthOf(int r, std::size_t i) {
 // An id with every bit pattern the fourth float of the "aov" pass must carry: signalling and quiet
 // NaN patterns, infinities, denormals, -0, and random ones.
 std::uint32_t idOf(int r, std::size_t i) {
-    static const std::uint32_t special[] = {0x7F800001u, 0xFF800001u, 0x7FC00000u, 0xFFFFFFFEu, 0x7F800000u,
-                                            0x80000000u, 0x00000001u, 0u};
+    static const std::uint32_t special[] = {0x7F800001u, 0xFF800001u, 0x7FC00000u, 0xFFFFFFFEu,
+                                            0x7F800000u, 0x80000000u, 0x00000001u, 0u};
     if (i % 5 == 0) return special[(i / 5 + std::size_t(r)) % 8];
     return std::uint32_t(hash3(std::uint64_t(r), i, kId));
 }
@@ -59,7 +59,8 @@ FrameImages opaqueLayer(int r, bool ao) {
         img.depth[i] = d;
         for (int c = 0; c < 3; ++c) {
             img.rgba[4 * i + std::size_t(c)] = unit(std::uint64_t(r), i, kColor + 16 * std::uint64_t(c));
-            img.normal[3 * i + std::size_t(c)] = 2.0f * unit(std::uint64_t(r), i, kNormal + 16 * std::uint64_t(c)) - 1.0f;
+            img.normal[3 * i + std::size_t(c)] =
+                2.0f * unit(std::uint64_t(r), i, kNormal + 16 * std::uint64_t(c)) - 1.0f;
         }
         img.rgba[4 * i + 3] = 1.0f;
         img.id[i] = idOf(r, i);
@@ -117,7 +118,9 @@ std::vector<FrameImages> allLayers(Make make) {
     return layers;
 }
 
-bool sameBits(const float* a, const float* b, std::size_t n) { return std::memcmp(a, b, n * sizeof(float)) == 0; }
+bool sameBits(const float* a, const float* b, std::size_t n) {
+    return std::memcmp(a, b, n * sizeof(float)) == 0;
+}
 
 // The first-surface buffers (depth, normal, id, ao) of `out` at pixel i are exactly those of one
 // rank in `nearest` (rank 0's own, i.e. the background, when empty); returns that rank or -1.
@@ -183,9 +186,13 @@ TEST(Compositor, depth_key_preserves_order_and_bits) {
     EXPECT_LT(cli::depthKey(0x1p70f), 1.0f);                  // and above it, but never background
 }
 
-TEST(Compositor, opaque_takes_every_buffer_from_the_nearest_rank_bit_for_bit) { checkOpaque(false); }
+TEST(Compositor, opaque_takes_every_buffer_from_the_nearest_rank_bit_for_bit) {
+    checkOpaque(false);
+}
 
-TEST(Compositor, opaque_with_ambient_occlusion_takes_ao_from_the_nearest_rank) { checkOpaque(true); }
+TEST(Compositor, opaque_with_ambient_occlusion_takes_ao_from_the_nearest_rank) {
+    checkOpaque(true);
+}
 
 TEST(Compositor, transparent_equals_front_to_back_under_in_the_given_order) {
     MpiSession& s = mpi();
@@ -207,7 +214,8 @@ TEST(Compositor, transparent_equals_front_to_back_under_in_the_given_order) {
             const float t = 1.0f - acc[3];
             for (int c = 0; c < 4; ++c) acc[c] += t * l[c];
         }
-        for (int c = 0; c < 4; ++c) maxError = std::max(maxError, std::abs(images.rgba[4 * i + std::size_t(c)] - acc[c]));
+        for (int c = 0; c < 4; ++c)
+            maxError = std::max(maxError, std::abs(images.rgba[4 * i + std::size_t(c)] - acc[c]));
         ASSERT_GE(aovSource(images, layers, nearestRanks(layers, i), i), 0) << "pixel " << i;
     }
     // Float rounding only: IceT associates the layers in its own tree ((L0 L1)(L2 L3) for four).

@@ -63,8 +63,9 @@ TEST(MpiSession, barrier_passes_when_every_rank_succeeded) {
 TEST(MpiSession, barrier_makes_every_rank_throw_the_failing_ranks_code_and_rank_0_report_it) {
     MpiSession& s = mpi();
     const int failing = s.size() - 1;
-    PhaseResult mine = s.rank() == failing ? PhaseResult::failure(int(ExitCode::InvalidInput), "data.tcb: brick 3 truncated")
-                                           : PhaseResult::success();
+    PhaseResult mine = s.rank() == failing
+                           ? PhaseResult::failure(int(ExitCode::InvalidInput), "data.tcb: brick 3 truncated")
+                           : PhaseResult::success();
     bool thrown = false;
     try {
         s.barrier("load", mine);

@@ -32,7 +32,9 @@ private:
 };
 }  // namespace
 
-cli::MpiSession& mpi() { return *g_mpi; }
+cli::MpiSession& mpi() {
+    return *g_mpi;
+}
 
 }  // namespace tc::test
 
