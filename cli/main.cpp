@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "cli/mpi_session.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
@@ -42,11 +43,16 @@ int main(int argc, char** argv) {
         // Usage errors are invalid input (exit 2), not CLI11's own codes.
         std::cerr << "error: " << e.what() << "\n(run 'tubecast --help' for usage)\n";
         return int(tc::ExitCode::InvalidInput);
+    } catch (const tc::cli::RankFailure& e) {
+        // render --mpi: every rank knows of the failure and rank 0 has printed the ranks' messages.
+        return int(e.code());
     } catch (const tc::Error& e) {
         std::cerr << "error: " << e.what() << "\n";
+        tc::cli::MpiSession::abortIfLeftAlone(int(e.code()));
         return int(e.code());
     } catch (const std::exception& e) {
         std::cerr << "internal error: " << e.what() << "\n";
+        tc::cli::MpiSession::abortIfLeftAlone(int(tc::ExitCode::Internal));
         return int(tc::ExitCode::Internal);
     }
     return tc::cli::g_exitCode;

@@ -38,6 +38,7 @@ configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/tubecastConfig.cmake.in
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/tubecastConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/tubecastConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/tubecastConfigVersion.cmake
+              ${CMAKE_CURRENT_LIST_DIR}/FindIceT.cmake
         DESTINATION ${TUBECAST_CMAKE_DIR} COMPONENT dev EXCLUDE_FROM_ALL)
 
 # DEB: tubecast_<version>_amd64.deb with the runtime component only. Dependencies: the packages

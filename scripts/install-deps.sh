@@ -14,6 +14,9 @@ packages=(
   # libraries
   libglm-dev libopenimageio-dev openimageio-tools libopenexr-dev libvtk9-dev
   nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev libembree-dev
+  # data-parallel rendering (render --mpi): Open MPI, and IceT's sort-last compositing, which
+  # Debian ships inside ParaView (libraries in paraview, headers in paraview-dev; cmake/FindIceT.cmake)
+  libopenmpi-dev openmpi-bin paraview-dev
   # sanitizer and libFuzzer build of core/ and io/ (ctest label fuzz)
   clang libclang-rt-14-dev
   # the formatting check (scripts/check-format.sh)

@@ -2,7 +2,7 @@
 # Fresh machine to green tests: installs dependencies, checks that code and docs speak of the
 # product only (scripts/check-words.sh), builds everything (tests and benchmarks)
 # with warnings as errors (TUBECAST_WERROR=ON), runs the whole suite with ctest (labels unit, gl,
-# cli, package, slurm), then the sanitizer + libFuzzer run of the binary readers (scripts/fuzz.sh:
+# cli, mpi, package, slurm), then the sanitizer + libFuzzer run of the binary readers (scripts/fuzz.sh:
 # a separate clang build of core/ and io/ in <build dir>-fuzz, ctest labels fuzz and sanitize;
 # ~2 minutes; TUBECAST_SKIP_FUZZ=1 skips it).
 # BUILD_DIR picks the build directory (default build/). Extra arguments go to the main ctest
