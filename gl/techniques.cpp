@@ -1,5 +1,6 @@
 #include "gl/techniques.h"
 
+#include "core/particle_series.h"
 #include "core/styling.h"
 #include "gl/gl_api.h"
 
