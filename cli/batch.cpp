@@ -20,6 +20,7 @@
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/image_io.h"
+#include "io/timings_csv.h"
 
 namespace tc::cli {
 
@@ -282,8 +283,9 @@ void Placeholders::heartbeatLoop() {
 // --- timings -------------------------------------------------------------------------------
 
 void mergeTimings(const std::string& out, const std::vector<std::string>& inputs) {
-    static const std::string kHeader = "frame,stage,gpu_ms,cpu_ms,items";
-    std::string merged = kHeader + "\n";
+    // Every input has the header of the first (a data-parallel render's has a rank column).
+    std::string header;
+    std::string merged;
     for (const std::string& in : inputs) {
         std::error_code ec;
         if (!fs::exists(in, ec)) throw InputError(in + ": no such file");
@@ -295,20 +297,26 @@ void mergeTimings(const std::string& out, const std::vector<std::string>& inputs
             ++lineNo;
             if (!line.empty() && line.back() == '\r') line.pop_back();
             if (lineNo == 1) {
-                if (line != kHeader)
-                    throw InputError(in + ":1: expected the timings header \"" + kHeader + "\", got \"" + line + "\"");
+                if (header.empty() && line == kRankTimingsHeader) header = line;
+                const std::string expected = header.empty() ? std::string(kTimingsHeader) : header;
+                if (line != expected)
+                    throw InputError(in + ":1: expected the timings header \"" + expected + "\", got \"" + line + "\"");
+                if (header.empty()) header = line;
                 continue;
             }
             if (line.empty()) continue;
             // Stage names never contain commas in practice (timings_csv.cpp quotes them if they
             // did); a quoted field would be counted wrong here, so only unquoted rows are checked.
-            if (line.find('"') == std::string::npos && std::count(line.begin(), line.end(), ',') != 4)
-                throw InputError(in + ":" + std::to_string(lineNo) + ": expected 5 columns, got \"" + line + "\"");
+            const auto columns = std::count(header.begin(), header.end(), ',') + 1;
+            if (line.find('"') == std::string::npos && std::count(line.begin(), line.end(), ',') + 1 != columns)
+                throw InputError(in + ":" + std::to_string(lineNo) + ": expected " + std::to_string(columns) +
+                                 " columns, got \"" + line + "\"");
             merged += line;
             merged += '\n';
         }
         if (lineNo == 0) throw InputError(in + ": empty file (no timings header)");
     }
+    merged.insert(0, (header.empty() ? std::string(kTimingsHeader) : header) + "\n");
     AtomicFile file(out);
     {
         std::ofstream o(file.tempPath(), std::ios::binary | std::ios::trunc);

@@ -88,6 +88,29 @@ void refuseRegion(const Scene& scene, const std::string& key, const std::string&
                      " does not support data-parallel rendering (--mpi); supported: " + supported);
 }
 
+std::string TechniqueRegistry::regionSupport() const {
+    std::string out;
+    for (const TechniqueDescriptor& d : m_entries) {
+        if (d.regionTransparency.empty()) continue;
+        out += (out.empty() ? "" : ", ") + d.name + " (";
+        for (std::size_t i = 0; i < d.regionTransparency.size(); ++i)
+            out += (i ? ", " : "") + std::string(transparencyName(d.regionTransparency[i]));
+        out += ")";
+    }
+    return out.empty() ? "none" : out;
+}
+
+void TechniqueRegistry::requireRegions(const Scene& scene) const {
+    const std::string name = scene.render.technique.name();
+    const TechniqueDescriptor* d = find(name);
+    if (!d || d->regionTransparency.empty())
+        refuseRegion(scene, "render.technique", "\"" + name + "\"", regionSupport());
+    const std::vector<Transparency>& modes = d->regionTransparency;
+    if (std::find(modes.begin(), modes.end(), scene.render.transparency) == modes.end())
+        refuseRegion(scene, "render.transparency",
+                     "\"" + name + "\" with \"" + transparencyName(scene.render.transparency) + "\"", regionSupport());
+}
+
 bool isSoftwareRasterizer(const std::string& glRenderer) {
     std::string lower = glRenderer;
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });

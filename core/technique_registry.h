@@ -75,8 +75,10 @@ inline RegionSetup regionSetup(const TechniqueData& data, const TechniqueHooks& 
 
 // The InputError of a technique (or a mode of one) that cannot render one region of a
 // data-parallel frame: "<file>: <key>: <what> does not support data-parallel rendering (--mpi);
-// supported: <supported>", by default the techniques that do. Thrown by create() when
-// TechniqueData::region is set.
+// supported: <supported>". Thrown by create() when TechniqueData::region is set; `tubecast render
+// --mpi` refuses what the descriptors do not list before any create(), with the list made from the
+// descriptors (TechniqueRegistry::requireRegions). The default is that list for the built-in
+// techniques, for the renderers, which do not see the registry.
 inline constexpr const char* kRegionTechniques = "rasterized (opaque, kbuffer, depth_peeling), raytraced, spheres";
 [[noreturn]] void refuseRegion(const Scene& scene, const std::string& key, const std::string& what,
                                const std::string& supported = kRegionTechniques);
@@ -106,6 +108,9 @@ struct TechniqueDescriptor {
     // Its exact-order transparent mode (what a transparent scene gets when it names none).
     Transparency exactTransparency = Transparency::Opaque;
     std::vector<AoSpec::Method> ao;  // empty: no ambient occlusion
+    // The transparency modes in which it renders one region of a data-parallel frame
+    // (TechniqueData::region, core/region.h; `tubecast render --mpi`); empty: none.
+    std::vector<Transparency> regionTransparency;
     // Rules beyond the lists above (e.g. no AO with one of its modes); null = none.
     std::function<std::optional<SpecProblem>(const Scene&, DataKind)> check;
     // Per-pixel GPU memory for `scene`; null = none.
@@ -153,6 +158,14 @@ public:
     // Without the data (tubecast validate): the name, and the checks of at least one data kind
     // the technique takes ("auto": only that some technique takes the scene).
     void validateWithoutData(const Scene& scene) const;
+
+    // Data-parallel rendering: "rasterized (opaque, ...), raytraced (...)", the techniques whose
+    // descriptors list regionTransparency, with those modes.
+    std::string regionSupport() const;
+    // Throws InputError "file: render.technique: \"NAME\" does not support data-parallel rendering
+    // (--mpi); supported: <regionSupport()>" (render.transparency when only the mode is missing)
+    // unless render.technique (resolved, not "auto") renders regions in render.transparency.
+    void requireRegions(const Scene& scene) const;
 
     // render.technique "auto": on a software GL rasterizer the first CPU technique (in
     // registration order) that takes the scene, else the first GL one; on a hardware GL the first

@@ -44,6 +44,8 @@ TechniqueDescriptor rasterizedTechnique() {
                       Transparency::DepthPeeling, Transparency::OpacityOptimization};
     d.exactTransparency = Transparency::KBuffer;
     d.ao = {AoSpec::Method::ConeTraced};
+    d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
+                           Transparency::DepthPeeling};
     d.check = [](const Scene& scene, DataKind) -> std::optional<SpecProblem> {
         if (scene.render.transparency == Transparency::OpacityOptimization && scene.render.ao.enabled)
             return SpecProblem{"render.ao", "not available with render.transparency \"opacity_optimization\""};

@@ -438,6 +438,7 @@ TechniqueDescriptor spheresTechnique() {
     d.transparency = {Transparency::Opaque, Transparency::ObjectOrder};
     d.exactTransparency = Transparency::ObjectOrder;
     d.ao = {AoSpec::Method::ConeTraced};
+    d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder};
     d.pixelBuffers = [](const Scene& scene, DataKind) { return SphereRenderer::pixelBuffers(scene); };
     d.create = [](const Scene& scene, const TechniqueData& data,
                   const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {

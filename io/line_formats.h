@@ -64,5 +64,8 @@ LineSet readTcb(const ByteSource& source);
 
 // Writes `lines` as .tcb through an AtomicFile. Throws OutputError "PATH: cannot write: ...".
 void writeTcb(const LineSet& lines, const std::string& path);
+// The same bytes in memory (the line data a rank sends another in a data-parallel render); read
+// them back with readTcb(MemorySource(...)).
+std::vector<std::uint8_t> encodeTcb(const LineSet& lines);
 
 }  // namespace tc

@@ -104,19 +104,24 @@ LineSet readTcb(const ByteSource& source) {
     return lines;
 }
 
-void writeTcb(const LineSet& lines, const std::string& path) {
+namespace {
+
+// The .tcb bytes of `lines` in order, as (pointer, size) pieces handed to `put`, so a file and a
+// memory buffer are written by the same code. `where` names the destination in errors.
+template <class Put>
+void emitTcb(const LineSet& lines, const std::string& where, Put&& put) {
     static_assert(sizeof(glm::vec3) == 12, "positions are written as packed float triples");
     TC_CHECK(!lines.offsets.empty());
     TC_CHECK_OP(std::size_t(lines.offsets.back()), ==, lines.positions.size());
     for (const Attribute& a : lines.attributes) TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
     if (lines.attributes.size() > kMaxAttributes)
-        throw OutputError(path + ": cannot write: more than " + std::to_string(kMaxAttributes) + " attributes");
+        throw OutputError(where + ": cannot write: more than " + std::to_string(kMaxAttributes) + " attributes");
 
     std::vector<std::uint8_t> names;
     for (const Attribute& a : lines.attributes) {
         if (a.name.empty() || a.name.size() > kMaxNameBytes)
-            throw OutputError(path + ": cannot write: attribute name \"" + a.name.substr(0, 64) + "\" is empty or longer than " +
-                              std::to_string(kMaxNameBytes) + " bytes");
+            throw OutputError(where + ": cannot write: attribute name \"" + a.name.substr(0, 64) +
+                              "\" is empty or longer than " + std::to_string(kMaxNameBytes) + " bytes");
         const auto length = std::uint32_t(a.name.size());
         names.insert(names.end(), reinterpret_cast<const std::uint8_t*>(&length),
                      reinterpret_cast<const std::uint8_t*>(&length) + 4);
@@ -134,22 +139,36 @@ void writeTcb(const LineSet& lines, const std::string& path) {
     std::memcpy(header + 32, &nameBytes, 8);
     names.resize(padTo8(kHeaderBytes + nameBytes) - kHeaderBytes, 0);
 
+    put(header, sizeof header);
+    put(names.data(), names.size());
+    put(lines.offsets.data(), 4 * lines.offsets.size());
+    put(lines.positions.data(), 12 * lines.positions.size());
+    for (const Attribute& a : lines.attributes) put(a.values.data(), 4 * a.values.size());
+}
+
+}  // namespace
+
+void writeTcb(const LineSet& lines, const std::string& path) {
     AtomicFile file(path);
     {
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.tempPath().c_str(), "wb"), &std::fclose);
         if (!f) throw OutputError(path + ": cannot write: " + std::strerror(errno));
-        auto put = [&](const void* data, std::size_t bytes) {
+        emitTcb(lines, path, [&](const void* data, std::size_t bytes) {
             if (bytes && std::fwrite(data, 1, bytes, f.get()) != bytes)
                 throw OutputError(path + ": cannot write: " + std::strerror(errno));
-        };
-        put(header, sizeof header);
-        put(names.data(), names.size());
-        put(lines.offsets.data(), 4 * lines.offsets.size());
-        put(lines.positions.data(), 12 * lines.positions.size());
-        for (const Attribute& a : lines.attributes) put(a.values.data(), 4 * a.values.size());
+        });
         if (std::fclose(f.release()) != 0) throw OutputError(path + ": cannot write: " + std::strerror(errno));
     }
     file.commit();
+}
+
+std::vector<std::uint8_t> encodeTcb(const LineSet& lines) {
+    std::vector<std::uint8_t> bytes;
+    emitTcb(lines, "(memory)", [&](const void* data, std::size_t n) {
+        const auto* p = static_cast<const std::uint8_t*>(data);
+        bytes.insert(bytes.end(), p, p + n);
+    });
+    return bytes;
 }
 
 }  // namespace tc

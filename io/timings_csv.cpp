@@ -33,14 +33,26 @@ void appendField(std::string& out, const std::string& s) {
 
 }  // namespace
 
-TimingsCsv::TimingsCsv(std::string path, bool append) : m_path(std::move(path)) {
+TimingsCsv::TimingsCsv(std::string path, bool append, bool rankColumn)
+    : m_path(std::move(path)), m_rankColumn(rankColumn) {
+    const std::string header = rankColumn ? kRankTimingsHeader : kTimingsHeader;
     std::error_code ec;
     bool needHeader = !append || !std::filesystem::exists(m_path, ec) ||
                       std::filesystem::file_size(m_path, ec) == 0;
+    if (!needHeader) {
+        // --resume appends: a file of the other layout would get rows of a different width.
+        std::ifstream existing(m_path);
+        std::string first;
+        std::getline(existing, first);
+        if (!first.empty() && first.back() == '\r') first.pop_back();
+        if (existing && first != header)
+            throw OutputError(m_path + ": cannot append rows \"" + header + "\" to a file whose header is \"" + first +
+                              "\" (render it again with or without --mpi as before, or use --overwrite)");
+    }
     m_out.open(m_path, append ? std::ios::app : std::ios::trunc);
     if (!m_out) throw OutputError(m_path + ": cannot write: " + std::strerror(errno));
     if (needHeader) {
-        m_out << "frame,stage,gpu_ms,cpu_ms,items\n";
+        m_out << header << "\n";
         m_out.flush();
         if (!m_out) throw OutputError(m_path + ": cannot write: " + std::strerror(errno));
     }
@@ -51,6 +63,10 @@ void TimingsCsv::write(const std::vector<TimingRow>& rows) {
     for (const TimingRow& row : rows) {
         text += std::to_string(row.frame);
         text += ',';
+        if (m_rankColumn) {
+            text += std::to_string(row.rank);
+            text += ',';
+        }
         appendField(text, row.stage);
         text += ',';
         if (row.gpuMs >= 0.0) appendFixed3(text, row.gpuMs);

@@ -19,6 +19,8 @@ TechniqueDescriptor raytracedTechnique() {
     d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced};
+    d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
+                           Transparency::DepthPeeling};
     d.create = [](const Scene& scene, const TechniqueData& data,
                   const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
         const RegionSetup region = regionSetup(data, hooks);
