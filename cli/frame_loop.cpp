@@ -90,6 +90,7 @@ FrameLoopOutcome runFrameLoop(const std::vector<FramePlan>& todo, const OutputSp
             const double renderSeconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStart).count();
             std::vector<TimingRow> rows = rowsOf(plan.frame, *in.timer);
+            if (in.gatherRows) rows = in.gatherRows(std::move(rows));
             if (in.reference) renderReference(in, setup, images, rows);
             FrameJob job{plan.frame, plan.paths.size(), std::move(rows), frameStart, {}};
             job.write = [&images, &in, paths = plan.paths, exr = frameExrOptions(in, setup.camera, renderSeconds)] {

@@ -1,20 +1,25 @@
 // tubecast render SCENE: loads and styles the data once, makes the GL context and the technique
 // (through the registry) once, then hands the planned frames to the frame loop. The parts:
 // cli/render_plan.h (which frames and files), cli/run_manifest.h (run.json), cli/frame_loop.h and
-// cli/frame_writer.h (render, compare, write each frame).
+// cli/frame_writer.h (render, compare, write each frame). With --mpi every rank of an MPI job runs
+// this same sequence on its share of the data, each step a phase every rank must pass, and
+// cli/mpi_render.h supplies what differs (the data's distribution, the region, the composite).
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <functional>
 #include <optional>
+#include <string_view>
 
 #include <unistd.h>
 
 #include "cli/batch.h"
 #include "cli/commands.h"
 #include "cli/frame_loop.h"
+#include "cli/mpi_render.h"
 #include "cli/progress.h"
 #include "cli/render_plan.h"
 #include "cli/run_manifest.h"
@@ -67,7 +72,15 @@ struct RenderOptions {
     std::string logFormat = "human";
     bool dryRun = false;
     bool serialWrites = false;
+    bool mpi = false;  // data-parallel over the ranks of an MPI job (cli/mpi_render.h)
 };
+
+// One step of the run: with --mpi a phase every rank passes or fails together (cli/mpi_session.h),
+// else just the work.
+void step(DataParallel* dp, std::string_view phase, const std::function<void()>& work) {
+    if (dp) dp->phase(phase, work);
+    else work();
+}
 
 // The scene, this process's frames and their outputs.
 struct RenderJob {
@@ -79,9 +92,9 @@ struct RenderJob {
     OutputPlan plan;
 };
 
-RenderJob planJob(const RenderOptions& o) {
-    RenderJob job;
-    SceneInput input = loadSceneInput(o.scene, o.overrides);
+void planScene(const RenderOptions& o, RenderJob& job, SceneInput input, bool writes) {
+    if (o.mpi && o.placeholders)
+        throw InputError("--placeholders: not with --mpi (one job renders each frame; use --resume)");
     job.scene = std::move(input.scene);
     job.data = std::move(input.data);
     Scene& scene = job.scene;
@@ -103,17 +116,28 @@ RenderJob planJob(const RenderOptions& o) {
     if (!o.shard.empty()) job.shard = parseShard(o.shard, processEnv());
     job.frames = job.shard ? shardFrames(selected, *job.shard) : selected;
     job.hash = sceneHash(scene.resolved);
+    if (!writes) return;
     ensureWritableDir(scene.output.dir);
     PlanRequest request{job.frames, job.shard, job.hash, o.resume, o.overwrite, !o.dryRun};
     job.plan = planOutputs(scene.output, request, [&](const std::string& note) {
         if (!o.quiet) std::cerr << "tubecast: " << note << "\n";
     });
+}
+
+// With --mpi rank 0 plans the outputs (and reads a dataset given alone) and the others render its
+// frames without writing.
+RenderJob planJob(const RenderOptions& o, DataParallel* dp) {
+    RenderJob job;
+    SceneInput input = dp ? dp->loadSceneInput(o.scene, o.overrides) : loadSceneInput(o.scene, o.overrides);
+    step(dp, "plan", [&] { planScene(o, job, std::move(input), dp == nullptr || dp->root()); });
+    if (dp) dp->sharePlan(job.plan);
     return job;
 }
 
 // --dry-run and the cases with nothing to do; true when the run ends here.
-bool reportPlanOnly(const RenderOptions& o, const RenderJob& job) {
+bool reportPlanOnly(const RenderOptions& o, const RenderJob& job, bool speaks) {
     if (o.dryRun) {
+        if (!speaks) return true;
         // The frames this run would render, as a --frames list on stdout (scripts/slurm/check.sh).
         std::vector<int> pending;
         for (const auto& plan : job.plan.todo) pending.push_back(plan.frame);
@@ -174,6 +198,7 @@ struct LoadedData {
     DatasetLoad load;
     DataKind kind = DataKind::Lines;
     StyledLines styled;
+    Bounds bounds;       // of the whole styled data (with --mpi every rank's): camera fit, depth range
     double seconds = 0;  // loading and styling
 };
 
@@ -194,6 +219,13 @@ std::string describeData(const DatasetLoad& data) {
            " particles";
 }
 
+void styleData(const Scene& scene, LoadedData& d) {
+    d.kind = d.load.isParticles() ? DataKind::Particles : DataKind::Lines;
+    if (d.kind == DataKind::Lines) d.styled = styleLines(d.load.lines, scene.style, scene.file);
+    else d.styled.bounds = particleSeriesBounds(scene, d.load.particles);
+    d.bounds = d.styled.bounds;
+}
+
 // `preloaded`: the dataset given alone, read for its default scene (unless --set changed it).
 LoadedData loadData(const Scene& scene, std::optional<DatasetLoad> preloaded) {
     LoadedData d;
@@ -203,9 +235,23 @@ LoadedData loadData(const Scene& scene, std::optional<DatasetLoad> preloaded) {
     else
         d.load = loadDataset(scene.dataset);
     if (d.load.cleaned.any()) std::cerr << "warning: " << d.load.source << ": " << d.load.cleaned.summary() << "\n";
-    d.kind = d.load.isParticles() ? DataKind::Particles : DataKind::Lines;
-    if (d.kind == DataKind::Lines) d.styled = styleLines(d.load.lines, scene.style, scene.file);
-    else d.styled.bounds = particleSeriesBounds(scene, d.load.particles);
+    styleData(scene, d);
+    d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return d;
+}
+
+// --mpi: this rank's share of the data (cli/mpi_render.h), styled; `bounds` is the whole data's.
+LoadedData loadShare(DataParallel& dp, const Scene& scene, std::optional<DatasetLoad> preloaded, RankShare& share) {
+    LoadedData d;
+    const auto t0 = std::chrono::steady_clock::now();
+    share = dp.loadShare(scene, std::move(preloaded));
+    step(&dp, "style", [&] {
+        d.load = std::move(share.load);
+        styleData(scene, d);
+    });
+    dp.agreeOnBounds(share, d.load, d.styled.bounds, d.styled.maxRadius);
+    dp.checkShare(scene, share);
+    d.bounds = share.bounds;
     d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return d;
 }
@@ -264,8 +310,9 @@ TechniqueHooks techniqueHooks(const Scene& scene) {
 // the tiles (image.tiles, or render.memory_budget_mb over the technique's per-pixel buffers;
 // core/tiling.h) and makes the technique for the largest tile, wrapped to render every tile and
 // sample, and the reference.
-Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData& data, int firstFrame,
-                          const gl::ContextInfo& gl) {
+// With --mpi (`dp`), `translucent` is every rank's answer and the technique draws the rank's region.
+Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData& data, bool translucent,
+                          int firstFrame, const gl::ContextInfo& gl, const DataParallel* dp, const RankShare* share) {
     const TechniqueRegistry& registry = techniqueRegistry();
     Techniques t;
     auto note = [&](const std::string& why) {
@@ -277,8 +324,6 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
         scene.render.technique = RenderTechnique(choice.descriptor->name);
         note(choice.why);
     }
-    const bool translucent = data.kind == DataKind::Lines ? anyTranslucent(data.styled)
-                                                          : anyTranslucent(scene.style, data.load.particles);
     if (const TechniqueDescriptor* d = registry.find(scene.render.technique.name());
         d && scene.render.transparency == Transparency::Auto) {
         const TransparencyChoice choice = resolveTransparency(*d, translucent);
@@ -290,6 +335,7 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
                      "\"auto\", for the exact transparent mode)\n";
     }
     const TechniqueDescriptor& descriptor = registry.validate(scene, data.kind);
+    if (dp) dp->checkScene(scene, registry);
     const PixelBuffers buffers = descriptor.pixelBuffersFor(scene, data.kind);
     t.tiles = planSceneTiles(scene, buffers.bytes, buffers.what, descriptor.composes(scene),
                              gl::currentTileLimits(buffers.largestStorage));
@@ -303,11 +349,17 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     input.source = &data.load.lines;
     input.particles = &data.load.particles;
     input.firstFrame = firstFrame;
+    TechniqueHooks hooks = techniqueHooks(scene);
+    if (dp) {
+        dp->applyRegion(*share, input, hooks);
+        // Opaque ranks are Z-composited: every technique must give its depth.
+        if (scene.render.transparency == Transparency::Opaque) techniqueScene.output.aovDepth = true;
+    }
     const OutputSpec& out = scene.output;
-    const KeptAovs kept{out.exr && out.aovDepth, out.exr && out.aovNormal, out.exr && out.aovId};
+    const KeptAovs kept{dp || (out.exr && out.aovDepth), out.exr && out.aovNormal, out.exr && out.aovId};
     const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
     t.main = wrapInTiles(empty ? std::make_unique<BackgroundOnly>()
-                               : descriptor.create(techniqueScene, input, techniqueHooks(scene)),
+                               : descriptor.create(techniqueScene, input, hooks),
                          t.tiles, scene.image.samples, kept);
     if (!o.quiet && (t.tiles.tiles.size() > 1 || scene.image.samples > 1))
         std::cerr << "tubecast: " << t.tiles.tiles.size() << " tile(s) (" << t.tiles.nx << "x" << t.tiles.ny
@@ -324,24 +376,40 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     return t;
 }
 
-void runRender(const RenderOptions& o) {
-    RenderJob job = planJob(o);
-    if (reportPlanOnly(o, job)) return;
+void runRender(const RenderOptions& options) {
+    RenderOptions o = options;
+    std::unique_ptr<DataParallel> dp;
+    if (o.mpi) {
+        dp = std::make_unique<DataParallel>(o.quiet);
+        if (!dp->root()) {  // rank 0 speaks for the job
+            o.quiet = true;
+            o.logFormat = "human";
+        }
+    } else if (MpiSession::launchedByMpi() && !o.quiet) {
+        std::cerr << "warning: started by an MPI launcher without --mpi: every process renders and writes the "
+                     "whole frame\n";
+    }
+    const bool root = !dp || dp->root();
+    RenderJob job = planJob(o, dp.get());
+    if (reportPlanOnly(o, job, root)) return;
     Scene& scene = job.scene;
     const OutputSpec& out = scene.output;
     const std::vector<FramePlan>& todo = job.plan.todo;
     setLlvmpipeThreads(o);
 
-    const LoadedData data = loadData(scene, std::move(job.data));  // per dataset, once per process
-    if (data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0)
+    RankShare share;
+    const LoadedData data = dp ? loadShare(*dp, scene, std::move(job.data), share)
+                               : loadData(scene, std::move(job.data));  // per dataset, once per process
+    if (!dp && data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0)
         std::cerr << "warning: " << data.load.source << ": the dataset holds no polylines: the frames show the "
                   << "background only\n";
-    gl::Context context = makeContext(o);
-    const gl::ContextInfo& info = context.info();
+    std::optional<gl::Context> context;
+    step(dp.get(), "context", [&] { context = makeContext(o); });
+    const gl::ContextInfo& info = context->info();
     if (!o.quiet)
         std::cerr << "tubecast: " << info.backend << (info.device.empty() ? "" : " (" + info.device + ")") << ", "
-                  << info.renderer << ", " << describeData(data.load) << ", " << todo.size()
-                  << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
+                  << info.renderer << ", " << describeData(data.load) << (dp ? " on rank 0" : "") << ", "
+                  << todo.size() << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
     const std::vector<std::string> sources =
         styleSources(scene.style, data.kind == DataKind::Particles ? &data.load.particles : nullptr);
     if (!o.quiet) {
@@ -349,9 +417,16 @@ void runRender(const RenderOptions& o) {
         for (std::size_t i = 0; i < sources.size(); ++i) std::cerr << (i ? "; " : " ") << sources[i];
         std::cerr << "\n";
     }
-    Techniques techniques = makeTechniques(o, scene, data, todo.front().frame, info);
+    bool translucent = data.kind == DataKind::Lines ? anyTranslucent(data.styled)
+                                                    : anyTranslucent(scene.style, data.load.particles);
+    if (dp) translucent = dp->any(translucent);
+    Techniques techniques;
+    step(dp.get(), "technique", [&] {
+        techniques = makeTechniques(o, scene, data, translucent, todo.front().frame, info, dp.get(), &share);
+    });
+    if (dp) techniques.main = dp->composited(std::move(techniques.main), scene);
 
-    const Camera base = fitCamera(scene.camera, data.styled.bounds, float(scene.image.width) / float(scene.image.height));
+    const Camera base = fitCamera(scene.camera, data.bounds, float(scene.image.width) / float(scene.image.height));
     RunManifest manifest(scene, job.hash);
     manifest.setDataset(data.load, data.seconds);
     manifest.setGl(info);
@@ -359,11 +434,13 @@ void runRender(const RenderOptions& o) {
     manifest.setStyleSources(sources);
     manifest.setFrames(job.frames, job.shard, o.shard);
     manifest.setFirstCamera(cameraAtFrame(scene.animation, base, todo.front().frame));
-    if (out.timings) manifest.write(job.plan.runPath);
+    if (dp) manifest.setDataParallel(dp->manifest(data.load));
+    const bool timings = out.timings && root;
+    if (timings) manifest.write(job.plan.runPath);
 
     std::unique_ptr<TimingsCsv> csv;
     const std::string& timingsPath = job.plan.timingsPath;
-    if (out.timings) csv = std::make_unique<TimingsCsv>(timingsPath, o.resume && fs::exists(timingsPath));
+    if (timings) csv = std::make_unique<TimingsCsv>(timingsPath, o.resume && fs::exists(timingsPath), dp != nullptr);
     std::unique_ptr<std::ofstream> quality;
     if (techniques.reference) {
         const std::string& path = job.plan.qualityPath;
@@ -389,7 +466,7 @@ void runRender(const RenderOptions& o) {
     in.camera = [&](int frame) { return cameraAtFrame(scene.animation, base, frame); };
     in.width = scene.image.width;
     in.height = scene.image.height;
-    in.bounds = data.styled.bounds;
+    in.bounds = data.bounds;
     if (in.bounds.empty()) in.bounds.extend(glm::vec3(0.0f), 1.0f);  // an empty dataset: any finite depth range
     in.background = scene.image.background;
     in.pngText = {{"tubecast:version", TUBECAST_VERSION}, {"tubecast:renderer", info.renderer}, {kSceneHashKey, job.hash}};
@@ -402,6 +479,10 @@ void runRender(const RenderOptions& o) {
     in.placeholders = placeholders.get();
     in.progress = &progress;
     in.items = data.kind == DataKind::Lines ? data.styled.segmentCount() : data.load.particles.maxParticles();
+    if (dp) {
+        in.items = share.items;
+        in.gatherRows = [&dp](std::vector<TimingRow> rows) { return dp->gatherRows(std::move(rows)); };
+    }
     in.keepGoing = o.keepGoing;
     // Not with --placeholders (one claim at a time), image tiles (the memory budget was planned for
     // one full-size frame) or --serial-writes.
@@ -411,15 +492,19 @@ void runRender(const RenderOptions& o) {
     const FrameLoopOutcome outcome = runFrameLoop(todo, out, in);
 
     manifest.setOutcome(outcome.rendered, outcome.failed, outcome.heldElsewhere);
-    if (out.timings) manifest.write(job.plan.runPath);
+    if (timings) manifest.write(job.plan.runPath);
     progress.event({{"event", "done"},
                     {"rendered", outcome.rendered},
                     {"failed", outcome.failed},
                     {"held_elsewhere", outcome.heldElsewhere}});
-    if (!outcome.failed.empty())
-        throw Error(ExitCode::FramesFailed, std::to_string(outcome.failed.size()) + " of " + std::to_string(todo.size()) +
-                                                " frame(s) failed: " + formatFrameList(outcome.failed) +
-                                                " (the others were written; re-run with --resume)");
+    // With --mpi every rank knows the outcome; rank 0 reports it for the job.
+    step(dp.get(), "frames", [&] {
+        if (!outcome.failed.empty() && root)
+            throw Error(ExitCode::FramesFailed, std::to_string(outcome.failed.size()) + " of " +
+                                                    std::to_string(todo.size()) + " frame(s) failed: " +
+                                                    formatFrameList(outcome.failed) +
+                                                    " (the others were written; re-run with --resume)");
+    });
 }
 
 }  // namespace
@@ -455,6 +540,9 @@ void addRenderCommand(CLI::App& app) {
         ->check(CLI::IsMember({"human", "json"}));
     cmd->add_flag("--dry-run", o->dryRun, "Print the frames that would be rendered (as a --frames list) and exit");
     cmd->add_flag("--overwrite", o->overwrite, "Replace existing outputs");
+    cmd->add_flag("--mpi", o->mpi,
+                  "Data-parallel: every rank of the MPI job (mpirun -np N) renders its region of a k-d decomposition "
+                  "of the data and IceT composites the frame; rank 0 writes the outputs (docs/batch.md)");
     cmd->add_flag("--serial-writes", o->serialWrites,
                   "Write each frame before rendering the next (default: the write overlaps the next frame's render)");
     cmd->add_flag("--gl-debug", o->glDebug, "KHR_debug messages to stderr");

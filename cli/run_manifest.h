@@ -38,6 +38,8 @@ public:
     void setFrames(const std::vector<int>& planned, const std::optional<Shard>& shard, const std::string& shardSpec);
     // The camera of the first frame to render (after fit), so other tools can match the view.
     void setFirstCamera(const Camera& camera);
+    // `tubecast render --mpi`: "mpi" with the ranks, hosts and decomposition (cli/mpi_render.h).
+    void setDataParallel(const nlohmann::json& mpi) { m_json["mpi"] = mpi; }
     void setOutcome(const std::vector<int>& rendered, const std::vector<int>& failed,
                     const std::vector<int>& heldElsewhere);
 

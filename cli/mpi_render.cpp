@@ -1,0 +1,383 @@
+#include "cli/mpi_render.h"
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+
+#include "core/default_scene.h"
+#include "core/error.h"
+#include "core/particle_series.h"
+#include "core/styling.h"
+#include "io/byte_source.h"
+#include "io/line_formats.h"
+#include "io/partition.h"
+
+namespace tc::cli {
+namespace {
+
+nlohmann::json facesJson(const glm::vec3& v) {
+    nlohmann::json a = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i) a.push_back(std::isfinite(v[i]) ? nlohmann::json(v[i]) : nlohmann::json(nullptr));
+    return a;
+}
+
+nlohmann::json boxJson(const RegionBox& b) { return {{"lo", facesJson(b.lo)}, {"hi", facesJson(b.hi)}}; }
+
+nlohmann::json boundsJson(const Bounds& b) {
+    return {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}}};
+}
+
+Bounds boundsOf(const nlohmann::json& j) {
+    Bounds b;
+    for (int i = 0; i < 3; ++i) {
+        b.lo[i] = j["lo"][std::size_t(i)].get<float>();
+        b.hi[i] = j["hi"][std::size_t(i)].get<float>();
+    }
+    return b;
+}
+
+// A rank's lines as one message: a CBOR header (what the .tcb format does not hold: the source's
+// attribute ranges, which automatic styling ranges need, and the velocity name) and the .tcb bytes.
+Bytes packLines(const LineSet& lines) {
+    nlohmann::json header;
+    header["velocity"] = lines.velocity;
+    header["ranges"] = nlohmann::json::array();
+    for (const Attribute& a : lines.attributes) header["ranges"].push_back({a.min, a.max});
+    const Bytes cbor = nlohmann::json::to_cbor(header);
+    const Bytes tcb = encodeTcb(lines);
+    Bytes out(8);
+    const std::uint64_t n = cbor.size();
+    std::memcpy(out.data(), &n, 8);
+    out.insert(out.end(), cbor.begin(), cbor.end());
+    out.insert(out.end(), tcb.begin(), tcb.end());
+    return out;
+}
+
+LineSet unpackLines(const Bytes& bytes, const std::string& name) {
+    std::uint64_t n = 0;
+    TC_CHECK(bytes.size() >= 8);
+    std::memcpy(&n, bytes.data(), 8);
+    TC_CHECK(8 + n <= bytes.size());
+    const nlohmann::json header = nlohmann::json::from_cbor(bytes.begin() + 8, bytes.begin() + 8 + std::ptrdiff_t(n));
+    MemorySource source(name, bytes.data() + 8 + n, bytes.size() - 8 - n);
+    LineSet lines = readTcb(source);
+    lines.velocity = header["velocity"].get<std::string>();
+    const nlohmann::json& ranges = header["ranges"];
+    TC_CHECK_OP(ranges.size(), ==, lines.attributes.size());
+    for (std::size_t a = 0; a < lines.attributes.size(); ++a) {
+        // NaN (no finite value) travels as CBOR null.
+        const auto get = [](const nlohmann::json& v) {
+            return v.is_null() ? std::numeric_limits<float>::quiet_NaN() : v.get<float>();
+        };
+        lines.attributes[a].min = get(ranges[a][0]);
+        lines.attributes[a].max = get(ranges[a][1]);
+    }
+    lines.updateBounds();
+    return lines;
+}
+
+std::string sceneName(const Scene& scene) { return scene.file.empty() ? std::string("scene") : scene.file; }
+
+bool isPartitionInput(const DatasetSpec& d) {
+    return d.generate.empty() && !d.trace && !d.path.empty() && isPartitionPath(d.path);
+}
+
+// The frame loop's technique on every rank: the rank's own technique, whose render is a phase
+// (a rank that fails fails every rank, before any composite), then IceT's composite into rank 0's
+// images in the view's front-to-back order of the regions (region r is rank r's).
+class CompositedTechnique final : public Technique {
+public:
+    CompositedTechnique(std::unique_ptr<Technique> inner, MpiSession& mpi, IcetCompositor& compositor,
+                        const KdDecomposition& tree, CompositeMode mode)
+        : m_inner(std::move(inner)), m_mpi(mpi), m_compositor(compositor), m_tree(tree), m_mode(mode) {}
+
+    void prepareFrame(int frame, StageSink& sink) override {
+        m_mpi.phase("prepare frame " + std::to_string(frame), [&] { m_inner->prepareFrame(frame, sink); });
+    }
+
+    void render(const FrameSetup& setup, FrameImages& out, StageSink& sink) override {
+        m_mpi.phase("render frame " + std::to_string(setup.frame), [&] {
+            m_inner->render(setup, out, sink);
+            completeBuffers(out, setup.width, setup.height);
+        });
+        const std::vector<int> order = m_tree.viewOrder(setup.camera);
+        m_compositor.composite(out, m_mode, order, sink);
+    }
+
+    nlohmann::json describe() const override {
+        nlohmann::json j = m_inner->describe();
+        j["composite"] = m_mode == CompositeMode::Opaque ? "icet z-buffer" : "icet ordered blend";
+        return j;
+    }
+
+private:
+    // IceT composites every buffer; a technique leaves the AOVs nobody asked for unsized (the
+    // transparent modes skip their G-buffer pass): background values then, which lose every
+    // depth comparison.
+    static void completeBuffers(FrameImages& out, int w, int h) {
+        const std::size_t n = std::size_t(w) * std::size_t(h);
+        out.width = w;
+        out.height = h;
+        if (out.depth.size() != n) out.depth.assign(n, std::numeric_limits<float>::infinity());
+        if (out.normal.size() != 3 * n) out.normal.assign(3 * n, 0.0f);
+        if (out.id.size() != n) out.id.assign(n, kBackgroundId);
+    }
+
+    std::unique_ptr<Technique> m_inner;
+    MpiSession& m_mpi;
+    IcetCompositor& m_compositor;
+    const KdDecomposition& m_tree;
+    CompositeMode m_mode;
+};
+
+}  // namespace
+
+DataParallel::DataParallel(bool quiet) : m_quiet(quiet) {}
+
+DataParallel::~DataParallel() = default;
+
+void DataParallel::logRoot(const std::string& line) const {
+    if (root() && !m_quiet) std::cerr << "tubecast: " << line << "\n";
+}
+
+SceneInput DataParallel::loadSceneInput(const std::string& path, const std::vector<std::string>& overrides) {
+    SceneInput in;
+    if (!isDatasetFile(path)) {
+        phase("scene", [&] { in = tc::cli::loadSceneInput(path, overrides); });
+        return in;
+    }
+    // A dataset alone: its default scene depends on the data, which rank 0 alone reads (a
+    // partitioned set: only its index, whose bounds and attribute ranges the default needs).
+    DatasetLoad load;
+    Bytes doc;
+    phase("scene", [&] {
+        if (!root()) return;
+        if (isPartitionPath(path)) {
+            const PartitionIndex index = readPartitionIndex(path);
+            LineSet summary;
+            summary.bounds = index.bounds;
+            for (const AttributeRange& a : index.attributes) summary.attributes.push_back({a.name, {}, a.min, a.max});
+            doc = nlohmann::json::to_cbor(defaultSceneFor(path, &summary, nullptr));
+        } else {
+            doc = nlohmann::json::to_cbor(defaultSceneJson(path, load));
+        }
+    });
+    m_mpi.broadcastBytes(doc);
+    phase("scene", [&] {
+        in.scene = parseScene(nlohmann::json::from_cbor(doc), "", overrides);
+        in.scene.file = path;
+    });
+    if (root() && (load.isParticles() || load.lines.vertexCount())) in.data = std::move(load);
+    return in;
+}
+
+void DataParallel::sharePlan(OutputPlan& plan) {
+    Bytes bytes;
+    if (root()) {
+        nlohmann::json j;
+        j["skipped"] = plan.skipped;
+        j["frames"] = nlohmann::json::array();
+        for (const FramePlan& p : plan.todo) j["frames"].push_back(p.frame);
+        bytes = nlohmann::json::to_cbor(j);
+    }
+    m_mpi.broadcastBytes(bytes);
+    if (root()) return;
+    const nlohmann::json j = nlohmann::json::from_cbor(bytes);
+    plan.skipped = j["skipped"].get<std::size_t>();
+    plan.todo.clear();
+    for (const nlohmann::json& f : j["frames"]) plan.todo.push_back({f.get<int>(), {}});
+}
+
+RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded) {
+    RankShare share;
+    const int ranks = m_mpi.size();
+    if (isPartitionInput(scene.dataset)) {
+        // Every rank reads the index and its own brick; bounds are agreed on after styling.
+        m_inputMode = "partition";
+        phase("load", [&] {
+            const PartitionIndex index = readPartitionIndex(scene.dataset.path);
+            if (index.regionCount() != ranks)
+                throw InputError(index.path + ": regions: the set has " + std::to_string(index.regionCount()) +
+                                 " regions and the job " + std::to_string(ranks) + " ranks: run with -np " +
+                                 std::to_string(index.regionCount()) + " or partition again with -n " +
+                                 std::to_string(ranks));
+            m_tree = index.tree;
+            m_partitionRadius = index.radius;
+            m_partitionIndex = index.path;
+            share.load.lines = readPartitionRegion(index, m_mpi.rank());
+            share.load.source = scene.dataset.path;
+            share.source = index.source;
+            share.items = index.segments;
+        });
+        return share;
+    }
+    // A single input: rank 0 reads it whole. Lines are decomposed there and each rank is sent
+    // the segments that reach its region; particles are read by every rank.
+    DatasetLoad whole;
+    std::vector<Bytes> parts;
+    Bytes meta;
+    phase("load", [&] {
+        if (!root()) return;
+        if (preloaded && preloaded->source == scene.dataset.path && scene.dataset.generate.empty() &&
+            !scene.dataset.trace)
+            whole = std::move(*preloaded);
+        else
+            whole = loadDataset(scene.dataset);
+        if (whole.cleaned.any()) std::cerr << "warning: " << whole.source << ": " << whole.cleaned.summary() << "\n";
+        nlohmann::json m;
+        m["source"] = whole.source;
+        m["particles"] = whole.isParticles();
+        if (!whole.isParticles()) {
+            const LineSet& lines = whole.lines;
+            const StyledLines styled = styleLines(lines, scene.style, scene.file);
+            std::vector<float> radii(lines.vertexCount());
+            TC_CHECK_OP(styled.vertexCount(), ==, lines.vertexCount());
+            for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
+            m_tree = KdDecomposition::build(segmentMidpoints(lines), ranks);
+            const RegionItems items = assignSegments(m_tree, lines, radii);
+            m_regionCounts = nlohmann::json::array();
+            for (int r = 0; r < ranks; ++r) {
+                const RegionLines region = extractRegionLines(lines, items[std::size_t(r)]);
+                m_regionCounts.push_back({{"assigned_segments", items[std::size_t(r)].size()},
+                                          {"owned_segments", ownedSegments(m_tree, r, lines).size()}});
+                parts.push_back(packLines(region.lines));
+            }
+            m["tree"] = m_tree.toJson();
+            m["bounds"] = boundsJson(styled.bounds);
+            m["max_radius"] = styled.maxRadius;
+            m["items"] = lines.segmentCount();
+            whole.lines = {};  // rank 0 keeps its share only
+        }
+        meta = nlohmann::json::to_cbor(m);
+    });
+    m_mpi.broadcastBytes(meta);
+    const nlohmann::json m = nlohmann::json::from_cbor(meta);
+    share.source = m["source"].get<std::string>();
+    if (m["particles"].get<bool>()) {
+        // Every rank reads the particles: the spheres are clipped to the rank's region, so the
+        // frame is exact, but each rank holds all of them (they are not redistributed yet).
+        m_inputMode = "replicated";
+        phase("load", [&] {
+            if (root()) share.load = std::move(whole);
+            else share.load = loadDataset(scene.dataset);
+            const ParticleSet& first = share.load.particles.frames.front();
+            std::vector<glm::vec3> centres(first.positions.begin(), first.positions.end());
+            m_tree = KdDecomposition::build(std::move(centres), ranks);
+            share.bounds = particleSeriesBounds(scene, share.load.particles);
+            share.items = share.load.particles.maxParticles();
+        });
+        return share;
+    }
+    m_inputMode = "scatter";
+    const Bytes mine = m_mpi.scatterBytes(parts);
+    parts.clear();
+    phase("distribute", [&] {
+        if (!root()) m_tree = KdDecomposition::fromJson(m["tree"], "decomposition");
+        share.load.lines = unpackLines(mine, share.source + " (rank " + std::to_string(m_mpi.rank()) + ")");
+        share.load.source = share.source;
+        share.bounds = boundsOf(m["bounds"]);
+        share.maxRadius = m["max_radius"].get<float>();
+        share.items = m["items"].get<std::uint64_t>();
+    });
+    return share;
+}
+
+void DataParallel::agreeOnBounds(RankShare& share, const DatasetLoad& mine, const Bounds& localBounds,
+                                 float localMaxRadius) {
+    share.localEmpty = mine.isParticles() ? mine.particles.maxParticles() == 0 : mine.lines.polylineCount() == 0;
+    if (m_inputMode != "partition") return;
+    // The union of the ranks' styled bounds is the whole data's: every segment is on some rank,
+    // and each bound is a min or max over vertices.
+    float lo[4] = {localBounds.lo.x, localBounds.lo.y, localBounds.lo.z, 0.0f};
+    float hi[4] = {localBounds.hi.x, localBounds.hi.y, localBounds.hi.z, localMaxRadius};
+    MPI_Allreduce(MPI_IN_PLACE, lo, 4, MPI_FLOAT, MPI_MIN, m_mpi.comm());
+    MPI_Allreduce(MPI_IN_PLACE, hi, 4, MPI_FLOAT, MPI_MAX, m_mpi.comm());
+    share.bounds.lo = {lo[0], lo[1], lo[2]};
+    share.bounds.hi = {hi[0], hi[1], hi[2]};
+    share.maxRadius = hi[3];
+}
+
+void DataParallel::checkShare(const Scene& scene, const RankShare& share) {
+    const bool someEmpty = any(share.localEmpty);
+    const bool allEmpty = !any(!share.localEmpty);
+    phase("check", [&] {
+        if (m_inputMode == "partition" && share.maxRadius > m_partitionRadius)
+            throw InputError(m_partitionIndex + ": radius: the set was partitioned for tubes of radius up to " +
+                             std::to_string(m_partitionRadius) + ", the style gives " +
+                             std::to_string(share.maxRadius) + ": partition again with --radius " +
+                             std::to_string(share.maxRadius));
+        // The AO density reduction runs inside the technique, which an empty rank does not make.
+        if (scene.render.ao.enabled && someEmpty && !allEmpty)
+            throw InputError(sceneName(scene) + ": render.ao: a rank's region holds no data (" +
+                             std::to_string(share.items) + " segments for " + std::to_string(m_mpi.size()) +
+                             " ranks): use fewer ranks");
+    });
+}
+
+bool DataParallel::any(bool mine) const {
+    int v = mine ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MAX, m_mpi.comm());
+    return v != 0;
+}
+
+void DataParallel::checkScene(const Scene& scene, const TechniqueRegistry& registry) const {
+    registry.requireRegions(scene);
+    if (scene.render.referenceDepthPeeling || scene.render.referenceRaytraced)
+        throw InputError(sceneName(scene) + ": render.reference: not available with --mpi (render the reference "
+                                            "without --mpi and compare with `tubecast compare`)");
+}
+
+void DataParallel::applyRegion(const RankShare& share, TechniqueData& data, TechniqueHooks& hooks) const {
+    data.region = m_tree.box(m_mpi.rank());
+    data.bounds = share.bounds;
+    data.maxRadius = share.maxRadius;
+    hooks.reduceDensity = [this](std::vector<float>& grid) { m_mpi.allreduceSum(grid); };
+}
+
+std::unique_ptr<Technique> DataParallel::composited(std::unique_ptr<Technique> inner, const Scene& scene) {
+    m_compositor = std::make_unique<IcetCompositor>(m_mpi, scene.image.width, scene.image.height);
+    const CompositeMode mode =
+        scene.render.transparency == Transparency::Opaque ? CompositeMode::Opaque : CompositeMode::Transparent;
+    return std::make_unique<CompositedTechnique>(std::move(inner), m_mpi, *m_compositor, m_tree, mode);
+}
+
+std::vector<TimingRow> DataParallel::gatherRows(std::vector<TimingRow> mine) const {
+    std::vector<TimingRow> all;
+    const std::vector<std::vector<TimingRow>> ranks = m_mpi.gatherTimings(mine);
+    for (std::size_t r = 0; r < ranks.size(); ++r) {
+        for (TimingRow row : ranks[r]) {
+            row.rank = int(r);
+            all.push_back(std::move(row));
+        }
+    }
+    return all;
+}
+
+nlohmann::json DataParallel::manifest(const DatasetLoad& d) const {
+    nlohmann::json mine;
+    if (d.isParticles()) {
+        mine["particles"] = d.particles.maxParticles();
+    } else {
+        mine["polylines"] = d.lines.polylineCount();
+        mine["segments"] = d.lines.segmentCount();
+    }
+    const std::vector<nlohmann::json> ranks = m_mpi.gatherJson(mine);
+    if (!root()) return {};
+    nlohmann::json regions = nlohmann::json::array();
+    for (int r = 0; r < m_mpi.size(); ++r) {
+        nlohmann::json e = ranks[std::size_t(r)];
+        e["rank"] = r;
+        e["host"] = m_mpi.hosts()[std::size_t(r)];
+        e["box"] = boxJson(m_tree.box(r));
+        if (m_regionCounts.is_array()) e.update(m_regionCounts[std::size_t(r)]);
+        regions.push_back(e);
+    }
+    return {{"ranks", m_mpi.size()},
+            {"hosts", m_mpi.hosts()},
+            {"input", m_inputMode},
+            {"decomposition", {{"tree", m_tree.toJson()}, {"regions", regions}}}};
+}
+
+}  // namespace tc::cli

@@ -1,0 +1,113 @@
+#pragma once
+// `tubecast render --mpi`: one frame rendered by every rank of an MPI job, each rank drawing the
+// region of a k-d decomposition (core/kd_decomposition.h) that its share of the data lies in, and
+// IceT compositing the ranks' images into rank 0's (cli/icet_compositor.h), which alone writes the
+// outputs. The frame loop of one process runs unchanged on every rank; this file supplies what
+// differs:
+//   - the scene: a dataset given alone is read by rank 0 alone, which sends its default scene;
+//   - the plan: rank 0 decides which frames to render (and --resume), every rank renders those;
+//   - the data: a single input is read by rank 0, decomposed and each rank's segments sent to it
+//     (MpiSession::scatterBytes of .tcb bytes); a partitioned set (`tubecast partition`, io/
+//     partition.h) is read brick by brick, each rank its own; particles are read by every rank;
+//   - the technique: made with TechniqueData::region (the rank's box), the whole data's bounds
+//     and largest radius, and TechniqueHooks::reduceDensity (the AO grid summed over the ranks),
+//     then wrapped so that each frame's render is a phase (a failing rank fails every rank) and
+//     ends with the composite in the view's front-to-back region order;
+//   - timings: every rank's rows of a frame gathered to rank 0 (timings.csv's rank column);
+//   - run.json: the ranks, their hosts and the decomposition.
+// Every member function is collective (cli/mpi_session.h) unless it says otherwise.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/icet_compositor.h"
+#include "cli/mpi_session.h"
+#include "cli/render_plan.h"
+#include "cli/scene_input.h"
+#include "core/kd_decomposition.h"
+#include "core/technique.h"
+#include "core/technique_registry.h"
+#include "io/dataset.h"
+
+namespace tc::cli {
+
+// This rank's share of the data and what every rank agrees on about the whole.
+struct RankShare {
+    DatasetLoad load;      // this rank's lines (the segments that reach its region), or particles; the
+                           // frame loop takes it over
+    std::string source;    // the whole dataset's name
+    Bounds bounds;         // of the whole styled data (tubes or spheres), the same on every rank
+    float maxRadius = 0;   // the whole data's largest radius
+    std::uint64_t items = 0;  // the whole data's segments (particles: the largest frame's)
+    bool localEmpty = false;  // this rank holds nothing
+};
+
+class DataParallel {
+public:
+    // MPI_Init (MpiSession). `quiet`: no log lines from rank 0 either.
+    explicit DataParallel(bool quiet);
+    ~DataParallel();
+
+    MpiSession& mpi() { return m_mpi; }
+    bool root() const { return m_mpi.isRoot(); }
+
+    // `work` as a phase: every rank learns whether any rank failed (then RankFailure on all).
+    void phase(std::string_view name, const std::function<void()>& work) { m_mpi.phase(name, work); }
+
+    // loadSceneInput for the job: a dataset given alone is read by rank 0, which sends its default
+    // scene to the others (who parse it with the same overrides); a scene file is read by all.
+    SceneInput loadSceneInput(const std::string& path, const std::vector<std::string>& overrides);
+
+    // Rank 0's plan (--frames, --shard, --resume) on every rank; the other ranks' frames have no
+    // output paths, so they write nothing.
+    void sharePlan(OutputPlan& plan);
+
+    // Reads and distributes the data (phases "load" and "distribute"); `preloaded`: the dataset
+    // rank 0 read for a default scene. Rank 0 styles a single input whole once, for the radii the
+    // assignment must cover and for the bounds every rank uses.
+    RankShare loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded);
+    // After styling the share (its bounds and largest radius): a partitioned set's ranks agree on
+    // the whole data's bounds and radius; notes whether this rank holds nothing.
+    void agreeOnBounds(RankShare& share, const DatasetLoad& mine, const Bounds& localBounds, float localMaxRadius);
+    // Checks what needs the whole job (a partition's --radius against the styled radii; ambient
+    // occlusion with a rank that holds no data): InputError on every rank (phase "check").
+    void checkShare(const Scene& scene, const RankShare& share);
+
+    // True when `mine` is true on any rank.
+    bool any(bool mine) const;
+
+    // Before the technique is made: refuses techniques and modes without region support (exit
+    // code 2, the list from the registry's descriptors) and render.reference. Not collective.
+    void checkScene(const Scene& scene, const TechniqueRegistry& registry) const;
+    // The rank's region, the whole data's bounds and radius, and the AO density reduction.
+    void applyRegion(const RankShare& share, TechniqueData& data, TechniqueHooks& hooks) const;
+    // Collective (IceT's context): `inner` (made with applyRegion's data) wrapped into the
+    // technique every rank's frame loop runs: render as a phase, then the composite.
+    std::unique_ptr<Technique> composited(std::unique_ptr<Technique> inner, const Scene& scene);
+    // A frame's timing rows of every rank on rank 0, each with its rank; none on the others.
+    std::vector<TimingRow> gatherRows(std::vector<TimingRow> mine) const;
+
+    // run.json's "mpi": ranks, hosts, the decomposition (boxes, segments per rank), the input mode.
+    // Collective (the ranks' counts are gathered); meaningful on rank 0.
+    nlohmann::json manifest(const DatasetLoad& mine) const;
+
+private:
+    void logRoot(const std::string& line) const;
+
+    MpiSession m_mpi;
+    bool m_quiet;
+    KdDecomposition m_tree;
+    std::string m_inputMode;        // "scatter", "partition", "replicated"
+    float m_partitionRadius = 0;    // a partitioned set's --radius
+    std::string m_partitionIndex;   // and its index.json
+    nlohmann::json m_regionCounts;  // rank 0, single input: per region what was assigned
+    std::unique_ptr<IcetCompositor> m_compositor;
+};
+
+}  // namespace tc::cli
