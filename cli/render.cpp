@@ -100,6 +100,7 @@ void planScene(const RenderOptions& o, RenderJob& job, SceneInput input, bool wr
     Scene& scene = job.scene;
     loadStylePresets(scene.style, scene.file);   // a bad preset file fails before any output,
     techniqueRegistry().validateWithoutData(scene);  // and so does a technique that cannot take the settings
+    if (o.mpi) techniqueRegistry().requireRegions(scene);  // or that cannot render a region (again once resolved)
     if (!o.outDir.empty()) scene.output.dir = o.outDir;
     // Only an EXR holds the depth / normal / id / AO AOVs: without one they are not computed (for
     // the transparent modes that is a whole G-buffer pass), and a scene that lists them hears why.

@@ -101,11 +101,13 @@ std::string TechniqueRegistry::regionSupport() const {
 }
 
 void TechniqueRegistry::requireRegions(const Scene& scene) const {
+    if (scene.render.technique.isAuto()) return;
     const std::string name = scene.render.technique.name();
     const TechniqueDescriptor* d = find(name);
     if (!d || d->regionTransparency.empty())
         refuseRegion(scene, "render.technique", "\"" + name + "\"", regionSupport());
     const std::vector<Transparency>& modes = d->regionTransparency;
+    if (scene.render.transparency == Transparency::Auto) return;  // checked again once resolved
     if (std::find(modes.begin(), modes.end(), scene.render.transparency) == modes.end())
         refuseRegion(scene, "render.transparency",
                      "\"" + name + "\" with \"" + transparencyName(scene.render.transparency) + "\"", regionSupport());

@@ -164,7 +164,8 @@ public:
     std::string regionSupport() const;
     // Throws InputError "file: render.technique: \"NAME\" does not support data-parallel rendering
     // (--mpi); supported: <regionSupport()>" (render.transparency when only the mode is missing)
-    // unless render.technique (resolved, not "auto") renders regions in render.transparency.
+    // unless render.technique renders regions in render.transparency. "auto" passes (a technique
+    // "auto": any; a transparency "auto": any mode of the technique): check again once resolved.
     void requireRegions(const Scene& scene) const;
 
     // render.technique "auto": on a software GL rasterizer the first CPU technique (in
