@@ -355,7 +355,7 @@ std::vector<TimingRow> DataParallel::gatherRows(std::vector<TimingRow> mine) con
     return all;
 }
 
-nlohmann::json DataParallel::manifest(const DatasetLoad& d) const {
+nlohmann::json DataParallel::manifest(const DatasetLoad& d, std::uint64_t items) const {
     nlohmann::json mine;
     if (d.isParticles()) {
         mine["particles"] = d.particles.maxParticles();
@@ -377,6 +377,7 @@ nlohmann::json DataParallel::manifest(const DatasetLoad& d) const {
     return {{"ranks", m_mpi.size()},
             {"hosts", m_mpi.hosts()},
             {"input", m_inputMode},
+            {"segments", items},
             {"decomposition", {{"tree", m_tree.toJson()}, {"regions", regions}}}};
 }
 

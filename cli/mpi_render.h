@@ -93,9 +93,10 @@ public:
     // A frame's timing rows of every rank on rank 0, each with its rank; none on the others.
     std::vector<TimingRow> gatherRows(std::vector<TimingRow> mine) const;
 
-    // run.json's "mpi": ranks, hosts, the decomposition (boxes, segments per rank), the input mode.
+    // run.json's "mpi": ranks, hosts, the whole data's segments (`items`), the decomposition (boxes,
+    // segments per rank), the input mode.
     // Collective (the ranks' counts are gathered); meaningful on rank 0.
-    nlohmann::json manifest(const DatasetLoad& mine) const;
+    nlohmann::json manifest(const DatasetLoad& mine, std::uint64_t items) const;
 
 private:
     void logRoot(const std::string& line) const;

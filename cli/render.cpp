@@ -435,7 +435,7 @@ void runRender(const RenderOptions& options) {
     manifest.setStyleSources(sources);
     manifest.setFrames(job.frames, job.shard, o.shard);
     manifest.setFirstCamera(cameraAtFrame(scene.animation, base, todo.front().frame));
-    if (dp) manifest.setDataParallel(dp->manifest(data.load));
+    if (dp) manifest.setDataParallel(dp->manifest(data.load, share.items));
     const bool timings = out.timings && root;
     if (timings) manifest.write(job.plan.runPath);
 
