@@ -27,6 +27,9 @@ std::string transparencyOf(const TechniqueDescriptor& d, const std::string& sepa
 std::string aoOf(const TechniqueDescriptor& d, const std::string& separator) {
     return d.ao.empty() ? std::string("none") : joined(d.ao, aoMethodName, separator);
 }
+std::string regionsOf(const TechniqueDescriptor& d, const std::string& separator) {
+    return d.regionTransparency.empty() ? std::string("none") : joined(d.regionTransparency, transparencyName, separator);
+}
 const char* backendOf(const TechniqueDescriptor& d) { return d.backend == TechniqueBackend::Gl ? "GL" : "CPU"; }
 
 nlohmann::json asJson(const TechniqueRegistry& registry) {
@@ -44,6 +47,8 @@ nlohmann::json asJson(const TechniqueRegistry& registry) {
         e["exact_transparency"] = transparencyName(d.exactTransparency);
         e["ao"] = nlohmann::json::array();
         for (AoSpec::Method m : d.ao) e["ao"].push_back(aoMethodName(m));
+        e["mpi"] = nlohmann::json::array();  // transparency modes for `render --mpi`
+        for (Transparency t : d.regionTransparency) e["mpi"].push_back(transparencyName(t));
         list.push_back(e);
     }
     return list;
@@ -82,6 +87,7 @@ void addTechniquesCommand(CLI::App& app) {
                       << "  data:         " << dataOf(d, ", ") << "\n"
                       << "  transparency: " << transparencyOf(d, ", ") << "\n"
                       << "  ao:           " << aoOf(d, ", ") << "\n"
+                      << "  --mpi:        " << regionsOf(d, ", ") << "\n"
                       << "  implements:   " << d.paper << "\n";
         }
         std::cout << "render.technique \"auto\": on a software GL rasterizer (llvmpipe, softpipe, swrast) the first CPU "
