@@ -16,9 +16,11 @@ for n in 1 2 3 4; do
     sed "s|\"generate\": \"tornado\", \"lines\": 2326, \"points\": 501, \"seed\": 1|\"path\": \"parts$n\"|" \
         "$here/configs/tornado_1m.json" >"scene$n.json"
     rm -rf "out$n"
-    "${mpi[@]}" -np "$n" /usr/bin/time -f "rss_kb %M" -o "rss$n.%q{OMPI_COMM_WORLD_RANK}" \
+    rm -f rss$n.*
+    # Each rank's own GNU time, its file named by the rank Open MPI gives it.
+    "${mpi[@]}" -np "$n" sh -c '/usr/bin/time -f "rss_kb %M" -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' "rss$n" \
         "$tubecast" render "scene$n.json" --mpi -o "out$n" -q --set image.width="$width" --set image.height="$height"
-    rss=$(cat rss$n.* | awk '{ print int($2 / 1024) }' | paste -sd/)
+    rss=$(cat $(ls rss$n.* | sort -t. -k2 -n) | awk '{ print int($2 / 1024) }' | paste -sd/)
     python3 - "$n" "out$n/timings.csv" "$rss" <<'PY'
 import csv, sys
 n, path, rss = int(sys.argv[1]), sys.argv[2], sys.argv[3]
