@@ -23,7 +23,9 @@ nlohmann::json facesJson(const glm::vec3& v) {
     return a;
 }
 
-nlohmann::json boxJson(const RegionBox& b) { return {{"lo", facesJson(b.lo)}, {"hi", facesJson(b.hi)}}; }
+nlohmann::json boxJson(const RegionBox& b) {
+    return {{"lo", facesJson(b.lo)}, {"hi", facesJson(b.hi)}};
+}
 
 nlohmann::json boundsJson(const Bounds& b) {
     return {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}}};
@@ -78,7 +80,9 @@ LineSet unpackLines(const Bytes& bytes, const std::string& name) {
     return lines;
 }
 
-std::string sceneName(const Scene& scene) { return scene.file.empty() ? std::string("scene") : scene.file; }
+std::string sceneName(const Scene& scene) {
+    return scene.file.empty() ? std::string("scene") : scene.file;
+}
 
 bool isPartitionInput(const DatasetSpec& d) {
     return d.generate.empty() && !d.trace && !d.path.empty() && isPartitionPath(d.path);
@@ -260,8 +264,10 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
         // frame is exact, but each rank holds all of them (they are not redistributed yet).
         m_inputMode = "replicated";
         phase("load", [&] {
-            if (root()) share.load = std::move(whole);
-            else share.load = loadDataset(scene.dataset);
+            if (root())
+                share.load = std::move(whole);
+            else
+                share.load = loadDataset(scene.dataset);
             const ParticleSet& first = share.load.particles.frames.front();
             std::vector<glm::vec3> centres(first.positions.begin(), first.positions.end());
             m_tree = KdDecomposition::build(std::move(centres), ranks);
@@ -325,8 +331,9 @@ bool DataParallel::any(bool mine) const {
 void DataParallel::checkScene(const Scene& scene, const TechniqueRegistry& registry) const {
     registry.requireRegions(scene);
     if (scene.render.referenceDepthPeeling || scene.render.referenceRaytraced)
-        throw InputError(sceneName(scene) + ": render.reference: not available with --mpi (render the reference "
-                                            "without --mpi and compare with `tubecast compare`)");
+        throw InputError(sceneName(scene) +
+                         ": render.reference: not available with --mpi (render the reference "
+                         "without --mpi and compare with `tubecast compare`)");
 }
 
 void DataParallel::applyRegion(const RankShare& share, TechniqueData& data, TechniqueHooks& hooks) const {

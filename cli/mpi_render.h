@@ -19,12 +19,11 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "cli/icet_compositor.h"
 #include "cli/mpi_session.h"
@@ -39,11 +38,11 @@ namespace tc::cli {
 
 // This rank's share of the data and what every rank agrees on about the whole.
 struct RankShare {
-    DatasetLoad load;      // this rank's lines (the segments that reach its region), or particles; the
-                           // frame loop takes it over
-    std::string source;    // the whole dataset's name
-    Bounds bounds;         // of the whole styled data (tubes or spheres), the same on every rank
-    float maxRadius = 0;   // the whole data's largest radius
+    DatasetLoad load;         // this rank's lines (the segments that reach its region), or particles; the
+                              // frame loop takes it over
+    std::string source;       // the whole dataset's name
+    Bounds bounds;            // of the whole styled data (tubes or spheres), the same on every rank
+    float maxRadius = 0;      // the whole data's largest radius
     std::uint64_t items = 0;  // the whole data's segments (particles: the largest frame's)
     bool localEmpty = false;  // this rank holds nothing
 };
