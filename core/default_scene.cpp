@@ -50,7 +50,9 @@ nlohmann::json defaultSceneFor(const std::string& path, const LineSet* lines, co
     scene["dataset"] = {{"path", path}};
     nlohmann::json style = nlohmann::json::object();
     if (lines) {
-        style["radius"] = kDefaultLineRadiusFraction * glm::length(lines->bounds.extent());
+        // No extent (no vertices, or all at one point), no scale: the style's default radius stands.
+        const float diagonal = lines->bounds.empty() ? 0.0f : glm::length(lines->bounds.extent());
+        if (diagonal > 0.0f) style["radius"] = kDefaultLineRadiusFraction * diagonal;
         const std::string ext = lowerExtension(path);
         if (ext == ".trk" || ext == ".tck") style["color"] = "direction";
         else if (const Attribute* a = firstScalar(lines->attributes)) style["color"] = colorBy(*a);

@@ -191,6 +191,13 @@ TechniqueRegistry::AutoChoice TechniqueRegistry::resolveAuto(const Scene& scene,
                 if (wantPreferred) passedOver.push_back(problem->message + " (" + problem->key + ")");
                 continue;
             }
+            if (contains(d.transparencyAliases, scene.render.transparency)) {
+                if (wantPreferred)
+                    passedOver.push_back(d.name + " renders render.transparency " +
+                                         quoted(transparencyName(scene.render.transparency)) +
+                                         " as exact compositing");
+                continue;
+            }
             std::string why = "render.technique auto: " + d.name + " (" + gl;
             for (const std::string& p : passedOver) why += "; " + p;
             return {&d, why + ")"};

@@ -107,6 +107,10 @@ struct TechniqueDescriptor {
     std::vector<Transparency> transparency;
     // Its exact-order transparent mode (what a transparent scene gets when it names none).
     Transparency exactTransparency = Transparency::Opaque;
+    // Modes of `transparency` the technique accepts but renders as its exact mode (a ray tracer has
+    // no k-buffer): "auto" does not pick it when the scene names one of them, because the user
+    // asked for that method (e.g. to reproduce a paper's k-buffer image).
+    std::vector<Transparency> transparencyAliases;
     std::vector<AoSpec::Method> ao;  // empty: no ambient occlusion
     // The transparency modes in which it renders one region of a data-parallel frame
     // (TechniqueData::region, core/region.h; `tubecast render --mpi`); empty: none.

@@ -490,6 +490,7 @@ TechniqueDescriptor voxelRaycastTechnique() {
     d.autoData = {};
     // Every transparent mode name means the same here: front-to-back compositing along the ray.
     d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
+    d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced};
     d.pixelBuffers = [](const Scene& scene, DataKind) { return VrcRenderer::pixelBuffers(scene); };

@@ -17,6 +17,7 @@ TechniqueDescriptor raytracedTechnique() {
     d.data = {DataKind::Lines, DataKind::Particles};
     d.autoData = {DataKind::Lines, DataKind::Particles};
     d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
+    d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced};
     d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,

@@ -181,7 +181,7 @@ TEST_F(Cli, BrokenEglIsExit3NamingEglAndTheAlternative) {
 }
 
 TEST_F(Cli, RenderWritesPngExrTimingsAndRunJson) {
-    writeScene();
+    writeScene(R"(, "render": {"technique": "rasterized"})");  // its stages include gbuffer
     RunResult r = run("render scene.json");
     ASSERT_EQ(r.code, 0) << r.err;
     for (const char* f : {"f.0000.png", "f.0000.exr", "timings.csv", "run.json"})
@@ -218,7 +218,7 @@ TEST_F(Cli, ExistingOutputsAreNeverReplacedWithoutOverwrite) {
 }
 
 TEST_F(Cli, ResumeRendersOnlyTheMissingFramesAndAppendsTimings) {
-    writeScene(R"(, "animation": {"type": "orbit", "frames": 3})");
+    writeScene(R"(, "animation": {"type": "orbit", "frames": 3}, "render": {"technique": "rasterized"})");
     ASSERT_EQ(run("render scene.json --frames 0,2").code, 0);
     ASSERT_TRUE(fs::exists(dir / "out" / "f.0002.exr"));
     ASSERT_FALSE(fs::exists(dir / "out" / "f.0001.exr"));

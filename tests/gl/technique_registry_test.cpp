@@ -218,6 +218,20 @@ TEST(TechniqueRegistry, auto_prefers_the_cpu_on_a_software_rasterizer_and_says_w
     EXPECT_EQ(choice.descriptor->name, "rasterized");
     EXPECT_NE(choice.why.find("technique \"raytraced\" takes"), std::string::npos) << choice.why;
     EXPECT_NE(choice.why.find("(render.transparency)"), std::string::npos) << choice.why;
+    // A transparency method the scene names is one the chosen technique implements: the ray
+    // tracer renders kbuffer and object_order as exact compositing, so auto passes it over for them;
+    // depth_peeling (exact) it renders as asked.
+    s.render.transparency = Transparency::KBuffer;
+    const TechniqueRegistry::AutoChoice kbuffer = registry().resolveAuto(s, DataKind::Lines, llvmpipe);
+    EXPECT_EQ(kbuffer.descriptor->name, "rasterized");
+    EXPECT_NE(kbuffer.why.find("raytraced renders render.transparency \"kbuffer\" as exact compositing"),
+              std::string::npos)
+        << kbuffer.why;
+    s.render.transparency = Transparency::ObjectOrder;
+    EXPECT_EQ(pick(DataKind::Lines, llvmpipe), "rasterized");
+    EXPECT_EQ(pick(DataKind::Particles, llvmpipe), "spheres");
+    s.render.transparency = Transparency::DepthPeeling;
+    EXPECT_EQ(pick(DataKind::Lines, llvmpipe), "raytraced");
     // And ray-traced AO, which only the CPU path has, sends it to the CPU on a GPU.
     s.render.transparency = Transparency::Opaque;
     s.render.ao.enabled = true;
