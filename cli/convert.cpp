@@ -1,5 +1,5 @@
-// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (lines; particles as .vtp point clouds) (a file, or the dataset of a scene file,
-// e.g. a generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
+// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (lines; particles as .vtp point clouds) (a file, or the dataset
+// of a scene file, e.g. a generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
 // scripts/bench/) see exactly the lines tubecast renders, or as .tcb (docs/formats.md) for fast
 // reloads.
 #include <iostream>
@@ -21,15 +21,18 @@ void addConvertCommand(CLI::App& app) {
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("convert", "Write a dataset (or a scene's dataset) as .vtp or .tcb");
     cmd->add_option("input", options->in, "Dataset file, or a scene .json whose dataset to write")->required();
-    cmd->add_option("output", options->out, "Output .vtp (VTK XML polydata) or .tcb (tubecast binary) file")->required();
+    cmd->add_option("output", options->out, "Output .vtp (VTK XML polydata) or .tcb (tubecast binary) file")
+        ->required();
     cmd->add_option("--set", options->overrides, "Override a scene key (scene input only)");
     cmd->callback([options] {
         const bool tcb = options->out.ends_with(".tcb");
         if (!options->out.ends_with(".vtp") && !tcb)
             throw InputError(options->out + ": output must end in .vtp (VTK XML polydata) or .tcb (tubecast binary)");
         DatasetSpec spec;
-        if (options->in.ends_with(".json")) spec = loadScene(options->in, options->overrides).dataset;
-        else spec.path = options->in;
+        if (options->in.ends_with(".json"))
+            spec = loadScene(options->in, options->overrides).dataset;
+        else
+            spec.path = options->in;
         DatasetLoad data = loadDataset(spec);
         if (data.isParticles()) {
             if (tcb) throw InputError(options->out + ": .tcb holds lines; write particles as .vtp");

@@ -2,6 +2,8 @@
 // (through the registry) once, then hands the planned frames to the frame loop. The parts:
 // cli/render_plan.h (which frames and files), cli/run_manifest.h (run.json), cli/frame_loop.h and
 // cli/frame_writer.h (render, compare, write each frame).
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -9,8 +11,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-
-#include <unistd.h>
 
 #include "cli/batch.h"
 #include "cli/commands.h"
@@ -85,7 +85,7 @@ RenderJob planJob(const RenderOptions& o) {
     job.scene = std::move(input.scene);
     job.data = std::move(input.data);
     Scene& scene = job.scene;
-    loadStylePresets(scene.style, scene.file);   // a bad preset file fails before any output,
+    loadStylePresets(scene.style, scene.file);       // a bad preset file fails before any output,
     techniqueRegistry().validateWithoutData(scene);  // and so does a technique that cannot take the settings
     if (!o.outDir.empty()) scene.output.dir = o.outDir;
     // Only an EXR holds the depth / normal / id / AO AOVs: without one they are not computed (for
@@ -161,7 +161,8 @@ gl::Context makeContext(const RenderOptions& o) {
     if (cuda && !o.quiet)
         std::cerr << "tubecast: " << cuda->source << ": "
                   << (context.info().cudaDevice >= 0
-                          ? "CUDA device " + std::to_string(cuda->cudaDevice) + " is EGL device " + context.info().device
+                          ? "CUDA device " + std::to_string(cuda->cudaDevice) + " is EGL device " +
+                                context.info().device
                           : "no EGL device reports a CUDA ordinal (EGL_NV_device_cuda), device chosen as without it")
                   << "\n";
     return context;
@@ -190,8 +191,8 @@ std::string describeData(const DatasetLoad& data) {
     }
     const std::size_t frames = data.particles.frameCount();
     if (frames == 1) return std::to_string(hi) + " particles";
-    return std::to_string(frames) + " frames of " + (lo == hi ? std::to_string(hi) : std::to_string(lo) + "-" + std::to_string(hi)) +
-           " particles";
+    return std::to_string(frames) + " frames of " +
+           (lo == hi ? std::to_string(hi) : std::to_string(lo) + "-" + std::to_string(hi)) + " particles";
 }
 
 // `preloaded`: the dataset given alone, read for its default scene (unless --set changed it).
@@ -204,8 +205,10 @@ LoadedData loadData(const Scene& scene, std::optional<DatasetLoad> preloaded) {
         d.load = loadDataset(scene.dataset);
     if (d.load.cleaned.any()) std::cerr << "warning: " << d.load.source << ": " << d.load.cleaned.summary() << "\n";
     d.kind = d.load.isParticles() ? DataKind::Particles : DataKind::Lines;
-    if (d.kind == DataKind::Lines) d.styled = styleLines(d.load.lines, scene.style, scene.file);
-    else d.styled.bounds = particleSeriesBounds(scene, d.load.particles);
+    if (d.kind == DataKind::Lines)
+        d.styled = styleLines(d.load.lines, scene.style, scene.file);
+    else
+        d.styled.bounds = particleSeriesBounds(scene, d.load.particles);
     d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return d;
 }
@@ -277,8 +280,8 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
         scene.render.technique = RenderTechnique(choice.descriptor->name);
         note(choice.why);
     }
-    const bool translucent = data.kind == DataKind::Lines ? anyTranslucent(data.styled)
-                                                          : anyTranslucent(scene.style, data.load.particles);
+    const bool translucent =
+        data.kind == DataKind::Lines ? anyTranslucent(data.styled) : anyTranslucent(scene.style, data.load.particles);
     if (const TechniqueDescriptor* d = registry.find(scene.render.technique.name());
         d && scene.render.transparency == Transparency::Auto) {
         const TransparencyChoice choice = resolveTransparency(*d, translucent);
@@ -306,9 +309,9 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     const OutputSpec& out = scene.output;
     const KeptAovs kept{out.exr && out.aovDepth, out.exr && out.aovNormal, out.exr && out.aovId};
     const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
-    t.main = wrapInTiles(empty ? std::make_unique<BackgroundOnly>()
-                               : descriptor.create(techniqueScene, input, techniqueHooks(scene)),
-                         t.tiles, scene.image.samples, kept);
+    t.main = wrapInTiles(
+        empty ? std::make_unique<BackgroundOnly>() : descriptor.create(techniqueScene, input, techniqueHooks(scene)),
+        t.tiles, scene.image.samples, kept);
     if (!o.quiet && (t.tiles.tiles.size() > 1 || scene.image.samples > 1))
         std::cerr << "tubecast: " << t.tiles.tiles.size() << " tile(s) (" << t.tiles.nx << "x" << t.tiles.ny
                   << (t.tiles.automatic ? ", for render.memory_budget_mb" : "") << "), largest "
@@ -340,8 +343,8 @@ void runRender(const RenderOptions& o) {
     const gl::ContextInfo& info = context.info();
     if (!o.quiet)
         std::cerr << "tubecast: " << info.backend << (info.device.empty() ? "" : " (" + info.device + ")") << ", "
-                  << info.renderer << ", " << describeData(data.load) << ", " << todo.size()
-                  << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
+                  << info.renderer << ", " << describeData(data.load) << ", " << todo.size() << " frame(s) at "
+                  << scene.image.width << "x" << scene.image.height << "\n";
     const std::vector<std::string> sources =
         styleSources(scene.style, data.kind == DataKind::Particles ? &data.load.particles : nullptr);
     if (!o.quiet) {
@@ -351,7 +354,8 @@ void runRender(const RenderOptions& o) {
     }
     Techniques techniques = makeTechniques(o, scene, data, todo.front().frame, info);
 
-    const Camera base = fitCamera(scene.camera, data.styled.bounds, float(scene.image.width) / float(scene.image.height));
+    const Camera base =
+        fitCamera(scene.camera, data.styled.bounds, float(scene.image.width) / float(scene.image.height));
     RunManifest manifest(scene, job.hash);
     manifest.setDataset(data.load, data.seconds);
     manifest.setGl(info);
@@ -375,8 +379,12 @@ void runRender(const RenderOptions& o) {
     std::unique_ptr<Placeholders> placeholders;
     if (o.placeholders) placeholders = std::make_unique<Placeholders>(o.placeholderTimeout, slurmJobId(processEnv()));
     Progress progress(todo.size(), o.quiet, o.logFormat == "json", std::cerr, std::cout, isatty(2));
-    progress.event({{"event", "start"}, {"frames", todo.size()}, {"skipped_complete", job.plan.skipped},
-                    {"host", hostName()}, {"pid", long(getpid())}, {"shard", job.shard ? o.shard : ""}});
+    progress.event({{"event", "start"},
+                    {"frames", todo.size()},
+                    {"skipped_complete", job.plan.skipped},
+                    {"host", hostName()},
+                    {"pid", long(getpid())},
+                    {"shard", job.shard ? o.shard : ""}});
 
     gl::StageTimer timer, referenceTimer;
     FrameLoopInputs in;
@@ -392,7 +400,8 @@ void runRender(const RenderOptions& o) {
     in.bounds = data.styled.bounds;
     if (in.bounds.empty()) in.bounds.extend(glm::vec3(0.0f), 1.0f);  // an empty dataset: any finite depth range
     in.background = scene.image.background;
-    in.pngText = {{"tubecast:version", TUBECAST_VERSION}, {"tubecast:renderer", info.renderer}, {kSceneHashKey, job.hash}};
+    in.pngText = {
+        {"tubecast:version", TUBECAST_VERSION}, {"tubecast:renderer", info.renderer}, {kSceneHashKey, job.hash}};
     in.exr.depth = out.aovDepth;
     in.exr.normal = out.aovNormal;
     in.exr.id = out.aovId;
@@ -417,7 +426,8 @@ void runRender(const RenderOptions& o) {
                     {"failed", outcome.failed},
                     {"held_elsewhere", outcome.heldElsewhere}});
     if (!outcome.failed.empty())
-        throw Error(ExitCode::FramesFailed, std::to_string(outcome.failed.size()) + " of " + std::to_string(todo.size()) +
+        throw Error(ExitCode::FramesFailed, std::to_string(outcome.failed.size()) + " of " +
+                                                std::to_string(todo.size()) +
                                                 " frame(s) failed: " + formatFrameList(outcome.failed) +
                                                 " (the others were written; re-run with --resume)");
 }
@@ -435,7 +445,10 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--frames", o->frames, "Frames to render: 0..99, 0..99:5, 3,7,12..20 (inclusive; default all)");
     cmd->add_option("--set", o->overrides, "Override a scene key: key.path=value (repeatable, type-checked)");
     cmd->add_option_function<std::string>(
-        "--dump-system", [o](const std::string& dir) { o->overrides.push_back("render.opacity.dump_dir=" + nlohmann::json(dir).dump()); },
+        "--dump-system",
+        [o](const std::string& dir) {
+            o->overrides.push_back("render.opacity.dump_dir=" + nlohmann::json(dir).dump());
+        },
         "Opacity optimization: write each frame's Q, c, g, bounds and solution into DIR (render.opacity.dump_dir)");
     cmd->add_option("--backend", o->backend, "OpenGL backend: auto (EGL device, EGL surfaceless, OSMesa), egl, osmesa")
         ->check(CLI::IsMember({"auto", "egl", "osmesa"}));
@@ -444,8 +457,9 @@ void addRenderCommand(CLI::App& app) {
                     "the index into that list");
     cmd->add_flag("--resume", o->resume,
                   "Skip frames whose outputs exist, decode completely and carry this scene's hash; append to timings");
-    cmd->add_option("--shard", o->shard,
-                    "Render entries I, I+N, I+2N, ... of the frame list: I/N (0-based) or 'slurm' (from the job array)");
+    cmd->add_option(
+        "--shard", o->shard,
+        "Render entries I, I+N, I+2N, ... of the frame list: I/N (0-based) or 'slurm' (from the job array)");
     cmd->add_flag("--keep-going", o->keepGoing, "A failed frame is reported and the others are written; exit code 5");
     cmd->add_flag("--placeholders", o->placeholders,
                   "Claim each frame with a placeholder file so parallel jobs on one directory do not render it twice");

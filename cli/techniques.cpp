@@ -27,7 +27,9 @@ std::string transparencyOf(const TechniqueDescriptor& d, const std::string& sepa
 std::string aoOf(const TechniqueDescriptor& d, const std::string& separator) {
     return d.ao.empty() ? std::string("none") : joined(d.ao, aoMethodName, separator);
 }
-const char* backendOf(const TechniqueDescriptor& d) { return d.backend == TechniqueBackend::Gl ? "GL" : "CPU"; }
+const char* backendOf(const TechniqueDescriptor& d) {
+    return d.backend == TechniqueBackend::Gl ? "GL" : "CPU";
+}
 
 nlohmann::json asJson(const TechniqueRegistry& registry) {
     nlohmann::json list = nlohmann::json::array();
@@ -56,16 +58,19 @@ std::string techniquesMarkdown(const TechniqueRegistry& registry) {
     out << "| technique | data | render.transparency | render.ao.method | runs on | implements |\n"
         << "|---|---|---|---|---|---|\n";
     for (const TechniqueDescriptor& d : registry.all())
-        out << "| `" << d.name << "` | " << dataOf(d, ", ") << " | " << transparencyOf(d, ", ") << " | " << aoOf(d, ", ")
-            << " | " << backendOf(d) << " | " << d.paper << " |\n";
+        out << "| `" << d.name << "` | " << dataOf(d, ", ") << " | " << transparencyOf(d, ", ") << " | "
+            << aoOf(d, ", ") << " | " << backendOf(d) << " | " << d.paper << " |\n";
     return out.str();
 }
 
 void addTechniquesCommand(CLI::App& app) {
     auto format = std::make_shared<std::string>("text");
-    CLI::App* cmd = app.add_subcommand("techniques", "List the render techniques (render.technique) and what each takes");
-    cmd->add_flag_callback("--json", [format] { *format = "json"; }, "As JSON");
-    cmd->add_flag_callback("--markdown", [format] { *format = "markdown"; }, "As a Markdown table (README.md's)");
+    CLI::App* cmd =
+        app.add_subcommand("techniques", "List the render techniques (render.technique) and what each takes");
+    cmd->add_flag_callback(
+        "--json", [format] { *format = "json"; }, "As JSON");
+    cmd->add_flag_callback(
+        "--markdown", [format] { *format = "markdown"; }, "As a Markdown table (README.md's)");
     cmd->callback([format] {
         const TechniqueRegistry& registry = techniqueRegistry();
         if (*format == "json") {
@@ -84,8 +89,9 @@ void addTechniquesCommand(CLI::App& app) {
                       << "  ao:           " << aoOf(d, ", ") << "\n"
                       << "  implements:   " << d.paper << "\n";
         }
-        std::cout << "render.technique \"auto\": on a software GL rasterizer (llvmpipe, softpipe, swrast) the first CPU "
-                     "technique that takes the scene, else the first GL one (voxel_raycast only when named)\n";
+        std::cout
+            << "render.technique \"auto\": on a software GL rasterizer (llvmpipe, softpipe, swrast) the first CPU "
+               "technique that takes the scene, else the first GL one (voxel_raycast only when named)\n";
     });
 }
 

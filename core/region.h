@@ -5,9 +5,8 @@
 // the point where the ray ENTERS it (the visible hit of an opaque frame, each front-facing entry
 // of a transparent one), so every contribution to a pixel belongs to exactly one region and the
 // regions' images composited in view order are the whole frame's.
-#include <limits>
-
 #include <glm/glm.hpp>
+#include <limits>
 
 namespace tc {
 

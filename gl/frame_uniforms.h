@@ -5,7 +5,6 @@
 // what the GL reports). The technique fills it once per frame or tile and uploads it to a buffer
 // bound at binding::kFrameUniforms; passes no longer set camera or light uniforms by name.
 #include <cstdint>
-
 #include <glm/glm.hpp>
 
 #include "core/scene.h"

@@ -14,11 +14,13 @@ namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kGroup = 64;          // local_size_x of the voxelize and resolve shaders
+constexpr GLuint kGroup = 64;  // local_size_x of the voxelize and resolve shaders
 constexpr std::size_t kMaxGroups = 65535;
 constexpr glm::ivec3 kMipGroup(8, 8, 1);  // shaders/density_mip.comp
 
-GLuint divUp(int n, int d) { return GLuint((n + d - 1) / d); }
+GLuint divUp(int n, int d) {
+    return GLuint((n + d - 1) / d);
+}
 
 }  // namespace
 
@@ -40,7 +42,8 @@ void SphereAmbient::voxelize(const StyledParticles& particles, const Bounds& bou
     voxelize(centerRadius, colors, particles.size(), bounds);
 }
 
-void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count, const Bounds& bounds) {
+void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, std::size_t count,
+                             const Bounds& bounds) {
     // The grid: spec.resolution cubic voxels along the longest axis of the spheres' bounds.
     glm::vec3 extent = bounds.empty() ? glm::vec3(1.0f) : glm::max(bounds.extent(), glm::vec3(1e-6f));
     const float longest = std::max({extent.x, extent.y, extent.z});

@@ -35,8 +35,7 @@ void appendField(std::string& out, const std::string& s) {
 
 TimingsCsv::TimingsCsv(std::string path, bool append) : m_path(std::move(path)) {
     std::error_code ec;
-    bool needHeader = !append || !std::filesystem::exists(m_path, ec) ||
-                      std::filesystem::file_size(m_path, ec) == 0;
+    bool needHeader = !append || !std::filesystem::exists(m_path, ec) || std::filesystem::file_size(m_path, ec) == 0;
     m_out.open(m_path, append ? std::ios::app : std::ios::trunc);
     if (!m_out) throw OutputError(m_path + ": cannot write: " + std::strerror(errno));
     if (needHeader) {

@@ -1,13 +1,11 @@
 #include "rt/raytraced_renderer.h"
 
-#include "rt/techniques.h"
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
-
-#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "core/rounded_cone.h"
@@ -16,6 +14,7 @@
 #include "rt/embree_lines.h"
 #include "rt/hit_collector.h"
 #include "rt/primary_rays.h"
+#include "rt/techniques.h"
 
 namespace tc::rt {
 namespace {
@@ -83,34 +82,40 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
-    forEachTile(camera, window, width, height, [&](const Tile& tile) {
-        if (tile.outside) return storeBackground(out, tile, width);
-        std::uint64_t hits = 0;
-        FirstHit firstHits[kTile * kTile];
-        if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
-        for (int row = 0, k = 0; row < tile.h; ++row) {
-            const std::uint32_t rowStart = std::uint32_t(tile.y0 + row) * std::uint32_t(width) + std::uint32_t(tile.x0);
-            for (int col = 0; col < tile.w; ++col, ++k) {
-                PixelContext c;
-                c.pixel = rowStart + std::uint32_t(col);
-                if (!m_transparent && !firstHits[k].hit) {
-                    // Background: PixelContext's defaults are FrameImages::allocate's clear values.
+    forEachTile(
+        camera, window, width, height,
+        [&](const Tile& tile) {
+            if (tile.outside) return storeBackground(out, tile, width);
+            std::uint64_t hits = 0;
+            FirstHit firstHits[kTile * kTile];
+            if (!m_transparent) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
+            for (int row = 0, k = 0; row < tile.h; ++row) {
+                const std::uint32_t rowStart =
+                    std::uint32_t(tile.y0 + row) * std::uint32_t(width) + std::uint32_t(tile.x0);
+                for (int col = 0; col < tile.w; ++col, ++k) {
+                    PixelContext c;
+                    c.pixel = rowStart + std::uint32_t(col);
+                    if (!m_transparent && !firstHits[k].hit) {
+                        // Background: PixelContext's defaults are FrameImages::allocate's clear values.
+                        storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
+                        if (ao) ao[c.pixel] = c.ao;
+                        continue;
+                    }
+                    c.ray = tile.rays[k];
+                    c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
+                    c.lightDir = lightDir;
+                    if (m_transparent)
+                        shadeTransparent(c);
+                    else
+                        shadeOpaque(c, firstHits[k]);
+                    hits += c.hits;
                     storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
                     if (ao) ao[c.pixel] = c.ao;
-                    continue;
                 }
-                c.ray = tile.rays[k];
-                c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
-                c.lightDir = lightDir;
-                if (m_transparent) shadeTransparent(c);
-                else shadeOpaque(c, firstHits[k]);
-                hits += c.hits;
-                storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
-                if (ao) ao[c.pixel] = c.ao;
             }
-        }
-        totalHits += hits;
-    }, &m_bounds);
+            totalHits += hits;
+        },
+        &m_bounds);
     m_lastHits = totalHits.load();
     sink.setItems(m_lastHits);
     sink.end();
@@ -137,9 +142,12 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const 
         if (!iv.hit) return;
         float t;
         glm::vec3 n;
-        if (iv.tIn > 0.0f) t = iv.tIn, n = iv.nIn;
-        else if (iv.tOut > 0.0f) t = iv.tOut, n = iv.nOut;
-        else return;
+        if (iv.tIn > 0.0f)
+            t = iv.tIn, n = iv.nIn;
+        else if (iv.tOut > 0.0f)
+            t = iv.tOut, n = iv.nOut;
+        else
+            return;
         if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;
     };
     consider(hitSeg);
@@ -218,7 +226,8 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
             const std::uint32_t v0 = L.segmentVertices[2 * h.prim], v1 = L.segmentVertices[2 * h.prim + 1];
             // A ray through the rim shared by adjacent segments at a joint is reported by both.
             // (Unjoined segments are separate rounded cones: both count, as without cap clipping.)
-            const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back && h.t - prev.t <= m_jointEpsilon &&
+            const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back &&
+                                   h.t - prev.t <= m_jointEpsilon &&
                                    (h.prim == prev.prim + 1 || prev.prim == h.prim + 1) &&
                                    L.polylineId[v0] == L.polylineId[L.segmentVertices[2 * prev.prim]];
             havePrev = true;
