@@ -1,5 +1,6 @@
 #include "cli/batch.h"
 
+#include <OpenImageIO/hash.h>
 #include <fcntl.h>
 #include <sched.h>
 #include <signal.h>
@@ -14,8 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <OpenImageIO/hash.h>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -245,7 +244,8 @@ std::optional<std::string> Placeholders::claim(const std::string& path) {
             continue;
         }
         if (!placeholderIsStale(other, unixNow(), m_timeout, m_host, processAlive))
-            return other.host + ":" + std::to_string(other.pid) + (other.jobId.empty() ? "" : " (job " + other.jobId + ")");
+            return other.host + ":" + std::to_string(other.pid) +
+                   (other.jobId.empty() ? "" : " (job " + other.jobId + ")");
         // Stale: move it aside first. Of several processes that saw it stale, one rename wins;
         // the others get ENOENT and retry link(), which then finds the winner's placeholder.
         const std::string aside = path + ".stale" + tmp;

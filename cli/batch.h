@@ -7,12 +7,11 @@
 #include <condition_variable>
 #include <functional>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace tc::cli {
 
@@ -79,8 +78,7 @@ std::string placeholderPath(const std::string& frameBase);
 
 // Stale = its process is gone (same host, pid not alive) or its heartbeat is older than
 // `timeoutSeconds` (any host: the only evidence there is). `pidAlive` is injectable for tests.
-bool placeholderIsStale(const PlaceholderInfo& info, double now, double timeoutSeconds,
-                        const std::string& thisHost,
+bool placeholderIsStale(const PlaceholderInfo& info, double now, double timeoutSeconds, const std::string& thisHost,
                         const std::function<bool(long)>& pidAlive);
 bool processAlive(long pid);
 double unixNow();

@@ -25,8 +25,7 @@ void addMergeTimingsCommand(CLI::App& app) {
         if (std::filesystem::exists(o->out, ec) && !o->overwrite)
             throw OutputError(o->out + " exists; use --overwrite to replace it");
         for (const auto& in : o->inputs)
-            if (std::filesystem::equivalent(in, o->out, ec))
-                throw InputError(in + ": is also the output");
+            if (std::filesystem::equivalent(in, o->out, ec)) throw InputError(in + ": is also the output");
         mergeTimings(o->out, o->inputs);
     });
 }

@@ -1,10 +1,9 @@
 #pragma once
 // One function per subcommand (cli/<name>.cpp); main.cpp wires them to CLI11 and maps errors
 // to exit codes.
+#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 namespace tc {
 class TechniqueRegistry;

@@ -19,10 +19,12 @@ void addCompareCommand(CLI::App& app) {
         double failPsnr = 0.0;
     };
     auto options = std::make_shared<Options>();
-    CLI::App* cmd = app.add_subcommand("compare", "Compare two images: RMSE, PSNR, max error, % pixels over a threshold");
+    CLI::App* cmd =
+        app.add_subcommand("compare", "Compare two images: RMSE, PSNR, max error, % pixels over a threshold");
     cmd->add_option("a", options->a, "Image (PNG or EXR)")->required();
     cmd->add_option("b", options->b, "Image (PNG or EXR)")->required();
-    cmd->add_option("--threshold", options->threshold, "Per-channel error counted as a differing pixel (default 1/255)");
+    cmd->add_option("--threshold", options->threshold,
+                    "Per-channel error counted as a differing pixel (default 1/255)");
     cmd->add_option("--fail", options->failPsnr, "Exit 6 if the PSNR (dB) is below this");
     cmd->callback([options] {
         ImageDiff d = compareImages(options->a, options->b, options->threshold);

@@ -1,5 +1,5 @@
-// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (lines; particles as .vtp point clouds) (a file, or the dataset of a scene file,
-// e.g. a generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
+// tubecast convert IN OUT.vtp|OUT.tcb: writes a dataset (lines; particles as .vtp point clouds) (a file, or the dataset
+// of a scene file, e.g. a generated tornado) as VTK XML polydata, so other tools (ParaView, the VTK benchmark in
 // scripts/bench/) see exactly the lines tubecast renders, or as .tcb (docs/formats.md) for fast
 // reloads.
 #include <iostream>

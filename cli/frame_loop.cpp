@@ -27,7 +27,8 @@ ExrOptions frameExrOptions(const FrameLoopInputs& in, const Camera& camera, doub
     const glm::mat4 view = camera.worldToCamera();
     const float far = glm::distance(camera.eye, in.bounds.center()) + in.bounds.radius();
     exr.matrices["worldToCamera"] = matrixValues(view);
-    exr.matrices["worldToNDC"] = matrixValues(projectionMatrix(camera, aspect, std::max(1e-4f * far, 1e-7f), far) * view);
+    exr.matrices["worldToNDC"] =
+        matrixValues(projectionMatrix(camera, aspect, std::max(1e-4f * far, 1e-7f), far) * view);
     exr.floats["tubecast:renderSeconds"] = float(renderSeconds);
     return exr;
 }
@@ -48,8 +49,7 @@ void renderReference(const FrameLoopInputs& in, const FrameSetup& setup, const F
     for (const StageTime& st : in.referenceTimer->collect()) refMs += st.cpuMs;
     rows.push_back({setup.frame, "reference", -1.0, refMs, 0});
     const ImageMetrics m = compareRgba(images.rgba, refImages.rgba);
-    *in.quality << setup.frame << "," << in.referenceName << "," << m.rmse << "," << m.psnr << "," << m.maxError
-                << "\n"
+    *in.quality << setup.frame << "," << in.referenceName << "," << m.rmse << "," << m.psnr << "," << m.maxError << "\n"
                 << std::flush;
 }
 
@@ -96,8 +96,10 @@ FrameLoopOutcome runFrameLoop(const std::vector<FramePlan>& todo, const OutputSp
             job.write = [&images, &in, paths = plan.paths, exr = frameExrOptions(in, setup.camera, renderSeconds)] {
                 compositeUnder(images, in.background);
                 for (const auto& path : paths) {
-                    if (path.ends_with(".png")) writePng(images, path, in.pngText);
-                    else writeExr(images, path, exr);
+                    if (path.ends_with(".png"))
+                        writePng(images, path, in.pngText);
+                    else
+                        writeExr(images, path, exr);
                 }
             };
             writer.submit(std::move(job));

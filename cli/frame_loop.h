@@ -5,12 +5,11 @@
 // (cli/frame_writer.h); --keep-going turns a frame's failure into a report and goes on. Knows no
 // GL: techniques come from the registry and time themselves through the StageRecorder given.
 #include <functional>
+#include <glm/glm.hpp>
 #include <iosfwd>
 #include <map>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "cli/progress.h"
 #include "cli/render_plan.h"
@@ -35,10 +34,10 @@ struct FrameLoopInputs {
 
     std::function<Camera(int frame)> camera;  // the animation's camera of a frame
     int width = 0, height = 0;
-    Bounds bounds;             // of the data: the far plane of the EXR's worldToNDC
+    Bounds bounds;               // of the data: the far plane of the EXR's worldToNDC
     glm::vec4 background{0.0f};  // image.background (sRGB, straight alpha)
     std::map<std::string, std::string> pngText;
-    ExrOptions exr;            // channels and metadata; per-frame camera matrices are added
+    ExrOptions exr;  // channels and metadata; per-frame camera matrices are added
 
     TimingsCsv* csv = nullptr;
     Placeholders* placeholders = nullptr;
@@ -50,7 +49,7 @@ struct FrameLoopInputs {
 
     bool keepGoing = false;
     bool overlapWrites = true;
-    bool resume = false;       // with placeholders: skip frames another process finished meanwhile
+    bool resume = false;  // with placeholders: skip frames another process finished meanwhile
     std::string sceneHash;
 };
 

@@ -3,7 +3,10 @@
 namespace tc::cli {
 
 FrameWriter::FrameWriter(bool overlap, bool keepGoing, std::uint64_t items, Callbacks callbacks)
-    : m_overlap(overlap), m_keepGoing(keepGoing), m_items(items), m_callbacks(std::move(callbacks)),
+    : m_overlap(overlap),
+      m_keepGoing(keepGoing),
+      m_items(items),
+      m_callbacks(std::move(callbacks)),
       m_lastDone(std::chrono::steady_clock::now()) {}
 
 FrameWriter::~FrameWriter() {

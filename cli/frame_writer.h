@@ -21,10 +21,10 @@ namespace tc::cli {
 // One rendered frame, ready to be written.
 struct FrameJob {
     int frame = 0;
-    std::size_t outputs = 0;       // files the write produces (the "write" row's items)
-    std::vector<TimingRow> rows;   // the frame's render stages
+    std::size_t outputs = 0;                      // files the write produces (the "write" row's items)
+    std::vector<TimingRow> rows;                  // the frame's render stages
     std::chrono::steady_clock::time_point start;  // when its render began
-    std::function<void()> write;   // writes every output of the frame; may throw
+    std::function<void()> write;                  // writes every output of the frame; may throw
 };
 
 class FrameWriter {

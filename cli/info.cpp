@@ -5,17 +5,15 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "core/error.h"
-#include "io/line_reader.h"
-#include "io/particle_reader.h"
 #include "cli/particle_info.h"
 #include "core/derived_attributes.h"
+#include "core/error.h"
 #include "core/scene.h"
 #include "io/dataset.h"
+#include "io/line_reader.h"
 #include "io/paraview_preset.h"
 #include "io/partition.h"
 
@@ -58,8 +56,8 @@ void addInfoCommand(CLI::App& app) {
             }
             lines = std::move(data.lines);
             cleaned = data.cleaned;
-            for (const std::string* name : {&scene.style.radius.attribute, &scene.style.color.attribute,
-                                            &scene.style.opacity.attribute})
+            for (const std::string* name :
+                 {&scene.style.radius.attribute, &scene.style.color.attribute, &scene.style.opacity.attribute})
                 if (isDerivedAttribute(*name) && !lines.attribute(*name)) derived.push_back(*name);
             try {
                 addDerivedAttributes(lines, derived);
@@ -101,13 +99,14 @@ void addInfoCommand(CLI::App& app) {
             bool isDerived = std::find(derived.begin(), derived.end(), a.name) != derived.end();
             // JSON has no NaN: an attribute without finite values has null bounds.
             auto number = [](float v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-            j["attributes"].push_back({{"name", a.name}, {"min", number(a.min)}, {"max", number(a.max)}, {"derived", isDerived}});
+            j["attributes"].push_back(
+                {{"name", a.name}, {"min", number(a.min)}, {"max", number(a.max)}, {"derived", isDerived}});
         }
         j["skipped"] = {{"non_finite_vertices", cleaned.nonFiniteVertices},
                         {"duplicate_vertices", cleaned.duplicateVertices},
                         {"dropped_polylines", cleaned.droppedPolylines}};
-        j["gpu_buffers_bytes"] = {{"vertices", vertexBytes}, {"segments", segmentBytes}, {"billboards", billboardBytes},
-                                  {"total", gpuBytes}};
+        j["gpu_buffers_bytes"] = {
+            {"vertices", vertexBytes}, {"segments", segmentBytes}, {"billboards", billboardBytes}, {"total", gpuBytes}};
         j["gpu_memory_mb"] = double(gpuBytes) / (1024.0 * 1024.0);
         j["host_memory_bytes"] = hostBytes;
         if (options->json) {
@@ -121,12 +120,12 @@ void addInfoCommand(CLI::App& app) {
                   << "] .. [" << lines.bounds.hi.x << ", " << lines.bounds.hi.y << ", " << lines.bounds.hi.z << "]\n";
         for (const auto& a : j["attributes"])
             std::cout << "  attribute " << std::left << std::setw(20) << a["name"].get<std::string>() << " ["
-                      << a["min"].dump() << ", " << a["max"].dump() << "]" << (a["derived"].get<bool>() ? " (derived)" : "")
-                      << "\n";
+                      << a["min"].dump() << ", " << a["max"].dump() << "]"
+                      << (a["derived"].get<bool>() ? " (derived)" : "") << "\n";
         if (cleaned.any()) std::cout << "  skipped: " << cleaned.summary() << "\n";
         std::cout << "  GPU buffers " << gpuBytes << " bytes (~" << std::fixed << std::setprecision(1)
-                  << j["gpu_memory_mb"].get<double>() << " MB: vertices " << vertexBytes << ", segments " << segmentBytes
-                  << ", billboards " << billboardBytes << ")\n";
+                  << j["gpu_memory_mb"].get<double>() << " MB: vertices " << vertexBytes << ", segments "
+                  << segmentBytes << ", billboards " << billboardBytes << ")\n";
     });
 }
 

@@ -1,8 +1,7 @@
 // tubecast: headless batch renderer for dense line sets. main() only wires subcommands and turns
 // errors into messages and exit codes (documented in README.md and --help).
-#include <iostream>
-
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "cli/commands.h"
 #include "cli/mpi_session.h"

@@ -4,14 +4,15 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
-
 #include <nlohmann/json.hpp>
 
 #include "io/particle_reader.h"
 
 namespace tc::cli {
 
-void printParticleInfo(const std::string& path, bool json) { printParticleInfo(readParticles(path), path, json); }
+void printParticleInfo(const std::string& path, bool json) {
+    printParticleInfo(readParticles(path), path, json);
+}
 
 void printParticleInfo(const ParticleData& data, const std::string& path, bool json) {
     const Bounds b = data.bounds();
@@ -33,7 +34,8 @@ void printParticleInfo(const ParticleData& data, const std::string& path, bool j
     j["radii"] = first.radii.empty() ? nlohmann::json(nullptr) : nlohmann::json({{"min", rMin}, {"max", rMax}});
     j["colors"] = !first.colors.empty();
     j["attributes"] = nlohmann::json::array();
-    for (const auto& a : first.attributes) j["attributes"].push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}});
+    for (const auto& a : first.attributes)
+        j["attributes"].push_back({{"name", a.name}, {"min", a.min}, {"max", a.max}});
     // Sphere renderer memory per frame: centre+radius and colour (vec4 each), id, sort key and order.
     j["gpu_memory_mb"] = double(data.maxParticles()) * 44.0 / (1024.0 * 1024.0);
     if (json) {
@@ -43,8 +45,8 @@ void printParticleInfo(const ParticleData& data, const std::string& path, bool j
     std::cout << path << "\n"
               << "  particles " << first.size() << " (first frame), frames " << data.frameCount() << ", max "
               << data.maxParticles() << " per frame\n"
-              << "  bounds [" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << "] .. [" << b.hi.x << ", " << b.hi.y << ", "
-              << b.hi.z << "]\n";
+              << "  bounds [" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << "] .. [" << b.hi.x << ", " << b.hi.y
+              << ", " << b.hi.z << "]\n";
     if (!first.radii.empty()) std::cout << "  radii [" << rMin << ", " << rMax << "]\n";
     if (!first.colors.empty()) std::cout << "  per-particle colours\n";
     for (const auto& a : first.attributes)

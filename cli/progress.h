@@ -7,9 +7,8 @@
 #include <chrono>
 #include <cstddef>
 #include <iosfwd>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace tc::cli {
 

@@ -14,8 +14,6 @@
 #include <optional>
 #include <string_view>
 
-#include <unistd.h>
-
 #include "cli/batch.h"
 #include "cli/commands.h"
 #include "cli/frame_loop.h"
@@ -98,7 +96,7 @@ void planScene(const RenderOptions& o, RenderJob& job, SceneInput input, bool wr
     job.scene = std::move(input.scene);
     job.data = std::move(input.data);
     Scene& scene = job.scene;
-    loadStylePresets(scene.style, scene.file);   // a bad preset file fails before any output,
+    loadStylePresets(scene.style, scene.file);       // a bad preset file fails before any output,
     techniqueRegistry().validateWithoutData(scene);  // and so does a technique that cannot take the settings
     if (o.mpi) techniqueRegistry().requireRegions(scene);  // or that cannot render a region (again once resolved)
     if (!o.outDir.empty()) scene.output.dir = o.outDir;
@@ -186,7 +184,8 @@ gl::Context makeContext(const RenderOptions& o) {
     if (cuda && !o.quiet)
         std::cerr << "tubecast: " << cuda->source << ": "
                   << (context.info().cudaDevice >= 0
-                          ? "CUDA device " + std::to_string(cuda->cudaDevice) + " is EGL device " + context.info().device
+                          ? "CUDA device " + std::to_string(cuda->cudaDevice) + " is EGL device " +
+                                context.info().device
                           : "no EGL device reports a CUDA ordinal (EGL_NV_device_cuda), device chosen as without it")
                   << "\n";
     return context;
@@ -216,8 +215,8 @@ std::string describeData(const DatasetLoad& data) {
     }
     const std::size_t frames = data.particles.frameCount();
     if (frames == 1) return std::to_string(hi) + " particles";
-    return std::to_string(frames) + " frames of " + (lo == hi ? std::to_string(hi) : std::to_string(lo) + "-" + std::to_string(hi)) +
-           " particles";
+    return std::to_string(frames) + " frames of " +
+           (lo == hi ? std::to_string(hi) : std::to_string(lo) + "-" + std::to_string(hi)) + " particles";
 }
 
 void styleData(const Scene& scene, LoadedData& d) {
@@ -453,8 +452,12 @@ void runRender(const RenderOptions& options) {
     std::unique_ptr<Placeholders> placeholders;
     if (o.placeholders) placeholders = std::make_unique<Placeholders>(o.placeholderTimeout, slurmJobId(processEnv()));
     Progress progress(todo.size(), o.quiet, o.logFormat == "json", std::cerr, std::cout, isatty(2));
-    progress.event({{"event", "start"}, {"frames", todo.size()}, {"skipped_complete", job.plan.skipped},
-                    {"host", hostName()}, {"pid", long(getpid())}, {"shard", job.shard ? o.shard : ""}});
+    progress.event({{"event", "start"},
+                    {"frames", todo.size()},
+                    {"skipped_complete", job.plan.skipped},
+                    {"host", hostName()},
+                    {"pid", long(getpid())},
+                    {"shard", job.shard ? o.shard : ""}});
 
     gl::StageTimer timer, referenceTimer;
     FrameLoopInputs in;
@@ -470,7 +473,8 @@ void runRender(const RenderOptions& options) {
     in.bounds = data.bounds;
     if (in.bounds.empty()) in.bounds.extend(glm::vec3(0.0f), 1.0f);  // an empty dataset: any finite depth range
     in.background = scene.image.background;
-    in.pngText = {{"tubecast:version", TUBECAST_VERSION}, {"tubecast:renderer", info.renderer}, {kSceneHashKey, job.hash}};
+    in.pngText = {
+        {"tubecast:version", TUBECAST_VERSION}, {"tubecast:renderer", info.renderer}, {kSceneHashKey, job.hash}};
     in.exr.depth = out.aovDepth;
     in.exr.normal = out.aovNormal;
     in.exr.id = out.aovId;
@@ -521,7 +525,10 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--frames", o->frames, "Frames to render: 0..99, 0..99:5, 3,7,12..20 (inclusive; default all)");
     cmd->add_option("--set", o->overrides, "Override a scene key: key.path=value (repeatable, type-checked)");
     cmd->add_option_function<std::string>(
-        "--dump-system", [o](const std::string& dir) { o->overrides.push_back("render.opacity.dump_dir=" + nlohmann::json(dir).dump()); },
+        "--dump-system",
+        [o](const std::string& dir) {
+            o->overrides.push_back("render.opacity.dump_dir=" + nlohmann::json(dir).dump());
+        },
         "Opacity optimization: write each frame's Q, c, g, bounds and solution into DIR (render.opacity.dump_dir)");
     cmd->add_option("--backend", o->backend, "OpenGL backend: auto (EGL device, EGL surfaceless, OSMesa), egl, osmesa")
         ->check(CLI::IsMember({"auto", "egl", "osmesa"}));
@@ -530,8 +537,9 @@ void addRenderCommand(CLI::App& app) {
                     "the index into that list");
     cmd->add_flag("--resume", o->resume,
                   "Skip frames whose outputs exist, decode completely and carry this scene's hash; append to timings");
-    cmd->add_option("--shard", o->shard,
-                    "Render entries I, I+N, I+2N, ... of the frame list: I/N (0-based) or 'slurm' (from the job array)");
+    cmd->add_option(
+        "--shard", o->shard,
+        "Render entries I, I+N, I+2N, ... of the frame list: I/N (0-based) or 'slurm' (from the job array)");
     cmd->add_flag("--keep-going", o->keepGoing, "A failed frame is reported and the others are written; exit code 5");
     cmd->add_flag("--placeholders", o->placeholders,
                   "Claim each frame with a placeholder file so parallel jobs on one directory do not render it twice");

@@ -46,7 +46,8 @@ OutputPlan planOutputs(const OutputSpec& out, const PlanRequest& request,
             if (note && why != "missing") note("--resume: frame " + std::to_string(f) + " re-rendered: " + why);
         }
         if (!firstExisting.empty() && !request.overwrite && !request.resume)
-            throw OutputError(firstExisting + " exists; use --resume to skip finished frames or --overwrite to replace them");
+            throw OutputError(firstExisting +
+                              " exists; use --resume to skip finished frames or --overwrite to replace them");
         plan.todo.push_back(frame);
     }
     plan.timingsPath = (fs::path(out.dir) / sideFileName("timings.csv", request.shard)).string();

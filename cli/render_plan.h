@@ -26,12 +26,12 @@ struct OutputPlan {
 };
 
 struct PlanRequest {
-    std::vector<int> frames;      // the frames of this process (after --shard)
+    std::vector<int> frames;  // the frames of this process (after --shard)
     std::optional<Shard> shard;
-    std::string sceneHash;        // cli/batch.h sceneHash
+    std::string sceneHash;  // cli/batch.h sceneHash
     bool resume = false;
     bool overwrite = false;
-    bool checkSideFiles = true;   // refuse existing side files without --resume/--overwrite
+    bool checkSideFiles = true;  // refuse existing side files without --resume/--overwrite
 };
 
 // "out/frame.0007" for output.dir "out", name "frame.####", frame 7.

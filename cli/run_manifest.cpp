@@ -38,8 +38,8 @@ void RunManifest::setDataset(const DatasetLoad& data, double loadAndStyleSeconds
 }
 
 void RunManifest::setGl(const gl::ContextInfo& info) {
-    m_json["gl"] = {{"backend", info.backend},   {"device", info.device},   {"cuda_device", info.cudaDevice},
-                    {"vendor", info.vendor},     {"renderer", info.renderer}, {"version", info.version},
+    m_json["gl"] = {{"backend", info.backend},      {"device", info.device},     {"cuda_device", info.cudaDevice},
+                    {"vendor", info.vendor},        {"renderer", info.renderer}, {"version", info.version},
                     {"extensions", info.extensions}};
 }
 
@@ -71,6 +71,8 @@ void RunManifest::setOutcome(const std::vector<int>& rendered, const std::vector
     m_json["frames_held_elsewhere"] = heldElsewhere;
 }
 
-void RunManifest::write(const std::string& path) const { writeJsonFile(path, m_json); }
+void RunManifest::write(const std::string& path) const {
+    writeJsonFile(path, m_json);
+}
 
 }  // namespace tc::cli

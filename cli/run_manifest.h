@@ -3,11 +3,10 @@
 // the GL context, the technique and why it was chosen, the frames planned and their outcome,
 // where and as what it ran. Written once before the first frame (so a killed run still says what
 // it was) and again at the end with the outcome.
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "cli/batch.h"
 #include "core/camera.h"

@@ -2,11 +2,10 @@
 // What `render`, `validate` and `scene` take where a scene is expected: a scene file (.json), or a
 // dataset file alone, which means its default scene (core/default_scene.h). The dataset is read
 // once: the default scene depends on it, and the render reuses it.
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/scene.h"
 #include "io/dataset.h"

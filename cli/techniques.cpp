@@ -61,16 +61,19 @@ std::string techniquesMarkdown(const TechniqueRegistry& registry) {
     out << "| technique | data | render.transparency | render.ao.method | runs on | implements |\n"
         << "|---|---|---|---|---|---|\n";
     for (const TechniqueDescriptor& d : registry.all())
-        out << "| `" << d.name << "` | " << dataOf(d, ", ") << " | " << transparencyOf(d, ", ") << " | " << aoOf(d, ", ")
-            << " | " << backendOf(d) << " | " << d.paper << " |\n";
+        out << "| `" << d.name << "` | " << dataOf(d, ", ") << " | " << transparencyOf(d, ", ") << " | "
+            << aoOf(d, ", ") << " | " << backendOf(d) << " | " << d.paper << " |\n";
     return out.str();
 }
 
 void addTechniquesCommand(CLI::App& app) {
     auto format = std::make_shared<std::string>("text");
-    CLI::App* cmd = app.add_subcommand("techniques", "List the render techniques (render.technique) and what each takes");
-    cmd->add_flag_callback("--json", [format] { *format = "json"; }, "As JSON");
-    cmd->add_flag_callback("--markdown", [format] { *format = "markdown"; }, "As a Markdown table (README.md's)");
+    CLI::App* cmd =
+        app.add_subcommand("techniques", "List the render techniques (render.technique) and what each takes");
+    cmd->add_flag_callback(
+        "--json", [format] { *format = "json"; }, "As JSON");
+    cmd->add_flag_callback(
+        "--markdown", [format] { *format = "markdown"; }, "As a Markdown table (README.md's)");
     cmd->callback([format] {
         const TechniqueRegistry& registry = techniqueRegistry();
         if (*format == "json") {
@@ -90,8 +93,9 @@ void addTechniquesCommand(CLI::App& app) {
                       << "  --mpi:        " << regionsOf(d, ", ") << "\n"
                       << "  implements:   " << d.paper << "\n";
         }
-        std::cout << "render.technique \"auto\": on a software GL rasterizer (llvmpipe, softpipe, swrast) the first CPU "
-                     "technique that takes the scene, else the first GL one (voxel_raycast only when named)\n";
+        std::cout
+            << "render.technique \"auto\": on a software GL rasterizer (llvmpipe, softpipe, swrast) the first CPU "
+               "technique that takes the scene, else the first GL one (voxel_raycast only when named)\n";
     });
 }
 

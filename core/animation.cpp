@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
-
 #include <glm/gtc/quaternion.hpp>
+#include <set>
 
 #include "core/error.h"
 
@@ -57,40 +56,40 @@ glm::vec3 catmullRom(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& 
 Camera cameraAtFrame(const AnimationSpec& animation, const Camera& base, int frame) {
     Camera camera = base;
     switch (animation.type) {
-    case AnimationSpec::Type::None:
-        return camera;
-    case AnimationSpec::Type::Orbit: {
-        float angle = glm::radians(animation.degrees) * float(frame) / float(animation.frames);
-        glm::vec3 axis = glm::normalize(animation.axis);
-        glm::quat rotation = glm::angleAxis(angle, axis);
-        camera.eye = base.target + rotation * (base.eye - base.target);
-        camera.up = rotation * base.up;
-        return camera;
-    }
-    case AnimationSpec::Type::Keyframes: {
-        const auto& keys = animation.keys;
-        auto apply = [&](const Keyframe& k) {
-            camera.eye = k.eye;
-            camera.target = k.target;
-            camera.up = k.up;
+        case AnimationSpec::Type::None:
             return camera;
-        };
-        if (frame <= keys.front().frame) return apply(keys.front());
-        if (frame >= keys.back().frame) return apply(keys.back());
-        std::size_t i = 0;
-        while (keys[i + 1].frame <= frame) ++i;
-        const Keyframe& k1 = keys[i];
-        const Keyframe& k2 = keys[i + 1];
-        const Keyframe& k0 = keys[i == 0 ? 0 : i - 1];
-        const Keyframe& k3 = keys[std::min(i + 2, keys.size() - 1)];
-        const float f0 = float(k0.frame), f1 = float(k1.frame), f2 = float(k2.frame), f3 = float(k3.frame);
-        const float f = float(frame);
-        camera.eye = catmullRom(k0.eye, k1.eye, k2.eye, k3.eye, f0, f1, f2, f3, f);
-        camera.target = catmullRom(k0.target, k1.target, k2.target, k3.target, f0, f1, f2, f3, f);
-        glm::vec3 up = catmullRom(k0.up, k1.up, k2.up, k3.up, f0, f1, f2, f3, f);
-        camera.up = glm::length(up) > 1e-6f ? glm::normalize(up) : k1.up;
-        return camera;
-    }
+        case AnimationSpec::Type::Orbit: {
+            float angle = glm::radians(animation.degrees) * float(frame) / float(animation.frames);
+            glm::vec3 axis = glm::normalize(animation.axis);
+            glm::quat rotation = glm::angleAxis(angle, axis);
+            camera.eye = base.target + rotation * (base.eye - base.target);
+            camera.up = rotation * base.up;
+            return camera;
+        }
+        case AnimationSpec::Type::Keyframes: {
+            const auto& keys = animation.keys;
+            auto apply = [&](const Keyframe& k) {
+                camera.eye = k.eye;
+                camera.target = k.target;
+                camera.up = k.up;
+                return camera;
+            };
+            if (frame <= keys.front().frame) return apply(keys.front());
+            if (frame >= keys.back().frame) return apply(keys.back());
+            std::size_t i = 0;
+            while (keys[i + 1].frame <= frame) ++i;
+            const Keyframe& k1 = keys[i];
+            const Keyframe& k2 = keys[i + 1];
+            const Keyframe& k0 = keys[i == 0 ? 0 : i - 1];
+            const Keyframe& k3 = keys[std::min(i + 2, keys.size() - 1)];
+            const float f0 = float(k0.frame), f1 = float(k1.frame), f2 = float(k2.frame), f3 = float(k3.frame);
+            const float f = float(frame);
+            camera.eye = catmullRom(k0.eye, k1.eye, k2.eye, k3.eye, f0, f1, f2, f3, f);
+            camera.target = catmullRom(k0.target, k1.target, k2.target, k3.target, f0, f1, f2, f3, f);
+            glm::vec3 up = catmullRom(k0.up, k1.up, k2.up, k3.up, f0, f1, f2, f3, f);
+            camera.up = glm::length(up) > 1e-6f ? glm::normalize(up) : k1.up;
+            return camera;
+        }
     }
     return camera;
 }
@@ -101,9 +100,7 @@ std::vector<int> parseFrameList(const std::string& spec, int frameCount) {
         for (int i = 0; i < frameCount; ++i) all.push_back(i);
         return all;
     }
-    auto fail = [&](const std::string& why) -> void {
-        throw InputError("--frames " + spec + ": " + why);
-    };
+    auto fail = [&](const std::string& why) -> void { throw InputError("--frames " + spec + ": " + why); };
     auto number = [&](const std::string& text) {
         if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
             fail("expected a frame number, got \"" + text + "\" (syntax: 0..99, 0..99:5, 3,7,12..20)");
@@ -130,7 +127,8 @@ std::vector<int> parseFrameList(const std::string& spec, int frameCount) {
             first = last = number(item);
         }
         if (last >= frameCount)
-            fail("frame " + std::to_string(last) + " is outside the animation's frames 0.." + std::to_string(frameCount - 1));
+            fail("frame " + std::to_string(last) + " is outside the animation's frames 0.." +
+                 std::to_string(frameCount - 1));
         for (int f = first; f <= last; f += step) frames.insert(f);
         if (comma == std::string::npos) break;
         start = comma + 1;

@@ -19,8 +19,8 @@ glm::vec3 anyPerpendicular(glm::vec3 v) {
 
 }  // namespace
 
-Billboard computeBillboard(const RoundedCone& c, const glm::mat4& viewProj, const glm::vec3& eye,
-                           bool orthographic, const glm::vec3& forward) {
+Billboard computeBillboard(const RoundedCone& c, const glm::mat4& viewProj, const glm::vec3& eye, bool orthographic,
+                           const glm::vec3& forward) {
     Billboard bb{kFullscreen, true, false};
     float d0 = glm::dot(c.x0 - eye, forward), d1 = glm::dot(c.x1 - eye, forward);
     // Rays start on the eye plane and go forward: nothing at view depth <= 0 is visible.
@@ -82,7 +82,10 @@ Billboard computeBillboard(const RoundedCone& c, const glm::mat4& viewProj, cons
     if (!(hiE - loE < 1e30f && hiF - loF < 1e30f)) return bb;  // overflow or NaN: stay conservative
     // Pad for rounding in the projection (relative) and in the rasteriser's edge tests.
     float padE = 1e-5f * (hiE - loE) + 1e-6f, padF = 1e-5f * (hiF - loF) + 1e-6f;
-    loE -= padE; hiE += padE; loF -= padF; hiF += padF;
+    loE -= padE;
+    hiE += padE;
+    loF -= padF;
+    hiF += padF;
     bb.ndc = {loE * e + loF * f, hiE * e + loF * f, loE * e + hiF * f, hiE * e + hiF * f};
     bb.fullscreen = false;
     return bb;

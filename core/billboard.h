@@ -4,7 +4,6 @@
 // ray casts the cone inside it; shaders/billboard.glsl is the GPU twin of this file (same math,
 // same names, same edge cases; keep them in lock-step).
 #include <array>
-
 #include <glm/glm.hpp>
 
 #include "core/camera.h"
@@ -27,8 +26,8 @@ struct Billboard {
 // -forward and r'_i = r_i. View along the axis: the rectangle is screen-axis aligned.
 // viewProj maps world to OpenGL clip space (projectionMatrix * worldToCamera); eye and forward as
 // Camera::eye / Camera::forward().
-Billboard computeBillboard(const RoundedCone& cone, const glm::mat4& viewProj, const glm::vec3& eye,
-                           bool orthographic, const glm::vec3& forward);
+Billboard computeBillboard(const RoundedCone& cone, const glm::mat4& viewProj, const glm::vec3& eye, bool orthographic,
+                           const glm::vec3& forward);
 Billboard computeBillboard(const RoundedCone& cone, const glm::mat4& viewProj, const Camera& camera);
 
 }  // namespace tc

@@ -11,7 +11,7 @@ struct Camera {
     glm::vec3 eye{0.0f, 0.0f, 3.0f};
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
-    float fovYDeg = 35.0f;     // vertical field of view (perspective)
+    float fovYDeg = 35.0f;  // vertical field of view (perspective)
     Projection projection = Projection::Perspective;
     float orthoHeight = 2.0f;  // world units covered vertically (orthographic)
 

@@ -57,7 +57,6 @@
 // - Rays through the rim of a joint section (a measure-zero set: the plane meets the surface) can
 //   count 0 or 2 entries from rounding, since the two neighbours' tIn come from different cones.
 #include <cstddef>
-
 #include <glm/glm.hpp>
 
 #include "core/camera.h"

@@ -2,7 +2,6 @@
 // sRGB transfer functions (IEC 61966-2-1). Colours in scene files and colormaps are sRGB;
 // rendering and blending happen in linear space.
 #include <cmath>
-
 #include <glm/glm.hpp>
 
 namespace tc {

@@ -12,11 +12,16 @@ namespace tc {
 
 const char* colorSpaceName(ColorSpace space) {
     switch (space) {
-        case ColorSpace::Rgb: return "RGB";
-        case ColorSpace::Lab: return "Lab";
-        case ColorSpace::Diverging: return "Diverging";
-        case ColorSpace::Hsv: return "HSV";
-        case ColorSpace::Step: return "Step";
+        case ColorSpace::Rgb:
+            return "RGB";
+        case ColorSpace::Lab:
+            return "Lab";
+        case ColorSpace::Diverging:
+            return "Diverging";
+        case ColorSpace::Hsv:
+            return "HSV";
+        case ColorSpace::Step:
+            return "Step";
     }
     return "RGB";
 }
@@ -29,10 +34,18 @@ namespace {
 
 constexpr double kRefX = 0.9505, kRefY = 1.000, kRefZ = 1.089;  // D65, as vtkMath
 
-double decodeSrgb(double c) { return c > 0.04045 ? std::pow((c + 0.055) / 1.055, 2.4) : c / 12.92; }
-double encodeSrgb(double c) { return c > 0.0031308 ? 1.055 * std::pow(c, 1 / 2.4) - 0.055 : 12.92 * c; }
-double labF(double v) { return v > 0.008856 ? std::cbrt(v) : 7.787 * v + 16.0 / 116.0; }
-double labFInverse(double v) { return v * v * v > 0.008856 ? v * v * v : (v - 16.0 / 116.0) / 7.787; }
+double decodeSrgb(double c) {
+    return c > 0.04045 ? std::pow((c + 0.055) / 1.055, 2.4) : c / 12.92;
+}
+double encodeSrgb(double c) {
+    return c > 0.0031308 ? 1.055 * std::pow(c, 1 / 2.4) - 0.055 : 12.92 * c;
+}
+double labF(double v) {
+    return v > 0.008856 ? std::cbrt(v) : 7.787 * v + 16.0 / 116.0;
+}
+double labFInverse(double v) {
+    return v * v * v > 0.008856 ? v * v * v : (v - 16.0 / 116.0) / 7.787;
+}
 
 }  // namespace
 
@@ -62,9 +75,12 @@ glm::vec3 srgbToHsv(const glm::vec3& c) {
     float s = hi > 0 ? (hi - lo) / hi : 0.0f, h = 0;
     if (s > 0) {
         float d = hi - lo;
-        if (c.x == hi) h = (c.y - c.z) / d / 6;
-        else if (c.y == hi) h = 1.0f / 3 + (c.z - c.x) / d / 6;
-        else h = 2.0f / 3 + (c.x - c.y) / d / 6;
+        if (c.x == hi)
+            h = (c.y - c.z) / d / 6;
+        else if (c.y == hi)
+            h = 1.0f / 3 + (c.z - c.x) / d / 6;
+        else
+            h = 2.0f / 3 + (c.x - c.y) / d / 6;
         if (h < 0) h += 1;
     }
     return {h, s, hi};
@@ -73,8 +89,8 @@ glm::vec3 srgbToHsv(const glm::vec3& c) {
 glm::vec3 hsvToSrgb(const glm::vec3& hsv) {
     float h = hsv.x - std::floor(hsv.x);
     // Fully saturated hue, then desaturated and scaled by the value.
-    glm::vec3 hue = glm::clamp(glm::vec3(std::abs(h * 6 - 3) - 1, 2 - std::abs(h * 6 - 2), 2 - std::abs(h * 6 - 4)),
-                               0.0f, 1.0f);
+    glm::vec3 hue =
+        glm::clamp(glm::vec3(std::abs(h * 6 - 3) - 1, 2 - std::abs(h * 6 - 2), 2 - std::abs(h * 6 - 4)), 0.0f, 1.0f);
     return hsv.z * glm::mix(glm::vec3(1.0f), hue, hsv.y);
 }
 
@@ -123,8 +139,10 @@ glm::vec3 interpolateDiverging(const glm::vec3& a, const glm::vec3& b, double s)
             s = 2 * s - 1;
         }
     }
-    if (m1.y < 0.05 && m2.y > 0.05) m1.z = adjustHue(m2, m1.x);
-    else if (m2.y < 0.05 && m1.y > 0.05) m2.z = adjustHue(m1, m2.x);
+    if (m1.y < 0.05 && m2.y > 0.05)
+        m1.z = adjustHue(m2, m1.x);
+    else if (m2.y < 0.05 && m1.y > 0.05)
+        m2.z = adjustHue(m1, m2.x);
     return labToSrgb(glm::vec3(mshToLab(glm::mix(m1, m2, s))));
 }
 
@@ -132,9 +150,12 @@ glm::vec3 interpolateDiverging(const glm::vec3& a, const glm::vec3& b, double s)
 
 glm::vec3 interpolateSrgb(ColorSpace space, const glm::vec3& a, const glm::vec3& b, float s) {
     switch (space) {
-        case ColorSpace::Rgb: return glm::mix(a, b, s);
-        case ColorSpace::Lab: return labToSrgb(glm::mix(srgbToLab(a), srgbToLab(b), s));
-        case ColorSpace::Diverging: return interpolateDiverging(a, b, s);
+        case ColorSpace::Rgb:
+            return glm::mix(a, b, s);
+        case ColorSpace::Lab:
+            return labToSrgb(glm::mix(srgbToLab(a), srgbToLab(b), s));
+        case ColorSpace::Diverging:
+            return interpolateDiverging(a, b, s);
         case ColorSpace::Hsv: {
             glm::vec3 h1 = srgbToHsv(a), h2 = srgbToHsv(b);
             if (std::abs(h1.x - h2.x) > 0.5f) (h1.x > h2.x ? h1.x : h2.x) -= 1.0f;
@@ -142,7 +163,8 @@ glm::vec3 interpolateSrgb(ColorSpace space, const glm::vec3& a, const glm::vec3&
             if (h.x < 0) h.x += 1;
             return hsvToSrgb(h);
         }
-        case ColorSpace::Step: return s > 0 ? b : a;
+        case ColorSpace::Step:
+            return s > 0 ? b : a;
     }
     return glm::mix(a, b, s);
 }
@@ -225,7 +247,9 @@ std::vector<std::string> builtinColormapNames() {
     return names;
 }
 
-bool isBuiltinColormap(const std::string& name) { return table().count(name) > 0; }
+bool isBuiltinColormap(const std::string& name) {
+    return table().count(name) > 0;
+}
 
 const Colormap& builtinColormap(const std::string& name) {
     auto it = table().find(name);

@@ -3,11 +3,10 @@
 // vtkColorTransferFunction does (RGB, Lab, Diverging, HSV, Step), so that a ParaView preset
 // (io/paraview_preset.h) looks the same here as there. Built-ins are generated from their
 // published tables / endpoints (builtinColormap()).
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 namespace tc {
 
@@ -26,10 +25,10 @@ const char* colorSpaceName(ColorSpace space);
 struct Colormap {
     std::string name;
     ColorSpace space = ColorSpace::Rgb;
-    std::vector<float> t;           // ascending (equal neighbours make a jump), front 0, back 1
-    std::vector<glm::vec3> srgb;    // one per t, components in [0,1]
-    std::optional<glm::vec3> nanColor;   // sRGB colour for NaN values; unset: the style's default
-    std::vector<glm::vec2> opacity;      // optional (t, alpha) transfer function (preset "Points")
+    std::vector<float> t;               // ascending (equal neighbours make a jump), front 0, back 1
+    std::vector<glm::vec3> srgb;        // one per t, components in [0,1]
+    std::optional<glm::vec3> nanColor;  // sRGB colour for NaN values; unset: the style's default
+    std::vector<glm::vec2> opacity;     // optional (t, alpha) transfer function (preset "Points")
 
     // sRGB colour at x, clamped to [0,1]; NaN gives nanColor (or mid grey).
     glm::vec3 sampleSrgb(float x) const;

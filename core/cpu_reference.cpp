@@ -1,17 +1,17 @@
 #include "core/cpu_reference.h"
 
-#include <limits>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <limits>
 
 #include "core/rounded_cone.h"
 #include "core/shading.h"
 
 namespace tc {
 
-FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera, const LightingSpec& light,
-                                  int width, int height) {
+FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera, const LightingSpec& light, int width,
+                                  int height) {
     FrameImages img;
     img.allocate(width, height);
     const glm::vec3 forward = camera.forward();
@@ -33,9 +33,12 @@ FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera
                     if (!iv.hit) continue;
                     float t;
                     glm::vec3 n;
-                    if (iv.tIn > 0.0f) t = iv.tIn, n = iv.nIn;
-                    else if (iv.tOut > 0.0f) t = iv.tOut, n = iv.nOut;
-                    else continue;
+                    if (iv.tIn > 0.0f)
+                        t = iv.tIn, n = iv.nIn;
+                    else if (iv.tOut > 0.0f)
+                        t = iv.tOut, n = iv.nOut;
+                    else
+                        continue;
                     if (t < best) {
                         best = t;
                         bestSeg = s;

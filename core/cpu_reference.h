@@ -17,7 +17,7 @@ namespace tc {
 // premultiplied rgba with alpha 1: the per-vertex colour, linear along the segment by the hit's
 // clamped projection parameter, shaded two-sided Blinn-Phong. Background: +inf depth, normal 0,
 // kBackgroundId, rgba 0. Parallel over rows (oneTBB). O(pixels x segments): small scenes only.
-FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera, const LightingSpec& light,
-                                  int width, int height);
+FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera, const LightingSpec& light, int width,
+                                  int height);
 
 }  // namespace tc

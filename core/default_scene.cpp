@@ -12,7 +12,8 @@ namespace {
 const Attribute* firstScalar(const std::vector<Attribute>& attributes) {
     for (const Attribute& a : attributes) {
         const std::string& n = a.name;
-        const bool component = n.size() > 2 && n[n.size() - 2] == '_' && (n.back() == 'x' || n.back() == 'y' || n.back() == 'z');
+        const bool component =
+            n.size() > 2 && n[n.size() - 2] == '_' && (n.back() == 'x' || n.back() == 'y' || n.back() == 'z');
         if (!component && !std::isnan(a.min)) return &a;
     }
     return nullptr;
@@ -54,8 +55,10 @@ nlohmann::json defaultSceneFor(const std::string& path, const LineSet* lines, co
         const float diagonal = lines->bounds.empty() ? 0.0f : glm::length(lines->bounds.extent());
         if (diagonal > 0.0f) style["radius"] = kDefaultLineRadiusFraction * diagonal;
         const std::string ext = lowerExtension(path);
-        if (ext == ".trk" || ext == ".tck") style["color"] = "direction";
-        else if (const Attribute* a = firstScalar(lines->attributes)) style["color"] = colorBy(*a);
+        if (ext == ".trk" || ext == ".tck")
+            style["color"] = "direction";
+        else if (const Attribute* a = firstScalar(lines->attributes))
+            style["color"] = colorBy(*a);
     } else if (particles && !particles->frames.empty()) {
         const ParticleSet& first = particles->frames.front();
         if (first.radii.empty()) style["radius"] = halfSpacing(particles->bounds(), particles->maxParticles());

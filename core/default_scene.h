@@ -12,9 +12,8 @@
 //   through viridis; a time series animates its data frames with a still camera;
 // - opaque (the opacity default 1: `--set style.opacity=0.3` makes it transparent);
 // - technique and transparency "auto".
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/line_set.h"
 #include "core/particle_set.h"

@@ -1,16 +1,16 @@
 #include "core/derived_attributes.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 
 namespace tc {
 
 const std::vector<std::string>& derivedAttributeNames() {
-    static const std::vector<std::string> names = {"arc_length", "line_length", "curvature",
+    static const std::vector<std::string> names = {"arc_length", "line_length",   "curvature",
                                                    "torsion",    "local_density", "speed"};
     return names;
 }
@@ -30,7 +30,9 @@ void forEachPolyline(const LineSet& lines, F f) {
 }
 
 // Double precision: arc lengths of long polylines accumulate many small segments.
-glm::dvec3 at(const LineSet& lines, std::size_t i) { return glm::dvec3(lines.positions[i]); }
+glm::dvec3 at(const LineSet& lines, std::size_t i) {
+    return glm::dvec3(lines.positions[i]);
+}
 
 void arcLength(const LineSet& lines, std::vector<float>& out, bool total) {
     forEachPolyline(lines, [&](std::size_t begin, std::size_t end) {
@@ -148,8 +150,9 @@ void speed(const LineSet& lines, std::vector<float>& out) {
             out[i] = glm::length(glm::vec3(x->values[i], y->values[i], z->values[i]));
         return;
     }
-    throw InputError("\"speed\" needs a velocity: an attribute \"velocity_magnitude\" or components "
-                     "velocity_x/_y/_z (or vel_*, v_*)");
+    throw InputError(
+        "\"speed\" needs a velocity: an attribute \"velocity_magnitude\" or components "
+        "velocity_x/_y/_z (or vel_*, v_*)");
 }
 
 }  // namespace
@@ -158,13 +161,20 @@ Attribute computeDerivedAttribute(const LineSet& lines, const std::string& name)
     Attribute a;
     a.name = name;
     a.values.assign(lines.vertexCount(), 0.0f);
-    if (name == "arc_length") arcLength(lines, a.values, false);
-    else if (name == "line_length") arcLength(lines, a.values, true);
-    else if (name == "curvature") curvature(lines, a.values);
-    else if (name == "torsion") torsion(lines, a.values);
-    else if (name == "local_density") localDensity(lines, a.values);
-    else if (name == "speed") speed(lines, a.values);
-    else TC_CHECK(isDerivedAttribute(name));
+    if (name == "arc_length")
+        arcLength(lines, a.values, false);
+    else if (name == "line_length")
+        arcLength(lines, a.values, true);
+    else if (name == "curvature")
+        curvature(lines, a.values);
+    else if (name == "torsion")
+        torsion(lines, a.values);
+    else if (name == "local_density")
+        localDensity(lines, a.values);
+    else if (name == "speed")
+        speed(lines, a.values);
+    else
+        TC_CHECK(isDerivedAttribute(name));
     a.updateRange();
     return a;
 }

@@ -47,21 +47,20 @@ public:
 }  // namespace tc
 
 // Programmer-error checks that print both values (pbrt util/check.h style).
-#define TC_CHECK(cond)                                                                           \
-    do {                                                                                         \
-        if (!(cond))                                                                             \
-            throw ::tc::Error(::tc::ExitCode::Internal,                                         \
-                              std::string(__FILE__) + ":" + std::to_string(__LINE__) +          \
-                                  ": check failed: " #cond);                                     \
+#define TC_CHECK(cond)                                                                                            \
+    do {                                                                                                          \
+        if (!(cond))                                                                                              \
+            throw ::tc::Error(::tc::ExitCode::Internal,                                                           \
+                              std::string(__FILE__) + ":" + std::to_string(__LINE__) + ": check failed: " #cond); \
     } while (false)
 
-#define TC_CHECK_OP(a, op, b)                                                                    \
-    do {                                                                                         \
-        auto tc_va = (a);                                                                        \
-        auto tc_vb = (b);                                                                        \
-        if (!(tc_va op tc_vb))                                                                   \
-            throw ::tc::Error(::tc::ExitCode::Internal,                                         \
-                              std::string(__FILE__) + ":" + std::to_string(__LINE__) +          \
-                                  ": check failed: " #a " " #op " " #b " (" +                    \
-                                  std::to_string(tc_va) + " vs " + std::to_string(tc_vb) + ")"); \
+#define TC_CHECK_OP(a, op, b)                                                                                        \
+    do {                                                                                                             \
+        auto tc_va = (a);                                                                                            \
+        auto tc_vb = (b);                                                                                            \
+        if (!(tc_va op tc_vb))                                                                                       \
+            throw ::tc::Error(::tc::ExitCode::Internal, std::string(__FILE__) + ":" + std::to_string(__LINE__) +     \
+                                                            ": check failed: " #a " " #op " " #b " (" +              \
+                                                            std::to_string(tc_va) + " vs " + std::to_string(tc_vb) + \
+                                                            ")");                                                    \
     } while (false)

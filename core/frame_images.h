@@ -11,11 +11,11 @@ constexpr std::uint32_t kBackgroundId = 0xFFFFFFFFu;
 struct FrameImages {
     int width = 0;
     int height = 0;
-    std::vector<float> rgba;          // linear, premultiplied, 4 per pixel
-    std::vector<float> depth;         // view-space depth of the first visible surface; +inf = background
-    std::vector<float> normal;        // world-space unit normal of the first visible surface, 3 per pixel (0 on background)
-    std::vector<std::uint32_t> id;    // polyline / particle index of the first visible surface; kBackgroundId
-    std::vector<float> ao;            // optional (ambient occlusion), empty when not rendered
+    std::vector<float> rgba;    // linear, premultiplied, 4 per pixel
+    std::vector<float> depth;   // view-space depth of the first visible surface; +inf = background
+    std::vector<float> normal;  // world-space unit normal of the first visible surface, 3 per pixel (0 on background)
+    std::vector<std::uint32_t> id;  // polyline / particle index of the first visible surface; kBackgroundId
+    std::vector<float> ao;          // optional (ambient occlusion), empty when not rendered
 
     void allocate(int w, int h) {
         width = w;

@@ -5,7 +5,6 @@
 // lies entirely outside the view to the end of the draw order (gl/segment_order.h): it cannot
 // rasterize a fragment, so depth slices are made of what is in view.
 #include <array>
-
 #include <glm/glm.hpp>
 
 #include "core/camera.h"

@@ -1,12 +1,12 @@
 #include "core/generators.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 namespace tc {
 
@@ -121,7 +121,9 @@ struct Rng {
 };
 
 // Per-line generators, as for the tornado: the data does not depend on how lines are scheduled.
-std::uint32_t lineSeed(std::uint32_t seed, int line) { return seed * 0x9E3779B9u + std::uint32_t(line); }
+std::uint32_t lineSeed(std::uint32_t seed, int line) {
+    return seed * 0x9E3779B9u + std::uint32_t(line);
+}
 
 template <class Field>
 glm::vec3 rk4Step(const Field& f, const glm::vec3& p, float h) {
@@ -233,7 +235,9 @@ struct Bundle {
     float twist, spread, length;
 };
 
-float brainDepth(const glm::vec3& p) { return glm::length((p - kBrainCentre) / kBrainAxes); }
+float brainDepth(const glm::vec3& p) {
+    return glm::length((p - kBrainCentre) / kBrainAxes);
+}
 
 const std::array<Bundle, kBrainBundles>& brainBundles() {
     // A fixed layout (its own seed): dataset.seed chooses the fibers, not the anatomy.
@@ -262,7 +266,9 @@ const std::array<Bundle, kBrainBundles>& brainBundles() {
 
 }  // namespace
 
-bool insideBrain(const glm::vec3& p) { return brainDepth(p) <= 1.0f; }
+bool insideBrain(const glm::vec3& p) {
+    return brainDepth(p) <= 1.0f;
+}
 
 glm::vec3 brainBundleDirection(int bundle, const glm::vec3& p) {
     const Bundle& b = brainBundles()[std::size_t(bundle)];
@@ -315,8 +321,8 @@ LineSet generateBrain(int lines, int points, std::uint32_t seed) {
 
 namespace {
 
-constexpr float kRollWidth = 0.25f;  // 4 rolls across x in [0, 1]
-constexpr float kThroughFlow = 0.1f;  // peak axial velocity (at mid height)
+constexpr float kRollWidth = 0.25f;      // 4 rolls across x in [0, 1]
+constexpr float kThroughFlow = 0.1f;     // peak axial velocity (at mid height)
 constexpr float kConvectionTime = 5.0f;  // about 10 turns around a roll (period ~ 2 roll widths)
 
 float throughFlow(float z) {
@@ -339,7 +345,8 @@ glm::vec3 convectionVorticity(const glm::vec3& p) {
     const float a = kPi * p.x / kRollWidth, c = kPi * p.z / kConvectionHeight;
     const float zeta = p.z / kConvectionHeight;
     const float dvdz = kThroughFlow * 3.0f * (1.0f - 2.0f * zeta) / kConvectionHeight;
-    const float wy = -(kPi / kConvectionHeight + kPi * kConvectionHeight / (kRollWidth * kRollWidth)) * std::sin(a) * std::sin(c);
+    const float wy =
+        -(kPi / kConvectionHeight + kPi * kConvectionHeight / (kRollWidth * kRollWidth)) * std::sin(a) * std::sin(c);
     return {-dvdz, wy, 0.0f};
 }
 
@@ -355,7 +362,8 @@ LineSet generateConvection(int lines, int points, std::uint32_t seed) {
         Rng rng(lineSeed(seed, i));
         const int roll = int(rng.engine() % 4u);
         // Away from the cell corners (stagnation points), so no line crawls there.
-        glm::vec3 s{(float(roll) + rng.uniform(0.05f, 0.95f)) * kRollWidth, rng.uniform(halfSpan + 0.005f, 1.0f - halfSpan - 0.005f),
+        glm::vec3 s{(float(roll) + rng.uniform(0.05f, 0.95f)) * kRollWidth,
+                    rng.uniform(halfSpan + 0.005f, 1.0f - halfSpan - 0.005f),
                     rng.uniform(0.05f, 0.95f) * kConvectionHeight};
         glm::vec3* out = set.positions.data() + std::size_t(i) * std::size_t(points);
         traceCentred(convectionVelocity, s, h, points, out);
@@ -366,8 +374,9 @@ LineSet generateConvection(int lines, int points, std::uint32_t seed) {
             set.attributes[0].values[v] = glm::length(convectionVelocity(p));
             set.attributes[1].values[v] = glm::length(convectionVorticity(p));
             // Conductive profile plus the roll's perturbation: warm where the fluid rises (w > 0).
-            set.attributes[2].values[v] = 1.0f - p.z / kConvectionHeight -
-                                          0.4f * std::cos(kPi * p.x / kRollWidth) * std::sin(kPi * p.z / kConvectionHeight);
+            set.attributes[2].values[v] =
+                1.0f - p.z / kConvectionHeight -
+                0.4f * std::cos(kPi * p.x / kRollWidth) * std::sin(kPi * p.z / kConvectionHeight);
         }
     });
     return finish(std::move(set));
@@ -391,7 +400,9 @@ const std::array<Mode, kModes>& turbulenceModes() {
             // Integer wave vectors keep the flow 2*pi-periodic; energy spectrum E(k) ~ k^-5/3 means
             // amplitudes ~ k^-5/6.
             glm::vec3 k;
-            do k = glm::vec3(float(int(rng.engine() % 13u) - 6), float(int(rng.engine() % 13u) - 6), float(int(rng.engine() % 13u) - 6));
+            do
+                k = glm::vec3(float(int(rng.engine() % 13u) - 6), float(int(rng.engine() % 13u) - 6),
+                              float(int(rng.engine() % 13u) - 6));
             while (glm::length(k) < 2.0f || glm::length(k) > 6.0f);
             const glm::vec3 kn = glm::normalize(k);
             auto perpendicular = [&] {
@@ -437,7 +448,9 @@ glm::vec3 turbulenceVorticity(const glm::vec3& X) {
 
 }  // namespace
 
-glm::vec3 turbulenceVelocity(const glm::vec3& p) { return turbulenceFlow(2.0f * kPi * p); }
+glm::vec3 turbulenceVelocity(const glm::vec3& p) {
+    return turbulenceFlow(2.0f * kPi * p);
+}
 
 LineSet generateTurbulence(int lines, int points, std::uint32_t seed) {
     const float h = kTurbulenceTime / float(points - 1);

@@ -1,10 +1,10 @@
 #include "core/line_set.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "core/error.h"
 
@@ -27,7 +27,9 @@ void Attribute::updateRange() {
             }
             return m;
         },
-        [](MinMax a, MinMax b) { return MinMax{std::min(a.first, b.first), std::max(a.second, b.second)}; });
+        [](MinMax a, MinMax b) {
+            return MinMax{std::min(a.first, b.first), std::max(a.second, b.second)};
+        });
     bool found = r.first <= r.second;
     min = found ? r.first : std::numeric_limits<float>::quiet_NaN();
     max = found ? r.second : std::numeric_limits<float>::quiet_NaN();
@@ -93,13 +95,10 @@ std::string CleanReport::summary() const {
         parts += part;
     };
     if (nonFiniteVertices)
-        add(countNoun(nonFiniteVertices, "non-finite vertex", "non-finite vertices") +
-            " (polylines split there)");
+        add(countNoun(nonFiniteVertices, "non-finite vertex", "non-finite vertices") + " (polylines split there)");
     if (duplicateVertices)
-        add(countNoun(duplicateVertices, "duplicate vertex", "duplicate vertices") +
-            " (zero-length segments)");
-    if (droppedPolylines)
-        add(countNoun(droppedPolylines, "polyline", "polylines") + " with fewer than 2 vertices");
+        add(countNoun(duplicateVertices, "duplicate vertex", "duplicate vertices") + " (zero-length segments)");
+    if (droppedPolylines) add(countNoun(droppedPolylines, "polyline", "polylines") + " with fewer than 2 vertices");
     std::string text = parts.empty() ? std::string() : "skipped " + parts;
     for (const std::string& warning : warnings) text += (text.empty() ? "" : "; ") + warning;
     return text;
@@ -108,8 +107,7 @@ std::string CleanReport::summary() const {
 CleanReport cleanLineSet(LineSet& lines) {
     TC_CHECK(!lines.offsets.empty());
     TC_CHECK_OP(std::size_t(lines.offsets.back()), ==, lines.positions.size());
-    for (const Attribute& a : lines.attributes)
-        TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
+    for (const Attribute& a : lines.attributes) TC_CHECK_OP(a.values.size(), ==, lines.positions.size());
 
     // Most inputs (every .tcb that `tubecast convert` wrote, every generator) are already clean:
     // a parallel read-only scan finds that out at memory speed and skips the serial compaction.
@@ -162,8 +160,7 @@ CleanReport cleanLineSet(LineSet& lines) {
         closePiece();
         // A polyline that left nothing at all (empty, or only non-finite vertices) is dropped
         // too; one that left 1-vertex pieces was already counted per piece.
-        if (offsets.size() == piecesBefore && report.droppedPolylines == droppedBefore)
-            ++report.droppedPolylines;
+        if (offsets.size() == piecesBefore && report.droppedPolylines == droppedBefore) ++report.droppedPolylines;
     }
 
     lines.positions.resize(out);

@@ -1,11 +1,10 @@
 #pragma once
 // Line sets as struct-of-arrays: what readers and generators produce and styling consumes.
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 namespace tc {
 
@@ -14,8 +13,14 @@ struct Bounds {
     glm::vec3 hi{-std::numeric_limits<float>::infinity()};
 
     bool empty() const { return lo.x > hi.x; }
-    void extend(const glm::vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-    void extend(const glm::vec3& p, float r) { lo = glm::min(lo, p - r); hi = glm::max(hi, p + r); }
+    void extend(const glm::vec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void extend(const glm::vec3& p, float r) {
+        lo = glm::min(lo, p - r);
+        hi = glm::max(hi, p + r);
+    }
     glm::vec3 center() const { return 0.5f * (lo + hi); }
     glm::vec3 extent() const { return hi - lo; }
     float radius() const { return 0.5f * glm::length(hi - lo); }  // of the bounding sphere
@@ -53,9 +58,9 @@ struct LineSet {
 // What cleaning removed and what the reader tolerated, so readers can report it ("skipped 3 NaN
 // vertices ...").
 struct CleanReport {
-    std::size_t nonFiniteVertices = 0;   // NaN/Inf coordinates (the vertex is removed, the polyline split)
-    std::size_t duplicateVertices = 0;   // zero-length segments removed
-    std::size_t droppedPolylines = 0;    // fewer than 2 vertices left
+    std::size_t nonFiniteVertices = 0;  // NaN/Inf coordinates (the vertex is removed, the polyline split)
+    std::size_t duplicateVertices = 0;  // zero-length segments removed
+    std::size_t droppedPolylines = 0;   // fewer than 2 vertices left
     // Non-fatal problems of the file itself, each naming its position ("line 4: count: 7 tracks
     // declared, the data holds 2; read 2"); a file other than the one read is named too
     // ("tracks_fa.tsf: line 3: ..."). Set by the readers of io/, not by cleanLineSet.

@@ -6,14 +6,14 @@
 // is the area-weighted average of the fine texels it covers (exact integer overlaps, summed in the
 // shader's order z, y, x). Hand-written rather than OpenImageIO's 2D mip maps: 3D, odd sizes and
 // the shader's exact taps and summation order.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <vector>
-
 #include <glm/glm.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <vector>
 
 namespace tc {
 

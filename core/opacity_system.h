@@ -2,9 +2,8 @@
 // One frame's opacity optimization problem as the renderer solved it (Günther, Rössl & Theisel
 // 2013, Sect. 4): what render.opacity.dump_dir writes (io/opacity_system_dump.h) through the
 // technique's hook (core/technique_registry.h TechniqueHooks). Pointers are valid during the call.
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/occlusion_matrix.h"
 #include "core/opacity_optimization.h"

@@ -1,8 +1,8 @@
 #include "core/particle_generators.h"
 
-#include <cmath>
-
 #include <tbb/parallel_for.h>
+
+#include <cmath>
 
 namespace tc {
 

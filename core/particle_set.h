@@ -3,11 +3,10 @@
 // scalar attributes, one frame or a time series of frames. What particle readers and the
 // droplets generator produce and particle styling (core/particle_styling.h) consumes.
 #include <cstddef>
+#include <glm/glm.hpp>
 #include <map>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/line_set.h"
 
@@ -29,8 +28,8 @@ struct ParticleSet {
     std::vector<glm::vec4> colors;
     Provenance radiiFrom = Provenance::None, colorsFrom = Provenance::None;
     std::map<std::string, float> elementRadii;  // Provenance::Elements: each element's radius
-    std::vector<Attribute> attributes;  // one value per particle
-    Bounds bounds;                      // of the positions (radii are added by styling)
+    std::vector<Attribute> attributes;          // one value per particle
+    Bounds bounds;                              // of the positions (radii are added by styling)
 
     std::size_t size() const { return positions.size(); }
     const Attribute* attribute(const std::string& name) const;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <limits>
 
 #include "core/camera.h"
 #include "core/line_set.h"

@@ -15,8 +15,7 @@ struct IntervalT {
 };
 
 template <typename T>
-IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> x0, T r0,
-                           glm::vec<3, T> x1, T r1) {
+IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> x0, T r0, glm::vec<3, T> x1, T r1) {
     using V = glm::vec<3, T>;
     // Parameters beyond this are treated as "no root" (a linear equation's root at infinity).
     constexpr T kHuge = T(1e18);
@@ -54,8 +53,14 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
         T sq = std::sqrt(h);
         T ta = -b - sq, tb = -b + sq;
         hit = true;
-        if (ta < tIn) { tIn = ta; nIn = glm::normalize(perp - sq * dir); }
-        if (tb > tOut) { tOut = tb; nOut = glm::normalize(perp + sq * dir); }
+        if (ta < tIn) {
+            tIn = ta;
+            nIn = glm::normalize(perp - sq * dir);
+        }
+        if (tb > tOut) {
+            tOut = tb;
+            nOut = glm::normalize(perp + sq * dir);
+        }
     };
     sphere(oa + ac * u, r0);
     sphere(oa - (L - ac) * u, r1);
@@ -93,8 +98,14 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
                 if (!(ya >= T(0) && ya <= L * c2)) return;
                 V n = glm::normalize(c2 * (oa + t * dir) - u * yc);
                 hit = true;
-                if (entry && t < tIn) { tIn = t; nIn = n; }
-                if (!entry && t > tOut) { tOut = t; nOut = n; }
+                if (entry && t < tIn) {
+                    tIn = t;
+                    nIn = n;
+                }
+                if (!entry && t > tOut) {
+                    tOut = t;
+                    nOut = n;
+                }
             };
             if (validA) lateral(tA, aIsEntry);
             if (validB) lateral(tB, !aIsEntry);
@@ -105,9 +116,16 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
     if (!hit) return result;
     // A ray grazing a seam between pieces can lose one end to rounding: close the interval.
     if (tOut < tIn) {
-        if (tOut == -kFar) { tOut = tIn; nOut = nIn; }
-        else if (tIn == kFar) { tIn = tOut; nIn = nOut; }
-        else { T m = T(0.5) * (tIn + tOut); tIn = tOut = m; }
+        if (tOut == -kFar) {
+            tOut = tIn;
+            nOut = nIn;
+        } else if (tIn == kFar) {
+            tIn = tOut;
+            nIn = nOut;
+        } else {
+            T m = T(0.5) * (tIn + tOut);
+            tIn = tOut = m;
+        }
     }
     result.hit = true;
     result.tIn = t0 + tIn;
@@ -151,7 +169,9 @@ ConeIntervalD intersectRoundedCone(const RayD& ray, const RoundedConeD& c) {
     return {i.hit, i.tIn, i.tOut, i.nIn, i.nOut};
 }
 
-float sdRoundedCone(glm::vec3 p, const RoundedCone& c) { return sdImpl<float>(p, c.x0, c.r0, c.x1, c.r1); }
+float sdRoundedCone(glm::vec3 p, const RoundedCone& c) {
+    return sdImpl<float>(p, c.x0, c.r0, c.x1, c.r1);
+}
 
 double sdRoundedCone(const glm::dvec3& p, const RoundedConeD& c) {
     return sdImpl<double>(p, c.x0, c.r0, c.x1, c.r1);

@@ -25,8 +25,7 @@ constexpr float kInf = std::numeric_limits<float>::max();
 // quoted strings), a plain string otherwise, so `--set render.technique=rasterized` works.
 void applyOverride(json& doc, const std::string& assignment, std::set<std::string>& overridden) {
     auto eq = assignment.find('=');
-    if (eq == std::string::npos || eq == 0)
-        throw InputError("--set " + assignment + ": expected key.path=value");
+    if (eq == std::string::npos || eq == 0) throw InputError("--set " + assignment + ": expected key.path=value");
     std::string path = assignment.substr(0, eq);
     std::string text = assignment.substr(eq + 1);
     json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
@@ -40,7 +39,8 @@ void applyOverride(json& doc, const std::string& assignment, std::set<std::strin
         std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
         if (key.empty()) throw InputError("--set " + assignment + ": empty key in \"" + path + "\"");
         if (!node->is_object())
-            throw InputError("--set " + assignment + ": \"" + walked + "\" is not an object, cannot set \"" + path + "\"");
+            throw InputError("--set " + assignment + ": \"" + walked + "\" is not an object, cannot set \"" + path +
+                             "\"");
         walked += (walked.empty() ? "" : ".") + key;
         if (dot == std::string::npos) {
             (*node)[key] = value;
@@ -69,16 +69,15 @@ RangeSpec readRange(SpecReader& r, const std::string& key) {
         }
         r.fail(key, "percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100, got " + describeJson(p));
     }
-    if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
-        std::isfinite(v[0].get<double>()) && std::isfinite(v[1].get<double>()) &&
-        v[0].get<double>() < v[1].get<double>()) {
+    if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() && std::isfinite(v[0].get<double>()) &&
+        std::isfinite(v[1].get<double>()) && v[0].get<double>() < v[1].get<double>()) {
         range.automatic = false;
         range.lo = v[0].get<float>();
         range.hi = v[1].get<float>();
         return range;
     }
-    r.fail(key, "expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, got " +
-                    describeJson(v));
+    r.fail(key,
+           "expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, got " + describeJson(v));
 }
 
 // dataset.trace (io/stream_tracer.h): streamlines of a vector field on the grid at dataset.path.
@@ -88,7 +87,8 @@ void readTrace(SpecReader r, TraceSpec& t) {
     if (v.is_string() && !v.get<std::string>().empty()) {
         t.vector = v.get<std::string>();
     } else if (v.is_array() && v.size() == 3 && v[0].is_string() && v[1].is_string() && v[2].is_string() &&
-               !v[0].get<std::string>().empty() && !v[1].get<std::string>().empty() && !v[2].get<std::string>().empty()) {
+               !v[0].get<std::string>().empty() && !v[1].get<std::string>().empty() &&
+               !v[2].get<std::string>().empty()) {
         for (int i = 0; i < 3; ++i) t.components[std::size_t(i)] = v[std::size_t(i)].get<std::string>();
     } else {
         r.fail("vector", "expected a point array name or three scalar array names [\"vx\", \"vy\", \"vz\"], got " +
@@ -124,8 +124,9 @@ void readTrace(SpecReader r, TraceSpec& t) {
 void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& overridden) {
     bool hasPath = r.has("path"), hasGenerate = r.has("generate");
     if (hasPath == hasGenerate)
-        r.fail(hasPath ? "path" : "generate", hasPath ? "give either \"path\" or \"generate\", not both"
-                                                      : "missing: give \"path\" (a file) or \"generate\" (\"tornado\")");
+        r.fail(hasPath ? "path" : "generate", hasPath
+                                                  ? "give either \"path\" or \"generate\", not both"
+                                                  : "missing: give \"path\" (a file) or \"generate\" (\"tornado\")");
     if (hasPath) {
         d.path = r.getString("path", "");
         if (d.path.empty()) r.fail("path", "expected a non-empty file path");
@@ -136,8 +137,8 @@ void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& over
         d.frame = r.getInt("frame", d.frame, -1, 10'000'000);  // time series (particles)
         if (r.has("trace")) readTrace(r.child("trace"), d.trace.emplace());
     } else {
-        d.generate = r.getEnum("generate", "tornado",
-                               {"tornado", "propeller", "brain", "convection", "turbulence", "droplets"});
+        d.generate =
+            r.getEnum("generate", "tornado", {"tornado", "propeller", "brain", "convection", "turbulence", "droplets"});
         if (d.generate == "droplets") {  // particles: "lines"/"points" do not apply
             d.particles = r.getInt("particles", d.particles, 1, 100'000'000);
             d.seed = std::uint32_t(r.getInt("seed", int(d.seed), 0, std::numeric_limits<int>::max()));
@@ -169,9 +170,8 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
             glm::vec4 rr{s.radius.radiusLo, s.radius.radiusHi, 0, 0};
             if (m.has("radius_range")) {
                 const json& a = m.raw("radius_range");
-                if (!(a.is_array() && a.size() == 2 && a[0].is_number() && a[1].is_number() &&
-                      a[0].get<double>() > 0 && a[1].get<double>() > 0 && std::isfinite(a[0].get<double>()) &&
-                      std::isfinite(a[1].get<double>())))
+                if (!(a.is_array() && a.size() == 2 && a[0].is_number() && a[1].is_number() && a[0].get<double>() > 0 &&
+                      a[1].get<double>() > 0 && std::isfinite(a[0].get<double>()) && std::isfinite(a[1].get<double>())))
                     m.fail("radius_range", "expected [r_min, r_max] with positive radii, got " + describeJson(a));
                 rr = {a[0].get<float>(), a[1].get<float>(), 0, 0};
             }
@@ -200,7 +200,8 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
                 if (fs::path(s.color.colormap).is_relative() && !r.file().empty() &&
                     !overridden.count("style.color.colormap") && !overridden.count("style.color") &&
                     !overridden.count("style"))
-                    s.color.colormap = (fs::path(r.file()).parent_path() / s.color.colormap).lexically_normal().string();
+                    s.color.colormap =
+                        (fs::path(r.file()).parent_path() / s.color.colormap).lexically_normal().string();
             }
             if (m.has("nan_color")) {
                 if (m.raw("nan_color").is_array() && m.raw("nan_color").size() == 4)
@@ -215,8 +216,9 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
         } else {
             // getColor takes RGBA too; an alpha here would be dropped silently.
             if (v.is_array() && v.size() == 4)
-                r.fail("color", "expected a colour [r, g, b] with components in [0, 1] (opacity goes in style.opacity), got " +
-                                    describeJson(v));
+                r.fail("color",
+                       "expected a colour [r, g, b] with components in [0, 1] (opacity goes in style.opacity), got " +
+                           describeJson(v));
             s.color.constant = glm::vec3(r.getColor("color", glm::vec4(s.color.constant, 1.0f)));
         }
     }
@@ -229,12 +231,14 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
             s.opacity.range = readRange(m, "range");
             if (m.has("points") && m.raw("points").is_string()) {
                 if (m.raw("points").get<std::string>() != "colormap")
-                    m.fail("points", "expected [[t, opacity], ...] or \"colormap\" (the preset's opacity points), got " +
-                                         describeJson(m.raw("points")));
+                    m.fail("points",
+                           "expected [[t, opacity], ...] or \"colormap\" (the preset's opacity points), got " +
+                               describeJson(m.raw("points")));
                 s.opacity.pointsFromColormap = true;
             } else if (m.has("points")) {
                 const json& p = m.raw("points");
-                std::string expected = "expected [[t, opacity], ...] with at least 2 points, t ascending in [0, 1], opacity in [0, 1]";
+                std::string expected =
+                    "expected [[t, opacity], ...] with at least 2 points, t ascending in [0, 1], opacity in [0, 1]";
                 if (!p.is_array() || p.size() < 2) m.fail("points", expected + ", got " + describeJson(p));
                 std::vector<glm::vec2> points;
                 for (std::size_t i = 0; i < p.size(); ++i) {
@@ -246,7 +250,8 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
                     if (!(q.x >= 0 && q.x <= 1)) m.fail(at, "t must be in [0, 1], got " + describeJson(p[i][0]));
                     if (!(q.y >= 0 && q.y <= 1)) m.fail(at, "opacity must be in [0, 1], got " + describeJson(p[i][1]));
                     if (!points.empty() && q.x < points.back().x)
-                        m.fail(at, "t must not decrease: " + describeJson(p[i][0]) + " after " + describeJson(p[i - 1][0]));
+                        m.fail(at,
+                               "t must not decrease: " + describeJson(p[i][0]) + " after " + describeJson(p[i - 1][0]));
                     points.push_back(q);
                 }
                 s.opacity.points = points;
@@ -272,7 +277,8 @@ void readCamera(SpecReader r, CameraSpec& c) {
     c.fit = r.getBool("fit", false);
     if (glm::length(cam.target - cam.eye) < 1e-9f) r.fail("eye", "eye and target coincide");
     if (glm::length(cam.up) < 1e-9f) r.fail("up", "expected a non-zero vector");
-    if (glm::length(glm::cross(cam.up, cam.target - cam.eye)) < 1e-6f * glm::length(cam.up) * glm::length(cam.target - cam.eye))
+    if (glm::length(glm::cross(cam.up, cam.target - cam.eye)) <
+        1e-6f * glm::length(cam.up) * glm::length(cam.target - cam.eye))
         r.fail("up", "is parallel to the viewing direction (target - eye)");
     r.finish();
 }
@@ -320,7 +326,9 @@ void readImage(SpecReader r, ImageSpec& im) {
         const json& t = r.raw("tiles");
         const bool isAuto = t.is_string() && t.get<std::string>() == "auto";
         const int maxX = std::max(1, im.width / 2), maxY = std::max(1, im.height / 2);
-        auto inRange = [](const json& v, int hi) { return v.is_number_integer() && v.get<long long>() >= 1 && v.get<long long>() <= hi; };
+        auto inRange = [](const json& v, int hi) {
+            return v.is_number_integer() && v.get<long long>() >= 1 && v.get<long long>() <= hi;
+        };
         if (!isAuto && !(t.is_array() && t.size() == 2 && inRange(t[0], maxX) && inRange(t[1], maxY)))
             r.fail("tiles", "expected \"auto\" or [nx, ny] with integers 1.." + std::to_string(maxX) + " and 1.." +
                                 std::to_string(maxY) + " (at most width/2 x height/2), got " + describeJson(t));
@@ -386,8 +394,10 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
             op.rangeHi = range[1].get<float>();
             i.finish();
         } else {
-            o.fail("importance", "expected \"constant\", \"length\", \"curvature\" or {\"attribute\": NAME, \"range\": [a, b]}, got " +
-                                     describeJson(o.raw("importance")));
+            o.fail(
+                "importance",
+                "expected \"constant\", \"length\", \"curvature\" or {\"attribute\": NAME, \"range\": [a, b]}, got " +
+                    describeJson(o.raw("importance")));
         }
     }
     o.finish();
@@ -430,8 +440,8 @@ void readRender(SpecReader r, RenderSpec& rs) {
     rs.technique = RenderTechnique(r.getString("technique", "auto"));
     if (rs.technique.name().empty() ||
         rs.technique.name().find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
-        r.fail("technique", "expected a technique name (tubecast techniques lists them), got \"" +
-                                rs.technique.name() + "\"");
+        r.fail("technique",
+               "expected a technique name (tubecast techniques lists them), got \"" + rs.technique.name() + "\"");
     if (r.has("vrc")) readVrc(r.child("vrc"), rs.vrc);
     if (r.has("spheres")) readSpheres(r.child("spheres"), rs.spheres);
     if (r.has("raytraced")) {
@@ -439,9 +449,8 @@ void readRender(SpecReader r, RenderSpec& rs) {
         rs.raytracedAlphaCutoff = rt.getFloat("alpha_cutoff", rs.raytracedAlphaCutoff, 0.01f, 1.0f);
         rt.finish();
     }
-    std::string transparency =
-        r.getEnum("transparency", "auto",
-                  {"auto", "opaque", "kbuffer", "depth_peeling", "object_order", "opacity_optimization"});
+    std::string transparency = r.getEnum(
+        "transparency", "auto", {"auto", "opaque", "kbuffer", "depth_peeling", "object_order", "opacity_optimization"});
     rs.transparency = transparency == "auto"                   ? Transparency::Auto
                       : transparency == "kbuffer"              ? Transparency::KBuffer
                       : transparency == "depth_peeling"        ? Transparency::DepthPeeling
@@ -489,7 +498,7 @@ void readRender(SpecReader r, RenderSpec& rs) {
                            : AoSpec::Method::ConeTraced;
         rs.ao.samples = a.getInt("samples", rs.ao.samples, 1, 1024);
         rs.ao.cache = a.getEnum("cache", "precomputed", {"precomputed", "none"}) == "none" ? AoSpec::Cache::None
-                                                                                  : AoSpec::Cache::Precomputed;
+                                                                                           : AoSpec::Cache::Precomputed;
         a.finish();
     }
     if (r.has("opacity")) readOpacityOptimization(r.child("opacity"), rs.opacity);
@@ -526,7 +535,9 @@ void readOutput(SpecReader r, OutputSpec& o) {
 
 }  // namespace
 
-int Scene::frameCount() const { return animation.type == AnimationSpec::Type::None ? 1 : animation.frames; }
+int Scene::frameCount() const {
+    return animation.type == AnimationSpec::Type::None ? 1 : animation.frames;
+}
 
 // "{frame}", "{frame:04}", "{frame:4}". hasFrameToken must accept exactly what frameFileName
 // replaces, or a multi-frame render with "{frame:x}" would write every frame to one name.
@@ -545,7 +556,9 @@ const RenderTechnique RenderTechnique::Raytraced{"raytraced"};
 const RenderTechnique RenderTechnique::Spheres{"spheres"};
 const RenderTechnique RenderTechnique::VoxelRaycast{"voxel_raycast"};
 
-std::ostream& operator<<(std::ostream& out, const RenderTechnique& t) { return out << '"' << t.name() << '"'; }
+std::ostream& operator<<(std::ostream& out, const RenderTechnique& t) {
+    return out << '"' << t.name() << '"';
+}
 
 std::string frameFileName(const std::string& pattern, int frame) {
     std::smatch m;
@@ -567,7 +580,8 @@ std::string frameFileName(const std::string& pattern, int frame) {
 Scene parseScene(const json& input, const std::string& file, const std::vector<std::string>& overrides) {
     json doc = input;
     std::set<std::string> overridden;
-    if (!doc.is_object()) throw InputError((file.empty() ? "scene" : file) + ": expected a JSON object at the top level");
+    if (!doc.is_object())
+        throw InputError((file.empty() ? "scene" : file) + ": expected a JSON object at the top level");
     for (const auto& o : overrides) applyOverride(doc, o, overridden);
 
     Scene scene;
@@ -576,11 +590,14 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
     scene.render.technique = RenderTechnique::Auto;
     scene.render.transparency = Transparency::Auto;
     SpecReader top(doc, file, "", &overridden);
-    if (!top.has("dataset")) top.fail("dataset", "missing required key (\"path\" to a file or \"generate\": \"tornado\")");
+    if (!top.has("dataset"))
+        top.fail("dataset", "missing required key (\"path\" to a file or \"generate\": \"tornado\")");
     readDataset(top.child("dataset"), scene.dataset, overridden);
     if (top.has("style")) readStyle(top.child("style"), scene.style, overridden);
-    if (top.has("camera")) readCamera(top.child("camera"), scene.camera);
-    else scene.camera.fit = true;
+    if (top.has("camera"))
+        readCamera(top.child("camera"), scene.camera);
+    else
+        scene.camera.fit = true;
     if (top.has("animation")) readAnimation(top.child("animation"), scene.animation, overridden);
     if (top.has("image")) readImage(top.child("image"), scene.image);
     if (top.has("render")) readRender(top.child("render"), scene.render);
@@ -592,7 +609,8 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
 
     if (scene.frameCount() > 1 && !hasFrameToken(scene.output.name)) {
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);
-        o.fail("name", "\"" + scene.output.name + "\" has no frame token ('####' or '{frame:04}') but the animation has " +
+        o.fail("name", "\"" + scene.output.name +
+                           "\" has no frame token ('####' or '{frame:04}') but the animation has " +
                            std::to_string(scene.frameCount()) + " frames");
     }
     if (scene.render.transparency == Transparency::OpacityOptimization &&
@@ -629,12 +647,16 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
         std::size_t offset = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
         std::size_t line = 1, column = 1;
         for (std::size_t i = 0; i < offset; ++i) {
-            if (text[i] == '\n') { ++line; column = 1; } else ++column;
+            if (text[i] == '\n') {
+                ++line;
+                column = 1;
+            } else
+                ++column;
         }
         std::string what = e.what();
         auto colon = what.find("syntax error");
-        throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " +
-                         (colon != std::string::npos ? what.substr(colon) : what));
+        throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                         ": invalid JSON: " + (colon != std::string::npos ? what.substr(colon) : what));
     }
     return parseScene(doc, path, overrides);
 }

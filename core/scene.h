@@ -2,14 +2,13 @@
 // Scene spec v1: the typed, validated form of a scene JSON file (docs/scene-spec.md).
 #include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 
 #include "core/camera.h"
 #include "core/colormap.h"
@@ -21,23 +20,23 @@ struct TraceSpec {
     std::string vector;                     // a 3-component point array, or
     std::array<std::string, 3> components;  // three scalar point arrays (x, y, z)
     enum class Seeding { Random, Uniform, Line } seeding = Seeding::Random;
-    int seeds = 100;                        // seed count (uniform: about this many, on a grid)
-    glm::vec3 lineFrom{0.0f}, lineTo{0.0f}; // seeding "line"
-    float maxLength = 0;                    // per streamline and direction; 0 = the grid's diagonal
+    int seeds = 100;                         // seed count (uniform: about this many, on a grid)
+    glm::vec3 lineFrom{0.0f}, lineTo{0.0f};  // seeding "line"
+    float maxLength = 0;                     // per streamline and direction; 0 = the grid's diagonal
     enum class Direction { Forward, Backward, Both } direction = Direction::Both;
-    float stepLength = 0.2f;                // integration step, in cell lengths
+    float stepLength = 0.2f;  // integration step, in cell lengths
     int maxSteps = 2000;
     std::uint32_t randomSeed = 1;
 };
 
 struct DatasetSpec {
-    std::string path;       // a file (resolved relative to the scene file), or
-    std::string generate;   // a built-in generator: "tornado", "propeller", "brain", "convection", "turbulence"
-    int lines = 200;        // generator parameters
+    std::string path;      // a file (resolved relative to the scene file), or
+    std::string generate;  // a built-in generator: "tornado", "propeller", "brain", "convection", "turbulence"
+    int lines = 200;       // generator parameters
     int points = 100;
     int particles = 50000;  // "droplets": particle count
     std::uint32_t seed = 1;
-    int frame = -1;         // dataset.frame: pinned data frame of a time series; -1 = follow the animation
+    int frame = -1;                  // dataset.frame: pinned data frame of a time series; -1 = follow the animation
     std::optional<TraceSpec> trace;  // dataset.trace: streamlines traced through the grid at `path`
 };
 
@@ -70,7 +69,7 @@ struct ColorSpec {
     bool direction = false;
     glm::vec3 constant{0.85f, 0.55f, 0.25f};  // sRGB
     std::string attribute;
-    std::string colormap = "viridis";  // a built-in name, or a ParaView preset .json (path resolved)
+    std::string colormap = "viridis";        // a built-in name, or a ParaView preset .json (path resolved)
     std::shared_ptr<const Colormap> preset;  // loaded preset file (io/paraview_preset.h loadStylePresets)
     std::optional<glm::vec3> nanColor;       // sRGB; else the preset's NanColor, else grey 0.5
     RangeSpec range;
@@ -139,7 +138,6 @@ private:
 // For test failure messages (gtest prints through operator<<).
 std::ostream& operator<<(std::ostream& out, const RenderTechnique& t);
 
-
 // Auto (the scene file's default): opaque when every opacity is 1, else the technique's exact-order
 // transparent mode (TechniqueRegistry::resolveTransparency). Techniques never see Auto.
 enum class Transparency { Opaque, ObjectOrder, KBuffer, DepthPeeling, OpacityOptimization, Auto };
@@ -156,10 +154,10 @@ struct AoSpec {
     // hemisphere rays up to `distance` (raytraced technique only).
     enum class Method { ConeTraced, RayTraced } method = Method::ConeTraced;
     int samples = 16;
-    int resolution = 256;     // voxels along the longest axis of the data
+    int resolution = 256;  // voxels along the longest axis of the data
     int cones = 3;
-    float apertureDeg = 50;   // full apex angle of each cone, 10..90
-    float distance = 0.25f;   // cone length as a fraction of the bounding-box diagonal
+    float apertureDeg = 50;  // full apex angle of each cone, 10..90
+    float distance = 0.25f;  // cone length as a fraction of the bounding-box diagonal
     float strength = 1;
     // "precomputed": the cone traced AO evaluated once per data set (frame) and interpolated per
     // fragment — rasterized lines at samples along each segment (gl/ao_line_cache.h), spheres as
@@ -183,15 +181,15 @@ struct CullingSpec {
 
 // render.opacity: opacity optimization (Günther, Rössl & Theisel 2013; core/opacity_optimization.h).
 struct OpacityOptimizationSpec {
-    int segmentsPerLine = 8;  // parts per polyline, each with one optimised opacity
+    int segmentsPerLine = 8;                             // parts per polyline, each with one optimised opacity
     float p = 1, q = 1, r = 0.1f, s = 0.3f, lambda = 1;  // r defaults to q / 10
     enum class Importance { Constant, Length, Curvature, Attribute } importance = Importance::Constant;
-    std::string attribute;                // Importance::Attribute: averaged over each part
-    float rangeLo = 0, rangeHi = 1;       // mapped to importance 0..1
-    float blend = 1;          // per frame, displayed opacities move this fraction toward the solution
-    float tolerance = 1e-4f;  // solver stop: projected-gradient max norm
+    std::string attribute;           // Importance::Attribute: averaged over each part
+    float rangeLo = 0, rangeHi = 1;  // mapped to importance 0..1
+    float blend = 1;                 // per frame, displayed opacities move this fraction toward the solution
+    float tolerance = 1e-4f;         // solver stop: projected-gradient max norm
     int maxIterations = 200;
-    float dropBelow = 0;      // sparsification: h_ij below this are left out of the energy
+    float dropBelow = 0;  // sparsification: h_ij below this are left out of the energy
     // How products with H are formed: H assembled (Algorithm 1's pairs), or straight from the
     // fragment lists by prefix sums (core/fragment_occlusion.h); auto picks by the pair count.
     enum class Occlusion { Auto, Assembled, Fragments } occlusion = Occlusion::Auto;
@@ -201,7 +199,7 @@ struct OpacityOptimizationSpec {
     // > 0: each frame's solve starts from the solution of the system of the lists subsampled at
     // this scale (< occlusionScale), itself started from the previous frame's solution. 0: off.
     float coarseScale = 0;
-    std::string dumpDir;      // debug: write Q, c, g, bounds and the solution of each frame here
+    std::string dumpDir;  // debug: write Q, c, g, bounds and the solution of each frame here
 };
 
 // render.spheres: particles as transparent sphere glyphs (Staib, Grottel & Gumhold 2015).
@@ -211,13 +209,13 @@ enum class SphereDensity { Constant, L2, HollowConstant, HollowL2 };
 
 struct SpheresSpec {
     SphereDensity density = SphereDensity::Constant;
-    float innerRadius = 0.5f;        // hollow models: inner radius as a fraction of the radius, [0, 0.99]
-    float alphaRv = 0.5f;            // Eq. 2: weight of the surface (Blinn-Phong) term vs. volume emission
-    float alphaA = 0.5f;             // Eq. 7: weight of the coloured ambient light L_A (with render.ao)
-    int chunks = 20;                 // Sect. 5.2: early-z chunks of the sorted particles; 1 = off
-    float earlyZThreshold = 0.99f;   // pixels with alpha above this are skipped by later chunks
-    bool earlyZStats = false;        // count the skipped fragments (an extra rasterization pass)
-    bool points = true;              // one point sprite per particle ("points"), else two triangles ("quads")
+    float innerRadius = 0.5f;       // hollow models: inner radius as a fraction of the radius, [0, 0.99]
+    float alphaRv = 0.5f;           // Eq. 2: weight of the surface (Blinn-Phong) term vs. volume emission
+    float alphaA = 0.5f;            // Eq. 7: weight of the coloured ambient light L_A (with render.ao)
+    int chunks = 20;                // Sect. 5.2: early-z chunks of the sorted particles; 1 = off
+    float earlyZThreshold = 0.99f;  // pixels with alpha above this are skipped by later chunks
+    bool earlyZStats = false;       // count the skipped fragments (an extra rasterization pass)
+    bool points = true;             // one point sprite per particle ("points"), else two triangles ("quads")
 };
 
 // render.vrc: voxel-based line ray casting (Kanzler, Rautenhaus & Westermann 2019; core/vrc_model.h,
@@ -231,12 +229,12 @@ struct VrcSpec {
     // Transparent: a tube hit's alpha is 1 - (1 - alpha)^(L / 2r), L the ray's chord through the
     // hit piece's rounded cone, r the mean of its two radii (style alpha on a ray through the axis).
     bool pathLengthOpacity = false;
-    bool shadows = false;            // shadows toward the light (shadowMode)
+    bool shadows = false;  // shadows toward the light (shadowMode)
     // soft: a cone toward the light through the density; hard: a ray against the representative
     // lines of LoD level shadowLevel (core/vrc_representative.h).
     enum class ShadowMode { Soft, Hard } shadowMode = ShadowMode::Soft;
-    float shadowApertureDeg = 10;    // full apex angle of the soft shadow cone
-    int shadowLevel = 1;             // hard: LoD level of the representative lines (voxels of 2^level)
+    float shadowApertureDeg = 10;  // full apex angle of the soft shadow cone
+    int shadowLevel = 1;           // hard: LoD level of the representative lines (voxels of 2^level)
 };
 
 // The defaults here are what code that builds a Scene gets (tests, benchmarks); a scene file's
@@ -245,10 +243,10 @@ struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
     BillboardPath billboards = BillboardPath::Compute;
-    int kbufferK = 8;              // render.kbuffer.k, 1..16
-    bool capClipping = true;       // render.cap_clipping (Groß & Gumhold 2020, Sect. 5.4)
-    int maxPeelLayers = 0;         // render.depth_peeling.max_layers; 0 = until a pass produces nothing
-    int memoryBudgetMb = 4096;     // render.memory_budget_mb: per-pixel buffers must fit
+    int kbufferK = 8;                    // render.kbuffer.k, 1..16
+    bool capClipping = true;             // render.cap_clipping (Groß & Gumhold 2020, Sect. 5.4)
+    int maxPeelLayers = 0;               // render.depth_peeling.max_layers; 0 = until a pass produces nothing
+    int memoryBudgetMb = 4096;           // render.memory_budget_mb: per-pixel buffers must fit
     bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv
     bool referenceRaytraced = false;     // render.reference: "raytraced" (exact) -> quality.csv
     float raytracedAlphaCutoff = 0.99f;  // render.raytraced.alpha_cutoff; 1 = exact compositing
@@ -298,8 +296,7 @@ struct Scene {
 // Parses and validates a scene. `file` names the source in error messages (and resolves
 // relative dataset paths); `overrides` are --set "key.path=value" strings applied before
 // validation. Throws InputError naming the file, key path and what was expected.
-Scene parseScene(const nlohmann::json& doc, const std::string& file,
-                 const std::vector<std::string>& overrides = {});
+Scene parseScene(const nlohmann::json& doc, const std::string& file, const std::vector<std::string>& overrides = {});
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // Output file name for a frame: a run of '#' or "{frame:04}" becomes the zero-padded number.

@@ -2,7 +2,6 @@
 // Blinn-Phong shading of tube surfaces, identical on CPU and GPU (shaders/shading.glsl is the twin
 // of this file; keep them in lock-step).
 #include <cmath>
-
 #include <glm/glm.hpp>
 
 #include "core/camera.h"

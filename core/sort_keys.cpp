@@ -18,7 +18,9 @@ float dot3(const glm::vec3& a, const glm::vec3& b) {
 }
 }  // namespace
 
-std::uint32_t sortKeyFromFloat(float value) { return sortKeyFromFloat(std::bit_cast<std::uint32_t>(value)); }
+std::uint32_t sortKeyFromFloat(float value) {
+    return sortKeyFromFloat(std::bit_cast<std::uint32_t>(value));
+}
 
 float floatFromSortKey(std::uint32_t key) {
     std::uint32_t bits = (key & 0x80000000u) ? (key & 0x7FFFFFFFu) : ~key;
@@ -35,15 +37,13 @@ float segmentDistance(const glm::vec3& eye, const glm::vec3& x0, const glm::vec3
     return std::sqrt(dot3(closest, closest));
 }
 
-float segmentDepth(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& x0,
-                   const glm::vec3& x1) {
+float segmentDepth(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& x0, const glm::vec3& x1) {
     return std::fmin(dot3(x0 - eye, forward), dot3(x1 - eye, forward));
 }
 
-std::uint32_t segmentSortKey(const glm::vec3& eye, bool orthographic, const glm::vec3& forward,
-                             const glm::vec3& x0, const glm::vec3& x1) {
-    return sortKeyFromFloat(orthographic ? segmentDepth(eye, forward, x0, x1)
-                                         : segmentDistance(eye, x0, x1));
+std::uint32_t segmentSortKey(const glm::vec3& eye, bool orthographic, const glm::vec3& forward, const glm::vec3& x0,
+                             const glm::vec3& x1) {
+    return sortKeyFromFloat(orthographic ? segmentDepth(eye, forward, x0, x1) : segmentDistance(eye, x0, x1));
 }
 
 }  // namespace tc

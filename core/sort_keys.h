@@ -4,7 +4,6 @@
 // shaders/sort_keys.glsl is the GLSL twin of every function here; both compute the same
 // operations in the same order so the GPU key equals this one bit for bit (see sort_keys.cpp).
 #include <cstdint>
-
 #include <glm/glm.hpp>
 
 namespace tc {
@@ -29,12 +28,11 @@ float segmentDistance(const glm::vec3& eye, const glm::vec3& x0, const glm::vec3
 // Minimum view depth dot(x - eye, forward) over the segment, i.e. over its two end points (the
 // depth is linear along the segment). The orthographic sort key; `forward` is the unit view
 // direction. Negative for points behind the eye plane.
-float segmentDepth(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& x0,
-                   const glm::vec3& x1);
+float segmentDepth(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& x0, const glm::vec3& x1);
 
 // The key the GPU key pass (gl/sort_keys.h) writes for segment [x0, x1]:
 // sortKeyFromFloat(orthographic ? segmentDepth(...) : segmentDistance(...)).
-std::uint32_t segmentSortKey(const glm::vec3& eye, bool orthographic, const glm::vec3& forward,
-                             const glm::vec3& x0, const glm::vec3& x1);
+std::uint32_t segmentSortKey(const glm::vec3& eye, bool orthographic, const glm::vec3& forward, const glm::vec3& x0,
+                             const glm::vec3& x1);
 
 }  // namespace tc

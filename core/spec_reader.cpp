@@ -17,8 +17,7 @@ std::string describeJson(const json& value) {
     return s;
 }
 
-SpecReader::SpecReader(const json& object, std::string file, std::string path,
-                       const std::set<std::string>* overridden)
+SpecReader::SpecReader(const json& object, std::string file, std::string path, const std::set<std::string>* overridden)
     : m_object(object), m_file(std::move(file)), m_path(std::move(path)), m_overridden(overridden) {
     if (!m_object.is_object())
         throw InputError(m_file + ": " + (m_path.empty() ? std::string("top level") : m_path) +
@@ -33,8 +32,7 @@ std::string SpecReader::location(const std::string& key) const {
     std::string path = keyPath(key);
     if (m_overridden)
         for (const auto& o : *m_overridden)
-            if (path == o || path.rfind(o + ".", 0) == 0 || path.rfind(o + "[", 0) == 0 ||
-                o.rfind(path + ".", 0) == 0)
+            if (path == o || path.rfind(o + ".", 0) == 0 || path.rfind(o + "[", 0) == 0 || o.rfind(path + ".", 0) == 0)
                 return "--set " + path;
     return (m_file.empty() ? std::string("scene") : m_file) + ": " + path;
 }
@@ -71,9 +69,8 @@ int SpecReader::getInt(const std::string& key, int fallback, int lo, int hi) {
     if (!has(key)) return fallback;
     const json& v = raw(key);
     std::string expected = "expected integer " + std::to_string(lo) + ".." + std::to_string(hi);
-    bool integral = v.is_number_integer() ||
-                    (v.is_number_float() && std::isfinite(v.get<double>()) &&
-                     v.get<double>() == std::floor(v.get<double>()));
+    bool integral = v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
+                                              v.get<double>() == std::floor(v.get<double>()));
     if (!integral) fail(key, expected + ", got " + describeJson(v));
     double d = v.get<double>();
     if (d < lo || d > hi) fail(key, expected + ", got " + describeJson(v));
@@ -203,8 +200,10 @@ void SpecReader::finish() const {
                 bestDistance = d;
             }
         std::string message = "unknown key";
-        if (!best.empty()) message += " (did you mean \"" + best + "\"?)";
-        else if (!m_known.empty()) message += " (known keys: " + joinQuoted({m_known.begin(), m_known.end()}) + ")";
+        if (!best.empty())
+            message += " (did you mean \"" + best + "\"?)";
+        else if (!m_known.empty())
+            message += " (known keys: " + joinQuoted({m_known.begin(), m_known.end()}) + ")";
         fail(key, message);
     }
 }

@@ -2,12 +2,11 @@
 // Typed, located access to a JSON object of a scene spec. Every read marks its key as used;
 // finish() turns keys nobody read into errors, so a typo ("fov_degs") is never silently
 // ignored (the habit of pbrt's paramdict and Mitsuba's Properties).
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 
 namespace tc {
 
@@ -26,8 +25,7 @@ public:
     int getInt(const std::string& key, int fallback, int lo, int hi);
     float getFloat(const std::string& key, float fallback, float lo, float hi);
     std::string getString(const std::string& key, const std::string& fallback);
-    std::string getEnum(const std::string& key, const std::string& fallback,
-                        const std::vector<std::string>& allowed);
+    std::string getEnum(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
     glm::vec3 getVec3(const std::string& key, glm::vec3 fallback);
     glm::vec4 getVec4(const std::string& key, glm::vec4 fallback);
     // An array of 3 or 4 numbers in [0,1]; 3 numbers get alpha = 1.

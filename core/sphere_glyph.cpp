@@ -27,12 +27,15 @@ SphereInterval intersectSphere(const Ray& ray, const glm::vec3& center, float ra
 
 float densityNormalisation(SphereDensity model, float k) {
     switch (model) {
-    case SphereDensity::Constant: return 2.0f;
-    case SphereDensity::L2: return 2.0f * std::sqrt(2.0f) / 3.0f;
-    case SphereDensity::HollowConstant: return 2.0f * std::sqrt(1.0f - k * k);
-    case SphereDensity::HollowL2:
-        return k <= 1.0f / std::sqrt(2.0f) ? 2.0f * std::sqrt(2.0f) / 3.0f
-                                           : 2.0f / 3.0f * std::sqrt(1.0f - k * k) * (1.0f + 2.0f * k * k);
+        case SphereDensity::Constant:
+            return 2.0f;
+        case SphereDensity::L2:
+            return 2.0f * std::sqrt(2.0f) / 3.0f;
+        case SphereDensity::HollowConstant:
+            return 2.0f * std::sqrt(1.0f - k * k);
+        case SphereDensity::HollowL2:
+            return k <= 1.0f / std::sqrt(2.0f) ? 2.0f * std::sqrt(2.0f) / 3.0f
+                                               : 2.0f / 3.0f * std::sqrt(1.0f - k * k) * (1.0f + 2.0f * k * k);
     }
     return 2.0f;
 }
@@ -104,7 +107,8 @@ bool projectedSphereBounds(const Camera& camera, float aspect, const glm::vec3& 
         if (cz + radius <= 0.0f) return false;
         const float h = 0.5f * camera.orthoHeight;
         rect = glm::vec4((cx - radius) / (h * aspect), (cy - radius) / h, (cx + radius) / (h * aspect),
-                         (cy + radius) / h) + glm::vec4(-pad, -pad, pad, pad);
+                         (cy + radius) / h) +
+               glm::vec4(-pad, -pad, pad, pad);
         return true;
     }
     if (cz + radius <= 0.0f) return false;

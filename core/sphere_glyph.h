@@ -20,7 +20,6 @@
 //              P = 2 sqrt(1 - k^2) (constant, at d = k r), l2: 2 sqrt(2)/3 for k <= 1/sqrt(2),
 //              else (2/3) sqrt(1 - k^2)(1 + 2 k^2) (at d = k r).
 #include <cstdint>
-
 #include <glm/glm.hpp>
 
 #include "core/camera.h"

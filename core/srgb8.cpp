@@ -10,7 +10,9 @@
 namespace tc {
 namespace {
 
-float clamp01(float v) { return std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f); }
+float clamp01(float v) {
+    return std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+}
 
 std::uint32_t bits(float f) {
     std::uint32_t u;
@@ -38,8 +40,10 @@ struct Table {
             std::uint32_t lo = bits(0.0f), hi = bits(1.0f);  // code(hi) = 255 >= k
             while (lo < hi) {
                 const std::uint32_t mid = lo + (hi - lo) / 2;
-                if (linearToSrgb8Direct(fromBits(mid)) >= k) hi = mid;
-                else lo = mid + 1;
+                if (linearToSrgb8Direct(fromBits(mid)) >= k)
+                    hi = mid;
+                else
+                    lo = mid + 1;
             }
             lower[std::size_t(k)] = fromBits(lo);
         }
@@ -55,7 +59,9 @@ const Table& table() {
 
 }  // namespace
 
-std::uint8_t linearToSrgb8Direct(float v) { return std::uint8_t(std::lround(clamp01(linearToSrgb(clamp01(v))) * 255.0f)); }
+std::uint8_t linearToSrgb8Direct(float v) {
+    return std::uint8_t(std::lround(clamp01(linearToSrgb(clamp01(v))) * 255.0f));
+}
 
 std::uint8_t linearToSrgb8(float v) {
     const Table& t = table();

@@ -13,8 +13,8 @@ std::string number(float v) {
 
 std::string radiusSource(const RadiusSpec& r, const ParticleSet* first) {
     if (!r.attribute.empty())
-        return "radius: attribute \"" + r.attribute + "\" mapped to [" + number(r.radiusLo) + ", " + number(r.radiusHi) +
-               "] from the scene";
+        return "radius: attribute \"" + r.attribute + "\" mapped to [" + number(r.radiusLo) + ", " +
+               number(r.radiusHi) + "] from the scene";
     if (r.fromScene) return "radius: constant " + number(r.constant) + " from the scene";
     if (first && !first->radii.empty()) {
         if (first->radiiFrom == Provenance::Elements) {
@@ -30,8 +30,10 @@ std::string radiusSource(const RadiusSpec& r, const ParticleSet* first) {
 
 std::string colorSource(const ColorSpec& c, const ParticleSet* first) {
     if (c.direction) return "colour: direction-encoded (|dx|, |dy|, |dz|) from the scene";
-    if (!c.attribute.empty()) return "colour: attribute \"" + c.attribute + "\" through " + c.colormap + " from the scene";
-    std::ostringstream rgbText;  // a stream, not "[" + std::string: GCC 12's -Wrestrict misfires on that (GCC bug 105329)
+    if (!c.attribute.empty())
+        return "colour: attribute \"" + c.attribute + "\" through " + c.colormap + " from the scene";
+    std::ostringstream
+        rgbText;  // a stream, not "[" + std::string: GCC 12's -Wrestrict misfires on that (GCC bug 105329)
     rgbText << '[' << c.constant.x << ", " << c.constant.y << ", " << c.constant.z << ']';
     const std::string rgb = rgbText.str();
     if (c.fromScene) return "colour: constant " + rgb + " from the scene";
@@ -42,7 +44,8 @@ std::string colorSource(const ColorSpec& c, const ParticleSet* first) {
 }
 
 std::string opacitySource(const OpacitySpec& o) {
-    if (!o.attribute.empty()) return "opacity: attribute \"" + o.attribute + "\" through a transfer function from the scene";
+    if (!o.attribute.empty())
+        return "opacity: attribute \"" + o.attribute + "\" through a transfer function from the scene";
     return "opacity: " + number(o.constant) + (o.fromScene ? " from the scene" : " (default)");
 }
 

@@ -2,9 +2,8 @@
 // A line set resolved by styling into what renderers draw: per-vertex radius and linear,
 // straight (non-premultiplied) RGBA, and the segment index buffer.
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/line_set.h"
 
@@ -17,14 +16,14 @@ enum VertexFlag : std::uint32_t {
 };
 
 struct StyledLines {
-    std::vector<glm::vec4> positionRadius;   // xyz world position, w radius (> 0)
-    std::vector<glm::vec4> color;            // linear RGB, straight alpha in [0,1]
-    std::vector<std::uint32_t> polylineId;   // per vertex
-    std::vector<std::uint32_t> flags;        // per vertex, VertexFlag bits
+    std::vector<glm::vec4> positionRadius;  // xyz world position, w radius (> 0)
+    std::vector<glm::vec4> color;           // linear RGB, straight alpha in [0,1]
+    std::vector<std::uint32_t> polylineId;  // per vertex
+    std::vector<std::uint32_t> flags;       // per vertex, VertexFlag bits
     // Segment S joins vertices segmentVertices[2S] and segmentVertices[2S + 1]. A sort permutes
     // segment ids; vertex data never moves (Groß & Gumhold 2020, Sect. 4.1).
     std::vector<std::uint32_t> segmentVertices;
-    Bounds bounds;        // of the tubes (positions grown by radii)
+    Bounds bounds;  // of the tubes (positions grown by radii)
     float maxRadius = 0;
 
     std::size_t segmentCount() const { return segmentVertices.size() / 2; }

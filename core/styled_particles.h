@@ -3,9 +3,8 @@
 // linear straight RGBA (alpha = Theta_max of the density model, Staib et al. 2015, Eq. 15) and
 // the particle's index in its data frame (the id AOV).
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/line_set.h"
 

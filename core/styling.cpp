@@ -1,10 +1,10 @@
 #include "core/styling.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
-
-#include <tbb/parallel_for.h>
 
 #include "core/color.h"
 #include "core/colormap.h"
@@ -48,7 +48,9 @@ const Colormap& styleColormap(const ColorSpec& color, const std::string& sceneFi
 
 namespace {
 
-std::string where(const std::string& sceneFile) { return sceneFile.empty() ? std::string("scene") : sceneFile; }
+std::string where(const std::string& sceneFile) {
+    return sceneFile.empty() ? std::string("scene") : sceneFile;
+}
 
 // The dataset's attribute, else a derived one computed into `derived` (which owns it).
 const Attribute& requireAttribute(const LineSet& lines, const std::string& name, const std::string& sceneFile,
@@ -68,8 +70,8 @@ const Attribute& requireAttribute(const LineSet& lines, const std::string& name,
     for (const auto& a : lines.attributes) available += (available.empty() ? "" : ", ") + a.name;
     std::string derivable;
     for (const auto& n : derivedAttributeNames()) derivable += (derivable.empty() ? "" : ", ") + n;
-    throw InputError(where(sceneFile) + ": " + key + ": the dataset has no attribute \"" + name + "\" (available: " +
-                     (available.empty() ? "none" : available) + "; derived: " + derivable + ")");
+    throw InputError(where(sceneFile) + ": " + key + ": the dataset has no attribute \"" + name +
+                     "\" (available: " + (available.empty() ? "none" : available) + "; derived: " + derivable + ")");
 }
 
 // Normalised attribute value in [0,1] for a range; NaN stays NaN.
@@ -116,14 +118,20 @@ StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::
     out.flags.assign(n, 0u);
 
     std::deque<Attribute> derived;  // a deque: references to earlier elements stay valid
-    const Attribute* radiusAttr = style.radius.attribute.empty() ? nullptr
-        : &requireAttribute(lines, style.radius.attribute, sceneFile, "style.radius.attribute", derived);
-    const Attribute* colorAttr = style.color.attribute.empty() ? nullptr
-        : &requireAttribute(lines, style.color.attribute, sceneFile, "style.color.attribute", derived);
-    const Attribute* opacityAttr = style.opacity.attribute.empty() ? nullptr
-        : &requireAttribute(lines, style.opacity.attribute, sceneFile, "style.opacity.attribute", derived);
-    const Colormap* colormap = colorAttr || style.opacity.pointsFromColormap ? &styleColormap(style.color, sceneFile)
-                                                                             : nullptr;
+    const Attribute* radiusAttr =
+        style.radius.attribute.empty()
+            ? nullptr
+            : &requireAttribute(lines, style.radius.attribute, sceneFile, "style.radius.attribute", derived);
+    const Attribute* colorAttr =
+        style.color.attribute.empty()
+            ? nullptr
+            : &requireAttribute(lines, style.color.attribute, sceneFile, "style.color.attribute", derived);
+    const Attribute* opacityAttr =
+        style.opacity.attribute.empty()
+            ? nullptr
+            : &requireAttribute(lines, style.opacity.attribute, sceneFile, "style.opacity.attribute", derived);
+    const Colormap* colormap =
+        colorAttr || style.opacity.pointsFromColormap ? &styleColormap(style.color, sceneFile) : nullptr;
     const std::vector<glm::vec2>* opacityPoints = &style.opacity.points;
     if (opacityAttr && style.opacity.pointsFromColormap) {
         if (colormap->opacity.empty())
@@ -135,8 +143,8 @@ StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::
     Normalizer colorN = colorAttr ? Normalizer(*colorAttr, style.color.range) : Normalizer();
     Normalizer opacityN = opacityAttr ? Normalizer(*opacityAttr, style.opacity.range) : Normalizer();
     const glm::vec3 constantColor = srgbToLinear(style.color.constant);
-    glm::vec3 nanSrgb = style.color.nanColor.value_or(
-        colormap && colormap->nanColor ? *colormap->nanColor : glm::vec3(0.5f));
+    glm::vec3 nanSrgb =
+        style.color.nanColor.value_or(colormap && colormap->nanColor ? *colormap->nanColor : glm::vec3(0.5f));
     const glm::vec3 nanColor = srgbToLinear(nanSrgb);
 
     // Lab, Diverging and HSV interpolation cost microseconds per sample (cube roots, trig): such

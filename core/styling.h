@@ -7,8 +7,8 @@
 // - Radius: linear from radius_range[0] at t = 0 to radius_range[1] at t = 1.
 // - Colour: the colormap (built-in, or style.color.preset loaded by io/paraview_preset.h) in its
 //   own colour space, then linearised. Lab, Diverging and HSV maps are tabulated at t = k / 4096
-//   first (a jump between equal control points is smeared over 1/4096). NaN values take style.color.nan_color, else the preset's
-//   NanColor, else sRGB grey 0.5.
+//   first (a jump between equal control points is smeared over 1/4096). NaN values take style.color.nan_color, else the
+//   preset's NanColor, else sRGB grey 0.5.
 // - Opacity: the piecewise linear transfer function style.opacity.points (or the preset's).
 // - NaN values get the low end for radius and opacity (t = 0).
 // - Attributes the dataset lacks but core/derived_attributes.h can compute (curvature, ...) are

@@ -8,7 +8,9 @@
 namespace tc {
 namespace {
 
-std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+std::string quoted(const std::string& s) {
+    return "\"" + s + "\"";
+}
 
 // "a", "a" or "b", "a", "b" or "c"
 std::string orList(const std::vector<std::string>& items) {
@@ -20,7 +22,9 @@ std::string orList(const std::vector<std::string>& items) {
     return out;
 }
 
-std::string sceneName(const Scene& scene) { return scene.file.empty() ? std::string("scene") : scene.file; }
+std::string sceneName(const Scene& scene) {
+    return scene.file.empty() ? std::string("scene") : scene.file;
+}
 
 template <class T>
 bool contains(const std::vector<T>& v, const T& x) {
@@ -29,23 +33,35 @@ bool contains(const std::vector<T>& v, const T& x) {
 
 }  // namespace
 
-const char* dataKindName(DataKind kind) { return kind == DataKind::Lines ? "lines" : "particles"; }
+const char* dataKindName(DataKind kind) {
+    return kind == DataKind::Lines ? "lines" : "particles";
+}
 
 const char* transparencyName(Transparency t) {
     switch (t) {
-    case Transparency::Opaque: return "opaque";
-    case Transparency::ObjectOrder: return "object_order";
-    case Transparency::KBuffer: return "kbuffer";
-    case Transparency::DepthPeeling: return "depth_peeling";
-    case Transparency::OpacityOptimization: return "opacity_optimization";
-    case Transparency::Auto: return "auto";
+        case Transparency::Opaque:
+            return "opaque";
+        case Transparency::ObjectOrder:
+            return "object_order";
+        case Transparency::KBuffer:
+            return "kbuffer";
+        case Transparency::DepthPeeling:
+            return "depth_peeling";
+        case Transparency::OpacityOptimization:
+            return "opacity_optimization";
+        case Transparency::Auto:
+            return "auto";
     }
     return "?";
 }
 
-const char* aoMethodName(AoSpec::Method m) { return m == AoSpec::Method::RayTraced ? "ray_traced" : "cone_traced"; }
+const char* aoMethodName(AoSpec::Method m) {
+    return m == AoSpec::Method::RayTraced ? "ray_traced" : "cone_traced";
+}
 
-bool TechniqueDescriptor::takes(DataKind kind) const { return contains(data, kind); }
+bool TechniqueDescriptor::takes(DataKind kind) const {
+    return contains(data, kind);
+}
 
 PixelBuffers TechniqueDescriptor::pixelBuffersFor(const Scene& scene, DataKind kind) const {
     if (!pixelBuffers) return {0, 0, name};
@@ -57,8 +73,8 @@ std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Sc
     if (!d.takes(kind)) {
         std::vector<std::string> kinds;
         for (DataKind k : d.data) kinds.push_back(dataKindName(k));
-        return SpecProblem{"render.technique", quoted(d.name) + " renders " + orList(kinds) + ", the dataset holds " +
-                                                   dataKindName(kind)};
+        return SpecProblem{"render.technique",
+                           quoted(d.name) + " renders " + orList(kinds) + ", the dataset holds " + dataKindName(kind)};
     }
     const RenderSpec& r = scene.render;
     if (r.transparency != Transparency::Auto && !contains(d.transparency, r.transparency)) {
@@ -162,7 +178,9 @@ void TechniqueRegistry::validateWithoutData(const Scene& scene) const {
                 if (!problem) return;
                 if (!first) first = problem;
             }
-        if (first) throw InputError(sceneName(scene) + ": " + first->key + ": no technique takes this (" + first->message + ")");
+        if (first)
+            throw InputError(sceneName(scene) + ": " + first->key + ": no technique takes this (" + first->message +
+                             ")");
         return;
     }
     const TechniqueDescriptor* d = find(scene.render.technique.name());
@@ -194,8 +212,7 @@ TechniqueRegistry::AutoChoice TechniqueRegistry::resolveAuto(const Scene& scene,
             if (contains(d.transparencyAliases, scene.render.transparency)) {
                 if (wantPreferred)
                     passedOver.push_back(d.name + " renders render.transparency " +
-                                         quoted(transparencyName(scene.render.transparency)) +
-                                         " as exact compositing");
+                                         quoted(transparencyName(scene.render.transparency)) + " as exact compositing");
                 continue;
             }
             std::string why = "render.technique auto: " + d.name + " (" + gl;

@@ -31,8 +31,8 @@ const char* dataKindName(DataKind kind);  // "lines", "particles"
 enum class TechniqueBackend { Gl, Cpu };
 
 // The scene-file spellings of the enums the registry checks.
-const char* transparencyName(Transparency t);   // "opaque", "kbuffer", ...
-const char* aoMethodName(AoSpec::Method m);     // "cone_traced", "ray_traced"
+const char* transparencyName(Transparency t);  // "opaque", "kbuffer", ...
+const char* aoMethodName(AoSpec::Method m);    // "cone_traced", "ray_traced"
 
 // The dataset a technique is made for. Lines are styled once by the frame loop; a particle time
 // series is styled frame by frame by the technique as the animation reaches each data frame

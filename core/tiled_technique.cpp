@@ -6,12 +6,14 @@
 
 #include "core/error.h"
 
-
 namespace tc {
 
 TiledTechnique::TiledTechnique(std::unique_ptr<Technique> inner, TilePlan plan, int samples, KeptAovs keep)
-    : m_inner(std::move(inner)), m_plan(std::move(plan)), m_offsets(sampleOffsets(samples)),
-      m_nearest(nearestToCentre(m_offsets)), m_keep(keep) {
+    : m_inner(std::move(inner)),
+      m_plan(std::move(plan)),
+      m_offsets(sampleOffsets(samples)),
+      m_nearest(nearestToCentre(m_offsets)),
+      m_keep(keep) {
     TC_CHECK(!m_plan.tiles.empty());
 }
 
@@ -23,12 +25,18 @@ void TiledTechnique::render(const FrameSetup& setup, FrameImages& out, StageSink
     out.height = H;
     out.rgba.assign(4 * n, 0.0f);
     // Unrequested AOVs stay empty; requested ones start as background.
-    if (m_keep.depth) out.depth.assign(n, std::numeric_limits<float>::infinity());
-    else out.depth.clear();
-    if (m_keep.normal) out.normal.assign(3 * n, 0.0f);
-    else out.normal.clear();
-    if (m_keep.id) out.id.assign(n, kBackgroundId);
-    else out.id.clear();
+    if (m_keep.depth)
+        out.depth.assign(n, std::numeric_limits<float>::infinity());
+    else
+        out.depth.clear();
+    if (m_keep.normal)
+        out.normal.assign(3 * n, 0.0f);
+    else
+        out.normal.clear();
+    if (m_keep.id)
+        out.id.assign(n, kBackgroundId);
+    else
+        out.id.clear();
     out.ao.clear();
 
     const float invSamples = 1.0f / float(m_offsets.size());

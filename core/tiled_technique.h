@@ -12,8 +12,8 @@
 //   so they hold values of actual surfaces, never a blend.
 #include <memory>
 
-#include "core/tiling.h"
 #include "core/technique.h"
+#include "core/tiling.h"
 
 namespace tc {
 

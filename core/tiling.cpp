@@ -21,8 +21,7 @@ int fullHeightOf(const ImageWindow& window, int targetHeight) {
     return window.fullHeight > 0 ? window.fullHeight : targetHeight;
 }
 
-Ray windowPixelRay(const Camera& camera, const ImageWindow& window, int targetWidth, int targetHeight, int px,
-                   int py) {
+Ray windowPixelRay(const Camera& camera, const ImageWindow& window, int targetWidth, int targetHeight, int px, int py) {
     const glm::vec2 p = fullImagePixel(window, float(px), float(py));
     return pixelRay(camera, fullWidthOf(window, targetWidth), fullHeightOf(window, targetHeight), p.x, p.y);
 }
@@ -32,8 +31,7 @@ glm::vec2 glWindowOffset(const ImageWindow& window, int targetWidth, int targetH
     // at its centre plus the jitter; GL's y runs up, the image's rows down.
     (void)targetWidth;
     const int fullHeight = fullHeightOf(window, targetHeight);
-    return {float(window.x) + window.jitter.x,
-            float(fullHeight - window.y - targetHeight) - window.jitter.y};
+    return {float(window.x) + window.jitter.x, float(fullHeight - window.y - targetHeight) - window.jitter.y};
 }
 
 glm::vec4 ndcToTarget(const ImageWindow& window, int targetWidth, int targetHeight) {
@@ -63,7 +61,9 @@ int largestPart(int size, int n) {
     return largest;
 }
 
-std::string megabytes(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MB"; }
+std::string megabytes(std::size_t bytes) {
+    return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MB";
+}
 
 }  // namespace
 
@@ -101,8 +101,8 @@ TilePlan planTiles(int width, int height, int requestedNx, int requestedNy, std:
         const int tw = largestPart(width, requestedNx), th = largestPart(height, requestedNy);
         if (!withinLimits(tw, th))
             throw InputError("image.tiles: tiles of " + std::to_string(tw) + "x" + std::to_string(th) +
-                             " exceed what this GL renders at once (edge " + std::to_string(limits.maxEdge) +
-                             ", " + std::to_string(limits.maxPixels) + " pixels for the " + what +
+                             " exceed what this GL renders at once (edge " + std::to_string(limits.maxEdge) + ", " +
+                             std::to_string(limits.maxPixels) + " pixels for the " + what +
                              "); use more tiles or \"auto\"");
     } else if (!fits(width, height)) {
         plan.automatic = true;
@@ -120,8 +120,8 @@ TilePlan planTiles(int width, int height, int requestedNx, int requestedNy, std:
             throw InputError("render.memory_budget_mb: " + what + " needs " + megabytes(bytesOf(width, height)) +
                              " of per-pixel buffers at " + std::to_string(width) + "x" + std::to_string(height) +
                              " and " + megabytes(minBytes) + " for even the smallest tile (" + std::to_string(minW) +
-                             "x" + std::to_string(minH) + "), over the budget of " +
-                             std::to_string(budgetBytes >> 20) + " MB (raise the budget)");
+                             "x" + std::to_string(minH) + "), over the budget of " + std::to_string(budgetBytes >> 20) +
+                             " MB (raise the budget)");
         long best = std::numeric_limits<long>::max();
         double bestAspect = 0;
         for (int ny = 1; ny <= maxNy; ++ny)

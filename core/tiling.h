@@ -7,10 +7,9 @@
 // target's NDC), so every pixel of a tile casts bit-for-bit the ray the untiled image casts.
 // core/tiled_technique.h renders the tiles and samples; gl/view_window.h sets the GLSL uniforms.
 #include <cstddef>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/camera.h"
 
@@ -72,8 +71,8 @@ struct TileLimits {
 
 struct TilePlan {
     int nx = 1, ny = 1;
-    bool automatic = false;          // chosen for render.memory_budget_mb, not image.tiles
-    std::size_t bytesPerPixel = 0;   // GPU per-pixel buffers of the technique
+    bool automatic = false;         // chosen for render.memory_budget_mb, not image.tiles
+    std::size_t bytesPerPixel = 0;  // GPU per-pixel buffers of the technique
     std::size_t largestTileBytes = 0;
     int largestTileWidth = 0, largestTileHeight = 0;
     std::vector<TileRect> tiles;

@@ -1,10 +1,10 @@
 #include "core/transparent_reference.h"
 
-#include <algorithm>
-
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+
+#include <algorithm>
 
 #include "core/cap_clipping.h"
 #include "core/rounded_cone.h"

@@ -16,12 +16,12 @@ namespace tc {
 
 // One surface fragment of one segment on one ray.
 struct TransparentFragment {
-    float depth;             // view space: t * dot(dir, forward) (orthographic: t)
-    float t;                 // ray parameter, > 0
-    std::uint32_t segment;   // index into segmentVertices / 2
-    glm::vec3 normal;        // outward world normal of the tube
-    glm::vec3 rgb;           // shaded, clamped to [0, 1], linear, not premultiplied
-    float alpha;             // straight
+    float depth;            // view space: t * dot(dir, forward) (orthographic: t)
+    float t;                // ray parameter, > 0
+    std::uint32_t segment;  // index into segmentVertices / 2
+    glm::vec3 normal;       // outward world normal of the tube
+    glm::vec3 rgb;          // shaded, clamped to [0, 1], linear, not premultiplied
+    float alpha;            // straight
 };
 
 // All fragments of `ray`, sorted by (depth, segment): per segment at most one, by

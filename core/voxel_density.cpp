@@ -1,15 +1,15 @@
 #include "core/voxel_density.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
-#include <new>
-#include <memory>
-
 #include <glm/gtc/constants.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <memory>
+#include <new>
 
 #include "core/error.h"
 
@@ -54,8 +54,7 @@ DensityGrid makeDensityGrid(const Bounds& bounds, int resolution) {
     for (int k = 0; k < 3; ++k) {
         // ceil + 1 gives at least half a voxel of margin on both sides (see the header); a
         // rounding error just above an integer only adds a voxel of margin.
-        grid.size[k] =
-            k == longest ? resolution : int(std::ceil(double(extent[k]) / grid.voxelSize)) + 1;
+        grid.size[k] = k == longest ? resolution : int(std::ceil(double(extent[k]) / grid.voxelSize)) + 1;
     }
     grid.origin = bounds.center() - 0.5f * glm::vec3(grid.size) * grid.voxelSize;
     grid.density.assign(grid.voxelCount(), 0.0f);
@@ -77,8 +76,7 @@ public:
 
     explicit BrickedAccumulator(const glm::ivec3& size)
         : m_bricks((size + (kBrick - 1)) / kBrick),
-          m_data(static_cast<std::int64_t*>(
-              std::calloc(brickCount() * kBrickVoxels, sizeof(std::int64_t)))) {
+          m_data(static_cast<std::int64_t*>(std::calloc(brickCount() * kBrickVoxels, sizeof(std::int64_t)))) {
         if (!m_data) throw std::bad_alloc();
     }
 
@@ -88,9 +86,9 @@ public:
     glm::ivec3 bricks() const { return m_bricks; }
     std::size_t index(const glm::ivec3& v) const {
         const glm::ivec3 b = v / kBrick, l = v % kBrick;
-        const std::size_t brick = (std::size_t(b.z) * std::size_t(m_bricks.y) + std::size_t(b.y)) *
-                                      std::size_t(m_bricks.x) +
-                                  std::size_t(b.x);
+        const std::size_t brick =
+            (std::size_t(b.z) * std::size_t(m_bricks.y) + std::size_t(b.y)) * std::size_t(m_bricks.x) +
+            std::size_t(b.x);
         return brick * kBrickVoxels + std::size_t((l.z * kBrick + l.y) * kBrick + l.x);
     }
     void add(std::size_t i, std::int64_t value) {
@@ -130,8 +128,8 @@ struct PendingDeposit {
 // Deposits one segment's axis, clipped to the grid, into `acc`. Returns whether it was clipped.
 // All arithmetic in double: the deposits then sum to the analytic volume to ~1e-15 relative,
 // far below the fixed-point and float-conversion errors.
-bool voxelizeSegment(const glm::vec4& pa, const glm::vec4& pb, float alphaA, float alphaB,
-                     const DensityGrid& grid, BrickedAccumulator& acc, PendingDeposit& pending) {
+bool voxelizeSegment(const glm::vec4& pa, const glm::vec4& pb, float alphaA, float alphaB, const DensityGrid& grid,
+                     BrickedAccumulator& acc, PendingDeposit& pending) {
     const glm::dvec3 origin(grid.origin);
     const double h = grid.voxelSize;
     // Grid coordinates: voxel v covers [v, v + 1) on each axis.
@@ -228,32 +226,30 @@ void voxelizeLines(const StyledLines& lines, DensityGrid& grid, const RegionBox&
     std::atomic<bool> overflow{false};
     const glm::ivec3 bricks = acc.bricks();
     constexpr int B = BrickedAccumulator::kBrick;
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, acc.brickCount()),
-        [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t brick = r.begin(); brick != r.end(); ++brick) {
-                const glm::ivec3 b(int(brick % bricks.x), int(brick / bricks.x % bricks.y),
-                                   int(brick / bricks.x / bricks.y));
-                const glm::ivec3 lo = b * B, hi = glm::min(lo + B, grid.size);
-                const std::size_t base = acc.index(lo);
-                bool negative = false;
-                for (int z = lo.z; z < hi.z; ++z)
-                    for (int y = lo.y; y < hi.y; ++y) {
-                        const std::size_t row =
-                            base + std::size_t(((z - lo.z) * B + (y - lo.y)) * B);
-                        float* out = grid.density.data() + grid.index(lo.x, y, z);
-                        for (int x = 0; x < hi.x - lo.x; ++x) {
-                            const std::int64_t value = acc[row + std::size_t(x)];
-                            negative |= value < 0;
-                            // 2^-32 is exact: one rounding, in the float conversion.
-                            out[x] = float(double(value) * (1.0 / kDensityFixedPointScale));
-                        }
-                    }
-                // Every deposit is >= 0, so a negative sum means it wrapped past
-                // 2^63 (2^31 voxel volumes in one voxel).
-                if (negative) overflow.store(true, std::memory_order_relaxed);
-            }
-        });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, acc.brickCount()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t brick = r.begin(); brick != r.end(); ++brick) {
+                              const glm::ivec3 b(int(brick % bricks.x), int(brick / bricks.x % bricks.y),
+                                                 int(brick / bricks.x / bricks.y));
+                              const glm::ivec3 lo = b * B, hi = glm::min(lo + B, grid.size);
+                              const std::size_t base = acc.index(lo);
+                              bool negative = false;
+                              for (int z = lo.z; z < hi.z; ++z)
+                                  for (int y = lo.y; y < hi.y; ++y) {
+                                      const std::size_t row = base + std::size_t(((z - lo.z) * B + (y - lo.y)) * B);
+                                      float* out = grid.density.data() + grid.index(lo.x, y, z);
+                                      for (int x = 0; x < hi.x - lo.x; ++x) {
+                                          const std::int64_t value = acc[row + std::size_t(x)];
+                                          negative |= value < 0;
+                                          // 2^-32 is exact: one rounding, in the float conversion.
+                                          out[x] = float(double(value) * (1.0 / kDensityFixedPointScale));
+                                      }
+                                  }
+                              // Every deposit is >= 0, so a negative sum means it wrapped past
+                              // 2^63 (2^31 voxel volumes in one voxel).
+                              if (negative) overflow.store(true, std::memory_order_relaxed);
+                          }
+                      });
     TC_CHECK(!overflow.load());
     grid.clampedSegments = clamped.load();
 }

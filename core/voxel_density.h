@@ -5,9 +5,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/line_set.h"
 #include "core/region.h"
@@ -26,12 +25,9 @@ struct DensityGrid {
     std::vector<float> density;       // size.x * size.y * size.z, x fastest
     std::size_t clampedSegments = 0;  // segments whose axis lies (partly) outside the grid
 
-    std::size_t voxelCount() const {
-        return std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
-    }
+    std::size_t voxelCount() const { return std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z); }
     std::size_t index(int x, int y, int z) const {
-        return (std::size_t(z) * std::size_t(size.y) + std::size_t(y)) * std::size_t(size.x) +
-               std::size_t(x);
+        return (std::size_t(z) * std::size_t(size.y) + std::size_t(y)) * std::size_t(size.x) + std::size_t(x);
     }
     glm::vec3 hi() const { return origin + glm::vec3(size) * voxelSize; }
 
@@ -47,8 +43,7 @@ struct DensityGrid {
     // int64 per voxel, in bricks of 8^3 (each axis rounded up to a multiple of 8).
     std::size_t accumulatorBytes() const {
         const glm::ivec3 padded = (size + 7) / 8 * 8;
-        return std::size_t(padded.x) * std::size_t(padded.y) * std::size_t(padded.z) *
-               sizeof(std::int64_t);
+        return std::size_t(padded.x) * std::size_t(padded.y) * std::size_t(padded.z) * sizeof(std::int64_t);
     }
 };
 

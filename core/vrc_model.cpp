@@ -1,15 +1,15 @@
 #include "core/vrc_model.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_scan.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <string>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_scan.h>
-#include <tbb/parallel_sort.h>
 
 #include "core/error.h"
 #include "core/voxel_density.h"
@@ -31,9 +31,13 @@ std::size_t VrcModel::lodBytes() const {
 namespace {
 
 // In-plane axes of a face normal to `axis`, in increasing order.
-glm::ivec2 planeAxes(int axis) { return axis == 0 ? glm::ivec2(1, 2) : axis == 1 ? glm::ivec2(0, 2) : glm::ivec2(0, 1); }
+glm::ivec2 planeAxes(int axis) {
+    return axis == 0 ? glm::ivec2(1, 2) : axis == 1 ? glm::ivec2(0, 2) : glm::ivec2(0, 1);
+}
 
-int interiorLattice(int q) { return std::min(q, kInteriorLattice); }
+int interiorLattice(int q) {
+    return std::min(q, kInteriorLattice);
+}
 
 std::uint32_t packColor(glm::vec4 c) {
     std::uint32_t packed = 0;
@@ -86,7 +90,8 @@ std::size_t walkPolyline(const StyledLines& lines, std::uint32_t first, std::uin
         return glm::clamp(glm::ivec3(glm::floor(p)), glm::ivec3(0), grid.size - 1);
     };
     auto indexOf = [&](const glm::ivec3& v) {
-        return std::uint32_t((std::size_t(v.z) * std::size_t(grid.size.y) + std::size_t(v.y)) * std::size_t(grid.size.x) +
+        return std::uint32_t((std::size_t(v.z) * std::size_t(grid.size.y) + std::size_t(v.y)) *
+                                 std::size_t(grid.size.x) +
                              std::size_t(v.x));
     };
 
@@ -131,7 +136,8 @@ std::size_t walkPolyline(const StyledLines& lines, std::uint32_t first, std::uin
             length += ds;
             alphaLength += ds * alphaMid;
             if (axis < 0) break;
-            const glm::ivec3 next = v + glm::ivec3(axis == 0 ? step.x : 0, axis == 1 ? step.y : 0, axis == 2 ? step.z : 0);
+            const glm::ivec3 next =
+                v + glm::ivec3(axis == 0 ? step.x : 0, axis == 1 ? step.y : 0, axis == 2 ? step.z : 0);
             // Vertices are inside the grid, so a crossing out of it is float rounding at the far
             // end of a segment ending on the boundary: stay.
             if (next[axis] < 0 || next[axis] >= grid.size[axis]) break;
@@ -191,7 +197,8 @@ glm::vec3 decodeEnd(const VrcModel& model, glm::ivec3 voxel, std::uint32_t code)
 }
 
 std::uint32_t encodeEnd(const VrcModel& model, glm::ivec3 voxel, std::uint32_t face, glm::vec3 p) {
-    return encodeGrid(model.quantization, voxel, face, (glm::dvec3(p) - glm::dvec3(model.origin)) / double(model.voxelSize));
+    return encodeGrid(model.quantization, voxel, face,
+                      (glm::dvec3(p) - glm::dvec3(model.origin)) / double(model.voxelSize));
 }
 
 float vrcFaceQuantizationBound(const VrcModel& model) {
@@ -400,8 +407,10 @@ void dilateVrcModel(VrcModel& model) {
 
     std::vector<VrcCompactPiece> compact;
     std::vector<VrcExactPiece> exact;
-    if (quantized) compact.resize(total);
-    else exact.resize(total);
+    if (quantized)
+        compact.resize(total);
+    else
+        exact.resize(total);
     std::vector<std::uint32_t> pieceVoxel(total);
     tbb::parallel_for(std::uint64_t(0), total, [&](std::uint64_t k) {
         const std::uint64_t e = keys[k] & 0xFFFFFFFFu;
@@ -501,14 +510,17 @@ VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options)
     // Sort by (voxel, canonical slot): the key makes the order unique, so parallel_sort's
     // instability does not matter.
     std::vector<std::uint64_t> keys(total);
-    tbb::parallel_for(std::uint64_t(0), total, [&](std::uint64_t i) { keys[i] = (std::uint64_t(voxelOf[i]) << 32) | i; });
+    tbb::parallel_for(std::uint64_t(0), total,
+                      [&](std::uint64_t i) { keys[i] = (std::uint64_t(voxelOf[i]) << 32) | i; });
     tbb::parallel_sort(keys.begin(), keys.end());
 
     const std::size_t voxels = model.voxelCount();
     model.voxels.assign(voxels, VrcVoxel{0, 0});
     model.pieceVoxel.resize(total);
-    if (q > 0) model.compact.resize(total);
-    else model.exact.resize(total);
+    if (q > 0)
+        model.compact.resize(total);
+    else
+        model.exact.resize(total);
     const float maxRadius = lines.maxRadius;
     tbb::parallel_for(std::uint64_t(0), total, [&](std::uint64_t i) {
         const std::uint64_t slot = keys[i] & 0xFFFFFFFFu;
@@ -532,7 +544,8 @@ VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options)
         tbb::parallel_for(std::size_t(0), voxels, [&](std::size_t v) {
             const VrcVoxel& h = model.voxels[v];
             double sum = 0.0;
-            for (std::uint32_t k = 0; k < (h.count & kCountMask); ++k) sum += weighted[keys[h.offset + k] & 0xFFFFFFFFu];
+            for (std::uint32_t k = 0; k < (h.count & kCountMask); ++k)
+                sum += weighted[keys[h.offset + k] & 0xFFFFFFFFu];
             level0.density[v] = float(sum);
         });
         model.lod = buildDensityPyramid(std::move(level0));

@@ -50,9 +50,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/styled_lines.h"
 
@@ -95,11 +94,11 @@ static_assert(sizeof(VrcCompactPiece) == 16);
 // 64 bytes per piece, quantization = 0: exact float end points (std430 layout of the shader's
 // struct: vec4, vec4, vec4, uvec4).
 struct VrcExactPiece {
-    glm::vec4 a;       // xyz world position, w radius
+    glm::vec4 a;  // xyz world position, w radius
     glm::vec4 b;
-    glm::vec4 color;   // linear RGBA at the piece's middle, straight alpha
-    glm::uvec4 info;   // x polyline id, y end flags (bit 0: a is a vertex end, bit 1: b), z home offset bits
-                       // of a copy (encodeHomeOffset; 0 = the piece's own voxel), w 0
+    glm::vec4 color;  // linear RGBA at the piece's middle, straight alpha
+    glm::uvec4 info;  // x polyline id, y end flags (bit 0: a is a vertex end, bit 1: b), z home offset bits
+                      // of a copy (encodeHomeOffset; 0 = the piece's own voxel), w 0
 };
 static_assert(sizeof(VrcExactPiece) == 64);
 
@@ -140,9 +139,7 @@ struct VrcModel {
     std::size_t clampedVertices = 0;        // vertices outside the grid (moved onto it)
     std::size_t copies = 0;                 // pieces that are copies (dilateVrcModel), included in pieceCount
 
-    std::size_t voxelCount() const {
-        return std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
-    }
+    std::size_t voxelCount() const { return std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z); }
     std::size_t index(int x, int y, int z) const {
         return (std::size_t(z) * std::size_t(size.y) + std::size_t(y)) * std::size_t(size.x) + std::size_t(x);
     }
@@ -161,10 +158,10 @@ struct VrcModel {
 };
 
 struct VrcBuildOptions {
-    int resolution = 128;    // voxels along the longest axis (>= 2), as makeDensityGrid
-    int quantization = 32;   // 0 (exact) or 1..kMaxQuantization
-    bool lod = true;         // build the Eq. 1 density pyramid
-    bool dilate = false;     // copies into the neighbours a tube reaches (dilateVrcModel)
+    int resolution = 128;   // voxels along the longest axis (>= 2), as makeDensityGrid
+    int quantization = 32;  // 0 (exact) or 1..kMaxQuantization
+    bool lod = true;        // build the Eq. 1 density pyramid
+    bool dilate = false;    // copies into the neighbours a tube reaches (dilateVrcModel)
 };
 
 // Builds the model. The grid is makeDensityGrid(lines.bounds, resolution)'s (cubic voxels, aspect

@@ -1,9 +1,9 @@
 #include "core/vrc_representative.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <tbb/parallel_for.h>
 
 namespace tc {
 
@@ -91,8 +91,14 @@ GridLine representative(const std::vector<GridPiece>& pieces, const std::vector<
         if (d[k] == 0.0) continue;
         double t0 = (double(v[k]) - m[k]) / d[k], t1 = (double(v[k]) + 1.0 - m[k]) / d[k];
         if (t0 > t1) std::swap(t0, t1);
-        if (t0 > tIn) { tIn = t0; axisIn = k; }
-        if (t1 < tOut) { tOut = t1; axisOut = k; }
+        if (t0 > tIn) {
+            tIn = t0;
+            axisIn = k;
+        }
+        if (t1 < tOut) {
+            tOut = t1;
+            axisOut = k;
+        }
     }
     line.a = m + tIn * d;
     line.b = m + tOut * d;

@@ -21,27 +21,26 @@
 // less than 1/1000 of a model voxel in length (slivers at edges and corners) gets a point line
 // a == b at their average, with faces kInteriorFace (no direction to extend along).
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/vrc_model.h"
 
 namespace tc {
 
 struct VrcRepresentativeLine {
-    glm::vec3 a{0.0f}, b{0.0f};  // world space, on the level voxel's faces
-    float radius = 0.0f;         // weighted mean radius of the pieces
-    float weight = 0.0f;         // sum of the pieces' Eq. 1 weights (model voxel lengths)
-    glm::vec4 color{0.0f};       // weighted mean colour, straight alpha
+    glm::vec3 a{0.0f}, b{0.0f};          // world space, on the level voxel's faces
+    float radius = 0.0f;                 // weighted mean radius of the pieces
+    float weight = 0.0f;                 // sum of the pieces' Eq. 1 weights (model voxel lengths)
+    glm::vec4 color{0.0f};               // weighted mean colour, straight alpha
     std::uint32_t faceA = 0, faceB = 0;  // face ids of a and b (axis * 2 + side), as the model's codes;
                                          // kInteriorFace for a point line
 };
 
 struct VrcRepresentativeLevel {
     int level = 0;
-    glm::ivec3 size{0};     // ceil(model.size / 2^level)
-    float voxelSize = 0.0f; // world units (model.voxelSize x 2^level)
+    glm::ivec3 size{0};                        // ceil(model.size / 2^level)
+    float voxelSize = 0.0f;                    // world units (model.voxelSize x 2^level)
     std::vector<VrcRepresentativeLine> lines;  // one per voxel, x fastest
     std::size_t index(glm::ivec3 v) const {
         return (std::size_t(v.z) * std::size_t(size.y) + std::size_t(v.y)) * std::size_t(size.x) + std::size_t(v.x);

@@ -3,6 +3,7 @@
 // density volume is voxelized on the CPU once per dataset (core/voxel_density.h), uploaded with a
 // mip pyramid (gl/density_volume.h) and cone traced per shaded point (shaders/cone_tracing.glsl).
 // Programs that trace cones are compiled with the define AMBIENT_OCCLUSION.
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <vector>
 
 #include "core/error.h"
@@ -88,7 +88,8 @@ void AoLineCache::bind() const {
 }
 
 nlohmann::json AoLineCache::describe() const {
-    return {{"method", "exact cone traced AO cached per segment sample x " + std::to_string(kAzimuths) + " azimuths, interpolated per fragment"},
+    return {{"method", "exact cone traced AO cached per segment sample x " + std::to_string(kAzimuths) +
+                           " azimuths, interpolated per fragment"},
             {"samples", m_sampleCount},
             {"sample_spacing_world", m_spacing},
             {"cache_mb", double(m_sampleCount * kAzimuths) / (1024.0 * 1024.0)},

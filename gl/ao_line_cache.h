@@ -9,9 +9,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/styled_lines.h"
 #include "gl/line_geometry.h"

@@ -24,8 +24,7 @@ struct osmesa_context;
 using OSMesaContext = osmesa_context*;
 OSMesaContext OSMesaCreateContextAttribs(const int* attribList, OSMesaContext sharelist);
 void OSMesaDestroyContext(OSMesaContext ctx);
-GLboolean OSMesaMakeCurrent(OSMesaContext ctx, void* buffer, GLenum type, GLsizei width,
-                            GLsizei height);
+GLboolean OSMesaMakeCurrent(OSMesaContext ctx, void* buffer, GLenum type, GLsizei width, GLsizei height);
 using OSMESAproc = void (*)();
 OSMESAproc OSMesaGetProcAddress(const char* funcName);
 }
@@ -47,10 +46,14 @@ constexpr int kMajor = 4, kMinor = 5;
 // Extensions the render techniques choose variants by (interlock / ordering for k-buffers, 64-bit
 // atomics for packed depth+id, ...). ContextInfo::extensions lists the present ones.
 constexpr std::array kPipelineExtensions = {
-    "GL_ARB_fragment_shader_interlock", "GL_NV_fragment_shader_interlock",
-    "GL_INTEL_fragment_shader_ordering", "GL_ARB_shader_atomic_int64",
-    "GL_NV_shader_atomic_int64",         "GL_ARB_gpu_shader_int64",
-    "GL_KHR_debug",                      "GL_ARB_bindless_texture",
+    "GL_ARB_fragment_shader_interlock",
+    "GL_NV_fragment_shader_interlock",
+    "GL_INTEL_fragment_shader_ordering",
+    "GL_ARB_shader_atomic_int64",
+    "GL_NV_shader_atomic_int64",
+    "GL_ARB_gpu_shader_int64",
+    "GL_KHR_debug",
+    "GL_ARB_bindless_texture",
     "GL_NV_gpu_shader5",
 };
 
@@ -63,22 +66,38 @@ struct BackendFailure {
 
 const char* eglErrorName(EGLint error) {
     switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-    default: return "unknown EGL error";
+        case EGL_SUCCESS:
+            return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED:
+            return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS:
+            return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC:
+            return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE:
+            return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG:
+            return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT:
+            return "EGL_BAD_CONTEXT";
+        case EGL_BAD_CURRENT_SURFACE:
+            return "EGL_BAD_CURRENT_SURFACE";
+        case EGL_BAD_DISPLAY:
+            return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH:
+            return "EGL_BAD_MATCH";
+        case EGL_BAD_NATIVE_PIXMAP:
+            return "EGL_BAD_NATIVE_PIXMAP";
+        case EGL_BAD_NATIVE_WINDOW:
+            return "EGL_BAD_NATIVE_WINDOW";
+        case EGL_BAD_PARAMETER:
+            return "EGL_BAD_PARAMETER";
+        case EGL_BAD_SURFACE:
+            return "EGL_BAD_SURFACE";
+        case EGL_CONTEXT_LOST:
+            return "EGL_CONTEXT_LOST";
+        default:
+            return "unknown EGL error";
     }
 }
 
@@ -104,8 +123,12 @@ Fn eglProc(const char* name) {
     return reinterpret_cast<Fn>(eglGetProcAddress(name));
 }
 
-void* eglLoader(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
-void* osmesaLoader(const char* name) { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); }
+void* eglLoader(const char* name) {
+    return reinterpret_cast<void*>(eglGetProcAddress(name));
+}
+void* osmesaLoader(const char* name) {
+    return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+}
 
 // EGL displays are per-process singletons: eglGetPlatformDisplay returns the same handle for the
 // same platform and device, and eglTerminate on it destroys every context on it, including those
@@ -115,39 +138,55 @@ std::map<EGLDisplay, int>& eglDisplayUsers() {
     return users;
 }
 
-void debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
-                   const GLchar* message, const void*) {
+void debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei, const GLchar* message,
+                   const void*) {
     auto typeName = [&] {
         switch (type) {
-        case GL_DEBUG_TYPE_ERROR: return "error";
-        case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR: return "deprecated";
-        case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR: return "undefined behaviour";
-        case GL_DEBUG_TYPE_PORTABILITY: return "portability";
-        case GL_DEBUG_TYPE_PERFORMANCE: return "performance";
-        case GL_DEBUG_TYPE_MARKER: return "marker";
-        default: return "other";
+            case GL_DEBUG_TYPE_ERROR:
+                return "error";
+            case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR:
+                return "deprecated";
+            case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR:
+                return "undefined behaviour";
+            case GL_DEBUG_TYPE_PORTABILITY:
+                return "portability";
+            case GL_DEBUG_TYPE_PERFORMANCE:
+                return "performance";
+            case GL_DEBUG_TYPE_MARKER:
+                return "marker";
+            default:
+                return "other";
         }
     };
     auto severityName = [&] {
         switch (severity) {
-        case GL_DEBUG_SEVERITY_HIGH: return "high";
-        case GL_DEBUG_SEVERITY_MEDIUM: return "medium";
-        case GL_DEBUG_SEVERITY_LOW: return "low";
-        default: return "notification";
+            case GL_DEBUG_SEVERITY_HIGH:
+                return "high";
+            case GL_DEBUG_SEVERITY_MEDIUM:
+                return "medium";
+            case GL_DEBUG_SEVERITY_LOW:
+                return "low";
+            default:
+                return "notification";
         }
     };
     auto sourceName = [&] {
         switch (source) {
-        case GL_DEBUG_SOURCE_API: return "api";
-        case GL_DEBUG_SOURCE_SHADER_COMPILER: return "shader compiler";
-        case GL_DEBUG_SOURCE_WINDOW_SYSTEM: return "window system";
-        case GL_DEBUG_SOURCE_THIRD_PARTY: return "third party";
-        case GL_DEBUG_SOURCE_APPLICATION: return "application";
-        default: return "other";
+            case GL_DEBUG_SOURCE_API:
+                return "api";
+            case GL_DEBUG_SOURCE_SHADER_COMPILER:
+                return "shader compiler";
+            case GL_DEBUG_SOURCE_WINDOW_SYSTEM:
+                return "window system";
+            case GL_DEBUG_SOURCE_THIRD_PARTY:
+                return "third party";
+            case GL_DEBUG_SOURCE_APPLICATION:
+                return "application";
+            default:
+                return "other";
         }
     };
-    std::fprintf(stderr, "gl-debug: %s (%s, %s, id %u): %s\n", typeName(), severityName(),
-                 sourceName(), id, message);
+    std::fprintf(stderr, "gl-debug: %s (%s, %s, id %u): %s\n", typeName(), severityName(), sourceName(), id, message);
 }
 
 }  // namespace
@@ -320,12 +359,11 @@ std::pair<EGLint, EGLint> openEglDisplay(const std::vector<EglDevice>& devices, 
         impl.info.backend = "egl-device";
         impl.info.device = describeDevice(devices, static_cast<size_t>(chosen));
         if (impl.display == EGL_NO_DISPLAY)
-            throw BackendFailure{"device " + impl.info.device + ": " +
-                                     eglFailure("eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT)"),
-                                 "try another --device or --backend osmesa"};
+            throw BackendFailure{
+                "device " + impl.info.device + ": " + eglFailure("eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT)"),
+                "try another --device or --backend osmesa"};
     } else {
-        if (!hasPlatformBase || !getPlatformDisplay ||
-            !hasToken(clientExtensions, "EGL_MESA_platform_surfaceless")) {
+        if (!hasPlatformBase || !getPlatformDisplay || !hasToken(clientExtensions, "EGL_MESA_platform_surfaceless")) {
             throw BackendFailure{
                 "no hardware EGL device and libEGL offers no surfaceless platform "
                 "(EGL_MESA_platform_surfaceless)",
@@ -362,36 +400,34 @@ void createEglContext(const ContextConfig& config, EGLint eglMajor, EGLint eglMi
         throw BackendFailure{"the EGL display lacks EGL_KHR_surfaceless_context",
                              "update the GPU driver or Mesa, or use --backend osmesa"};
     if (!eglBindAPI(EGL_OPENGL_API))
-        throw BackendFailure{eglFailure("eglBindAPI(EGL_OPENGL_API)") +
-                                 " (the EGL driver offers OpenGL ES only)",
+        throw BackendFailure{eglFailure("eglBindAPI(EGL_OPENGL_API)") + " (the EGL driver offers OpenGL ES only)",
                              "use --backend osmesa"};
 
     EGLConfig eglConfig = EGL_NO_CONFIG_KHR;
     if (!hasToken(displayExtensions, "EGL_KHR_no_config_context")) {
         // Any OpenGL-capable config will do: we never create a surface with it.
-        const EGLint attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                                  EGL_OPENGL_BIT, EGL_NONE};
+        const EGLint attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
         EGLint count = 0;
         if (!eglChooseConfig(impl.display, attribs, &eglConfig, 1, &count) || count < 1)
-            throw BackendFailure{"no EGL config supports desktop OpenGL (" +
-                                     eglFailure("eglChooseConfig") + ")",
+            throw BackendFailure{"no EGL config supports desktop OpenGL (" + eglFailure("eglChooseConfig") + ")",
                                  "use --backend osmesa"};
     }
 
     // The EGL_KHR_create_context names have the same values as EGL 1.5's, so one list serves both.
-    const EGLint contextAttribs[] = {
-        EGL_CONTEXT_MAJOR_VERSION_KHR, kMajor,
-        EGL_CONTEXT_MINOR_VERSION_KHR, kMinor,
-        EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR,
-        EGL_CONTEXT_FLAGS_KHR, config.debug ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0,
-        EGL_NONE};
+    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION_KHR,
+                                     kMajor,
+                                     EGL_CONTEXT_MINOR_VERSION_KHR,
+                                     kMinor,
+                                     EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR,
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR,
+                                     EGL_CONTEXT_FLAGS_KHR,
+                                     config.debug ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0,
+                                     EGL_NONE};
     impl.eglContext = eglCreateContext(impl.display, eglConfig, EGL_NO_CONTEXT, contextAttribs);
     if (impl.eglContext == EGL_NO_CONTEXT) {
         const EGLint error = eglGetError();
-        throw BackendFailure{std::string("eglCreateContext(OpenGL 4.5 core) failed: ") +
-                                 eglErrorName(error) +
-                                 (error == EGL_BAD_MATCH ? " (the driver has no OpenGL 4.5 core profile)"
-                                                         : ""),
+        throw BackendFailure{std::string("eglCreateContext(OpenGL 4.5 core) failed: ") + eglErrorName(error) +
+                                 (error == EGL_BAD_MATCH ? " (the driver has no OpenGL 4.5 core profile)" : ""),
                              "update the GPU driver or Mesa (>= 20), or use --backend osmesa"};
     }
 }
@@ -416,18 +452,25 @@ void createOsMesa(const ContextConfig&, BackendContext& impl) {
     impl.backend = Backend::OsMesa;
     impl.info.backend = "osmesa";
     // No depth or stencil: the dummy buffer is never drawn to; render targets are FBOs.
-    const int attribs[] = {kOsMesaFormat, kOsMesaRgba,
-                           kOsMesaDepthBits, 0,
-                           kOsMesaStencilBits, 0,
-                           kOsMesaProfile, kOsMesaCoreProfile,
-                           kOsMesaMajorVersion, kMajor,
-                           kOsMesaMinorVersion, kMinor,
+    const int attribs[] = {kOsMesaFormat,
+                           kOsMesaRgba,
+                           kOsMesaDepthBits,
+                           0,
+                           kOsMesaStencilBits,
+                           0,
+                           kOsMesaProfile,
+                           kOsMesaCoreProfile,
+                           kOsMesaMajorVersion,
+                           kMajor,
+                           kOsMesaMinorVersion,
+                           kMinor,
                            0};
     impl.osmesaContext = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!impl.osmesaContext)
-        throw BackendFailure{"OSMesaCreateContextAttribs could not make an OpenGL 4.5 core context "
-                             "(OSMesa gives no reason; it needs Mesa >= 20 with llvmpipe)",
-                             "install libosmesa6 and libgl1-mesa-dri, or use --backend egl"};
+        throw BackendFailure{
+            "OSMesaCreateContextAttribs could not make an OpenGL 4.5 core context "
+            "(OSMesa gives no reason; it needs Mesa >= 20 with llvmpipe)",
+            "install libosmesa6 and libgl1-mesa-dri, or use --backend egl"};
 }
 
 // Reads what the context is; throws BackendFailure when it is older than 4.5.
@@ -445,9 +488,8 @@ void queryInfo(ContextInfo& info) {
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
     if (major * 10 + minor < kMajor * 10 + kMinor)
-        throw BackendFailure{"the context is OpenGL " + std::to_string(major) + "." +
-                                 std::to_string(minor) + " (" + info.renderer +
-                                 "), tubecast needs 4.5 core",
+        throw BackendFailure{"the context is OpenGL " + std::to_string(major) + "." + std::to_string(minor) + " (" +
+                                 info.renderer + "), tubecast needs 4.5 core",
                              "update the GPU driver or Mesa (llvmpipe has 4.5 since Mesa 20)"};
 
     GLint count = 0;
@@ -469,12 +511,10 @@ void enableDebugOutput() {
     // debugCallback shows the caller.
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
     glDebugMessageCallback(debugCallback, nullptr);
-    glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr,
-                          GL_FALSE);
+    glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
     // Compile errors reach the user through the shader library, which maps them to file names;
     // the raw copies here would only repeat them with source-string numbers.
-    glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr,
-                          GL_FALSE);
+    glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_FALSE);
 }
 
 // Fills `impl`, an empty BackendContext; on a throw, its destructor releases what was made.
@@ -486,14 +526,15 @@ void createBackend(Backend backend, const ContextConfig& config, BackendContext&
     try {
         impl.bind();
     } catch (const ContextError& e) {
-        throw BackendFailure{e.what(), backend == Backend::Egl ? "use --backend osmesa"
-                                                              : "use --backend egl"};
+        throw BackendFailure{e.what(), backend == Backend::Egl ? "use --backend osmesa" : "use --backend egl"};
     }
     queryInfo(impl.info);
     if (config.debug) enableDebugOutput();
 }
 
-const char* backendName(Backend backend) { return backend == Backend::Egl ? "EGL" : "OSMesa"; }
+const char* backendName(Backend backend) {
+    return backend == Backend::Egl ? "EGL" : "OSMesa";
+}
 
 }  // namespace
 
@@ -504,15 +545,15 @@ bool ContextInfo::hasExtension(const std::string& name) const {
 Context Context::create(const ContextConfig& config) {
     const char* forceNoGl = std::getenv("TUBECAST_FORCE_NO_GL");
     if (forceNoGl && std::string_view(forceNoGl) == "1")
-        throw ContextError("no OpenGL backend available: TUBECAST_FORCE_NO_GL=1 is set (test hook); "
-                           "unset it");
+        throw ContextError(
+            "no OpenGL backend available: TUBECAST_FORCE_NO_GL=1 is set (test hook); "
+            "unset it");
 
     if (config.device >= 0 && config.backend == Backend::OsMesa)
         throw InputError("--device " + std::to_string(config.device) +
                          ": only the EGL backend has devices, got --backend osmesa");
     // An explicit device asks for EGL: falling back to OSMesa would hide a wrong index.
-    const Backend requested =
-        config.device >= 0 && config.backend == Backend::Auto ? Backend::Egl : config.backend;
+    const Backend requested = config.device >= 0 && config.backend == Backend::Auto ? Backend::Egl : config.backend;
 
     std::unique_ptr<Impl> impl;
     if (requested == Backend::Auto) {
@@ -524,8 +565,7 @@ Context Context::create(const ContextConfig& config) {
                 impl = std::move(candidate);
                 break;
             } catch (const BackendFailure& f) {
-                failures += std::string(failures.empty() ? "" : "; ") + backendName(backend) +
-                            " failed: " + f.reason;
+                failures += std::string(failures.empty() ? "" : "; ") + backendName(backend) + " failed: " + f.reason;
             }
         }
         if (!impl)
@@ -537,16 +577,15 @@ Context Context::create(const ContextConfig& config) {
             impl = std::make_unique<Impl>();
             createBackend(requested, config, *impl);
         } catch (const BackendFailure& f) {
-            throw ContextError(std::string(backendName(requested)) + " backend failed: " +
-                               f.reason + "; " + f.hint);
+            throw ContextError(std::string(backendName(requested)) + " backend failed: " + f.reason + "; " + f.hint);
         }
     }
 
     if (config.verbose) {
         const ContextInfo& i = impl->info;
-        std::fprintf(stderr, "tubecast: OpenGL context: %s%s%s, %s, %s, GLSL %s\n",
-                     i.backend.c_str(), i.device.empty() ? "" : " device ", i.device.c_str(),
-                     i.renderer.c_str(), i.version.c_str(), i.glslVersion.c_str());
+        std::fprintf(stderr, "tubecast: OpenGL context: %s%s%s, %s, %s, GLSL %s\n", i.backend.c_str(),
+                     i.device.empty() ? "" : " device ", i.device.c_str(), i.renderer.c_str(), i.version.c_str(),
+                     i.glslVersion.c_str());
     }
     return Context(std::move(impl));
 }

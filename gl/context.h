@@ -11,12 +11,12 @@ enum class Backend { Auto, Egl, OsMesa };
 
 struct ContextConfig {
     Backend backend = Backend::Auto;
-    int device = -1;     // EGL: index into the enumerated EGL devices; -1 = automatic.
-                         // Implies EGL with Backend::Auto; InputError with Backend::OsMesa.
+    int device = -1;      // EGL: index into the enumerated EGL devices; -1 = automatic.
+                          // Implies EGL with Backend::Auto; InputError with Backend::OsMesa.
     int cudaDevice = -1;  // EGL: pick the device whose EGL_CUDA_DEVICE_NV is this ordinal; ignored
                           // (device / automatic choice applies) when no device has
                           // EGL_NV_device_cuda, as on Mesa. -1 = no CUDA matching.
-    bool debug = false;  // KHR_debug synchronous callback, messages to the log (stderr)
+    bool debug = false;   // KHR_debug synchronous callback, messages to the log (stderr)
     bool verbose = false;
 };
 
@@ -25,8 +25,8 @@ struct ContextInfo {
     std::string device;   // which EGL device ran (index and DRM node / extension string), or ""
     int cudaDevice = -1;  // the CUDA ordinal matched through EGL_NV_device_cuda, or -1
     std::string vendor, renderer, version, glslVersion;
-    std::vector<std::string> extensions;  // the ones the pipeline cares about that are present
-    std::vector<std::string> allExtensions;  // every GL_EXTENSIONS entry, sorted
+    std::vector<std::string> extensions;               // the ones the pipeline cares about that are present
+    std::vector<std::string> allExtensions;            // every GL_EXTENSIONS entry, sorted
     bool hasExtension(const std::string& name) const;  // searches allExtensions
 };
 

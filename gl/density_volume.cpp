@@ -16,7 +16,9 @@ namespace {
 // shaders/density_mip.comp's local size.
 constexpr glm::ivec3 kMipGroup(8, 8, 1);
 
-int divUp(int a, int b) { return (a + b - 1) / b; }
+int divUp(int a, int b) {
+    return (a + b - 1) / b;
+}
 
 void setIvec3(GLuint program, const char* name, const glm::ivec3& v) {
     glProgramUniform3i(program, glGetUniformLocation(program, name), v.x, v.y, v.z);
@@ -24,7 +26,9 @@ void setIvec3(GLuint program, const char* name, const glm::ivec3& v) {
 
 }  // namespace
 
-int DensityVolume::fullLevels(const glm::ivec3& size) { return fullMipLevels(size); }
+int DensityVolume::fullLevels(const glm::ivec3& size) {
+    return fullMipLevels(size);
+}
 
 glm::ivec3 DensityVolume::levelSize(int level) const {
     return glm::max(glm::ivec3(1), m_size >> level);
@@ -47,11 +51,9 @@ DensityVolume DensityVolume::create(const DensityGrid& grid, const Config& confi
 
     volume.m_texture = Texture::create(GL_TEXTURE_3D);
     const GLuint tex = volume.m_texture.id();
-    glTextureStorage3D(tex, volume.m_levels, internalFormat, grid.size.x, grid.size.y,
-                       grid.size.z);
+    glTextureStorage3D(tex, volume.m_levels, internalFormat, grid.size.x, grid.size.y, grid.size.z);
     // Rows of a 1-voxel-wide R32F grid are 4 bytes: the default unpack alignment of 4 holds.
-    glTextureSubImage3D(tex, 0, 0, 0, 0, grid.size.x, grid.size.y, grid.size.z, GL_RED, GL_FLOAT,
-                        grid.density.data());
+    glTextureSubImage3D(tex, 0, 0, 0, 0, grid.size.x, grid.size.y, grid.size.z, GL_RED, GL_FLOAT, grid.density.data());
     glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
@@ -63,8 +65,7 @@ DensityVolume DensityVolume::create(const DensityGrid& grid, const Config& confi
         glGenerateTextureMipmap(tex);
     } else if (volume.m_levels > 1) {
         Program program = compileProgram({{GL_COMPUTE_SHADER, "density_mip.comp"}},
-                                         {std::string("DENSITY_IMAGE_FORMAT ") +
-                                          (half ? "r16f" : "r32f")});
+                                         {std::string("DENSITY_IMAGE_FORMAT ") + (half ? "r16f" : "r32f")});
         glUseProgram(program.id());
         for (int level = 0; level + 1 < volume.m_levels; ++level) {
             const glm::ivec3 source = volume.levelSize(level);
@@ -73,8 +74,7 @@ DensityVolume DensityVolume::create(const DensityGrid& grid, const Config& confi
             setIvec3(program.id(), "uTargetSize", target);
             glBindImageTexture(binding::kMipSource, tex, level, GL_TRUE, 0, GL_READ_ONLY, internalFormat);
             glBindImageTexture(binding::kMipTarget, tex, level + 1, GL_TRUE, 0, GL_WRITE_ONLY, internalFormat);
-            glDispatchCompute(divUp(target.x, kMipGroup.x), divUp(target.y, kMipGroup.y),
-                              divUp(target.z, kMipGroup.z));
+            glDispatchCompute(divUp(target.x, kMipGroup.x), divUp(target.y, kMipGroup.y), divUp(target.z, kMipGroup.z));
             // The next level reads what this one wrote.
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
@@ -86,13 +86,14 @@ DensityVolume DensityVolume::create(const DensityGrid& grid, const Config& confi
     return volume;
 }
 
-void DensityVolume::bind(GLuint unit) const { glBindTextureUnit(unit, m_texture.id()); }
+void DensityVolume::bind(GLuint unit) const {
+    glBindTextureUnit(unit, m_texture.id());
+}
 
 void DensityVolume::setUniforms(GLuint program, GLuint unit) const {
     // glProgramUniform* ignores location -1 (a uniform the program optimised away).
     glProgramUniform1i(program, glGetUniformLocation(program, "uDensity"), GLint(unit));
-    glProgramUniform3f(program, glGetUniformLocation(program, "uDensityOrigin"), m_origin.x,
-                       m_origin.y, m_origin.z);
+    glProgramUniform3f(program, glGetUniformLocation(program, "uDensityOrigin"), m_origin.x, m_origin.y, m_origin.z);
     glProgramUniform1f(program, glGetUniformLocation(program, "uDensityVoxelSize"), m_voxelSize);
     setIvec3(program, "uDensitySize", m_size);
     glProgramUniform1i(program, glGetUniformLocation(program, "uDensityLevels"), m_levels);

@@ -14,7 +14,6 @@
 // up to 4 texels per axis). A plain 2x2x2 box drops the odd row; Mesa's glGenerateMipmap keeps
 // the mean only on even sizes (+2..3 % of the total on a 37x20x9 grid, measured).
 #include <cstddef>
-
 #include <glm/glm.hpp>
 
 #include "core/voxel_density.h"
@@ -65,8 +64,8 @@ public:
     // GL_LINEAR, wrap GL_CLAMP_TO_BORDER with a zero border (outside the grid is empty).
     const Texture& texture() const { return m_texture; }
     int levels() const { return m_levels; }
-    glm::ivec3 size() const { return m_size; }  // level 0, in voxels
-    glm::vec3 origin() const { return m_origin; }  // world position of voxel (0,0,0)'s low corner
+    glm::ivec3 size() const { return m_size; }       // level 0, in voxels
+    glm::vec3 origin() const { return m_origin; }    // world position of voxel (0,0,0)'s low corner
     float voxelSize() const { return m_voxelSize; }  // level 0, world units
     const Config& config() const { return m_config; }
 

@@ -14,8 +14,8 @@ namespace tc::gl {
 
 GBufferPass GBufferPass::create(const LineGeometry& geometry, const HierarchicalCulling* culling) {
     GBufferPass pass;
-    pass.m_visibilityProgram =
-        geometry.compileDrawProgram("rounded_cone_gbuffer.frag", culling ? culling->drawDefines() : std::vector<std::string>{});
+    pass.m_visibilityProgram = geometry.compileDrawProgram(
+        "rounded_cone_gbuffer.frag", culling ? culling->drawDefines() : std::vector<std::string>{});
     pass.m_attributesProgram =
         compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}});
     pass.m_emptyVao = VertexArray::create();

@@ -55,8 +55,7 @@ void loadGlFunctions(ProcLoader loader) {
     }
     if (missingCount > 0) {
         throw ContextError("the OpenGL library does not provide " + std::to_string(missingCount) +
-                           " GL 4.5 core functions (" + missing +
-                           (missingCount > 8 ? ", ..." : "") +
+                           " GL 4.5 core functions (" + missing + (missingCount > 8 ? ", ..." : "") +
                            "); the driver is too old or the backend's loader failed");
     }
 }

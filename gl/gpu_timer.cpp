@@ -13,8 +13,8 @@ Query StageTimer::takeQuery() {
 
 void StageTimer::begin(std::string stage) {
     if (m_open)
-        throw Error(ExitCode::Internal, "StageTimer::begin(\"" + stage + "\"): stage \"" +
-                                            m_stages.back().time.stage + "\" is still open");
+        throw Error(ExitCode::Internal,
+                    "StageTimer::begin(\"" + stage + "\"): stage \"" + m_stages.back().time.stage + "\" is still open");
     Pending pending;
     pending.time.stage = std::move(stage);
     pending.begin = takeQuery();
@@ -29,9 +29,8 @@ void StageTimer::end() {
     TC_CHECK(m_open);
     Pending& pending = m_stages.back();
     glQueryCounter(pending.end.id(), GL_TIMESTAMP);
-    pending.time.cpuMs = std::chrono::duration<double, std::milli>(
-                             std::chrono::steady_clock::now() - pending.cpuBegin)
-                             .count();
+    pending.time.cpuMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pending.cpuBegin).count();
     m_open = false;
 }
 
@@ -42,8 +41,8 @@ void StageTimer::setItems(std::uint64_t items) {
 
 std::vector<StageTime> StageTimer::collect() {
     if (m_open)
-        throw Error(ExitCode::Internal, "StageTimer::collect(): stage \"" +
-                                            m_stages.back().time.stage + "\" is still open");
+        throw Error(ExitCode::Internal,
+                    "StageTimer::collect(): stage \"" + m_stages.back().time.stage + "\" is still open");
     std::vector<StageTime> times;
     times.reserve(m_stages.size());
     for (Pending& pending : m_stages) {

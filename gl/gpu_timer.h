@@ -11,7 +11,6 @@
 
 namespace tc::gl {
 
-
 // Times a frame's stages in order:
 //     timer.begin("kbuffer"); ...; timer.setItems(n); timer.end();   ... one per stage
 //     std::vector<StageTime> times = timer.collect();

@@ -18,7 +18,6 @@ namespace tc::gl {
 
 class SegmentOrder;
 
-
 class HierarchicalCulling {
 public:
     enum class Target { MaxDepth, MinOpacity };

@@ -64,9 +64,12 @@ void LineGeometry::bind() const {
 
 const char* LineGeometry::describeBillboards() const {
     switch (m_path) {
-    case BillboardPath::Compute: return "compute pre-pass, vertex pulling";
-    case BillboardPath::Vertex: return "vertex shader, vertex pulling";
-    case BillboardPath::Geometry: return "geometry shader";
+        case BillboardPath::Compute:
+            return "compute pre-pass, vertex pulling";
+        case BillboardPath::Vertex:
+            return "vertex shader, vertex pulling";
+        case BillboardPath::Geometry:
+            return "geometry shader";
     }
     return "?";
 }
@@ -79,7 +82,8 @@ float LineGeometry::farDepth(const FrameSetup& setup) const {
 
 void LineGeometry::setFrame(const FrameSetup& setup, const LightingSpec& lighting) {
     const Camera& cam = setup.camera;
-    const float aspect = float(fullWidthOf(setup.window, setup.width)) / float(fullHeightOf(setup.window, setup.height));
+    const float aspect =
+        float(fullWidthOf(setup.window, setup.width)) / float(fullHeightOf(setup.window, setup.height));
     const float far = farDepth(setup);
     FrameUniforms u = frameUniforms(setup, lighting);
     u.viewProj = projectionMatrix(cam, aspect, std::max(1e-4f * far, 1e-7f), far) * cam.worldToCamera();
@@ -92,18 +96,18 @@ void LineGeometry::setFrame(const FrameSetup& setup, const LightingSpec& lightin
 Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {
     if (!m_region.unbounded()) defines.push_back("REGION_CLIP");
     switch (m_path) {
-    case BillboardPath::Compute:
-        defines.push_back("BILLBOARDS_PRECOMPUTED");
-        return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_gbuffer.vert"}, {GL_FRAGMENT_SHADER, fragmentShader}},
-                              defines);
-    case BillboardPath::Vertex:
-        return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_gbuffer.vert"}, {GL_FRAGMENT_SHADER, fragmentShader}},
-                              defines);
-    case BillboardPath::Geometry:
-        return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_segment.vert"},
-                               {GL_GEOMETRY_SHADER, "rounded_cone_billboard.geom"},
-                               {GL_FRAGMENT_SHADER, fragmentShader}},
-                              defines);
+        case BillboardPath::Compute:
+            defines.push_back("BILLBOARDS_PRECOMPUTED");
+            return compileProgram(
+                {{GL_VERTEX_SHADER, "rounded_cone_gbuffer.vert"}, {GL_FRAGMENT_SHADER, fragmentShader}}, defines);
+        case BillboardPath::Vertex:
+            return compileProgram(
+                {{GL_VERTEX_SHADER, "rounded_cone_gbuffer.vert"}, {GL_FRAGMENT_SHADER, fragmentShader}}, defines);
+        case BillboardPath::Geometry:
+            return compileProgram({{GL_VERTEX_SHADER, "rounded_cone_segment.vert"},
+                                   {GL_GEOMETRY_SHADER, "rounded_cone_billboard.geom"},
+                                   {GL_FRAGMENT_SHADER, fragmentShader}},
+                                  defines);
     }
     return {};
 }
@@ -132,8 +136,10 @@ void LineGeometry::buildBillboards(GLuint program, std::size_t firstSlot, std::s
 void LineGeometry::draw(std::size_t first, std::size_t count) const {
     glBindVertexArray(m_emptyVao.id());
     bind();
-    if (m_path == BillboardPath::Geometry) glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
-    else glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+    if (m_path == BillboardPath::Geometry)
+        glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
+    else
+        glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
 }
 
 }  // namespace tc::gl

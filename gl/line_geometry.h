@@ -4,7 +4,6 @@
 // frame uniform block (gl/frame_uniforms.h) and the billboard pre-pass
 // (shaders/billboard_pass.comp). Passes own their programs and targets; this owns the data.
 #include <cstddef>
-
 #include <glm/glm.hpp>
 
 #include "core/region.h"

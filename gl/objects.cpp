@@ -1,10 +1,9 @@
 #include "gl/objects.h"
 
 #include <atomic>
-#include <vector>
-
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 
@@ -16,22 +15,29 @@ std::atomic<std::uint64_t> g_storageBytes{0};
 
 std::size_t bytesPerTexel(GLenum internalFormat) {
     switch (internalFormat) {
-    case GL_R8: return 1;
-    case GL_R32F:
-    case GL_R32UI:
-    case GL_RGBA8:
-    case GL_DEPTH_COMPONENT32F: return 4;
-    case GL_RG32F:
-    case GL_RG32UI:
-    case GL_RGBA16F: return 8;
-    case GL_RGBA32F:
-    case GL_RGBA32UI: return 16;
-    default: throw Error(ExitCode::Internal, "makeTexture2D: add the size of format " + std::to_string(internalFormat));
+        case GL_R8:
+            return 1;
+        case GL_R32F:
+        case GL_R32UI:
+        case GL_RGBA8:
+        case GL_DEPTH_COMPONENT32F:
+            return 4;
+        case GL_RG32F:
+        case GL_RG32UI:
+        case GL_RGBA16F:
+            return 8;
+        case GL_RGBA32F:
+        case GL_RGBA32UI:
+            return 16;
+        default:
+            throw Error(ExitCode::Internal, "makeTexture2D: add the size of format " + std::to_string(internalFormat));
     }
 }
 }  // namespace
 
-std::uint64_t allocatedStorageBytes() { return g_storageBytes.load(std::memory_order_relaxed); }
+std::uint64_t allocatedStorageBytes() {
+    return g_storageBytes.load(std::memory_order_relaxed);
+}
 
 Buffer makeBuffer(std::size_t bytes, const void* data, GLbitfield flags) {
     Buffer buffer = Buffer::create();
@@ -60,22 +66,32 @@ Texture makeTexture2D(GLenum internalFormat, int width, int height) {
 namespace {
 std::string framebufferStatusName(GLenum status) {
     switch (status) {
-    case GL_FRAMEBUFFER_COMPLETE: return "GL_FRAMEBUFFER_COMPLETE";
-    case GL_FRAMEBUFFER_UNDEFINED: return "GL_FRAMEBUFFER_UNDEFINED";
-    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
-    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
-        return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
-    case GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER: return "GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER";
-    case GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER: return "GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER";
-    case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
-    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
-    case GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS: return "GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS";
-    case 0: return "error while checking (glCheckNamedFramebufferStatus returned 0)";
-    default: return "status 0x" + [&] {
-        char hex[16];
-        std::snprintf(hex, sizeof hex, "%04X", status);
-        return std::string(hex);
-    }();
+        case GL_FRAMEBUFFER_COMPLETE:
+            return "GL_FRAMEBUFFER_COMPLETE";
+        case GL_FRAMEBUFFER_UNDEFINED:
+            return "GL_FRAMEBUFFER_UNDEFINED";
+        case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT:
+            return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+        case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
+            return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
+        case GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER:
+            return "GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER";
+        case GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER:
+            return "GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER";
+        case GL_FRAMEBUFFER_UNSUPPORTED:
+            return "GL_FRAMEBUFFER_UNSUPPORTED";
+        case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE:
+            return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+        case GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS:
+            return "GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS";
+        case 0:
+            return "error while checking (glCheckNamedFramebufferStatus returned 0)";
+        default:
+            return "status 0x" + [&] {
+                char hex[16];
+                std::snprintf(hex, sizeof hex, "%04X", status);
+                return std::string(hex);
+            }();
     }
 }
 }  // namespace
@@ -83,8 +99,8 @@ std::string framebufferStatusName(GLenum status) {
 void checkFramebuffer(const Framebuffer& framebuffer, const char* what) {
     const GLenum status = glCheckNamedFramebufferStatus(framebuffer.id(), GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw Error(ExitCode::Internal, std::string("framebuffer '") + what +
-                                            "' is incomplete: " + framebufferStatusName(status));
+        throw Error(ExitCode::Internal,
+                    std::string("framebuffer '") + what + "' is incomplete: " + framebufferStatusName(status));
 }
 
 Framebuffer makeFramebuffer(std::initializer_list<const Texture*> colors, const Texture* depth, const char* what) {

@@ -52,15 +52,27 @@ private:
 
 namespace detail {
 struct BufferTraits {
-    static GLuint create() { GLuint id = 0; glCreateBuffers(1, &id); return id; }
+    static GLuint create() {
+        GLuint id = 0;
+        glCreateBuffers(1, &id);
+        return id;
+    }
     static void destroy(GLuint id) { glDeleteBuffers(1, &id); }
 };
 struct TextureTraits {
-    static GLuint create(GLenum target) { GLuint id = 0; glCreateTextures(target, 1, &id); return id; }
+    static GLuint create(GLenum target) {
+        GLuint id = 0;
+        glCreateTextures(target, 1, &id);
+        return id;
+    }
     static void destroy(GLuint id) { glDeleteTextures(1, &id); }
 };
 struct FramebufferTraits {
-    static GLuint create() { GLuint id = 0; glCreateFramebuffers(1, &id); return id; }
+    static GLuint create() {
+        GLuint id = 0;
+        glCreateFramebuffers(1, &id);
+        return id;
+    }
     static void destroy(GLuint id) { glDeleteFramebuffers(1, &id); }
 };
 struct ProgramTraits {
@@ -72,11 +84,19 @@ struct ShaderTraits {
     static void destroy(GLuint id) { glDeleteShader(id); }
 };
 struct QueryTraits {
-    static GLuint create(GLenum target) { GLuint id = 0; glCreateQueries(target, 1, &id); return id; }
+    static GLuint create(GLenum target) {
+        GLuint id = 0;
+        glCreateQueries(target, 1, &id);
+        return id;
+    }
     static void destroy(GLuint id) { glDeleteQueries(1, &id); }
 };
 struct VertexArrayTraits {
-    static GLuint create() { GLuint id = 0; glCreateVertexArrays(1, &id); return id; }
+    static GLuint create() {
+        GLuint id = 0;
+        glCreateVertexArrays(1, &id);
+        return id;
+    }
     static void destroy(GLuint id) { glDeleteVertexArrays(1, &id); }
 };
 }  // namespace detail

@@ -29,11 +29,11 @@
 #include "core/opacity_system.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique.h"
 #include "core/technique_registry.h"
 #include "gl/gbuffer_pass.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
-#include "core/technique.h"
 
 namespace tc::gl {
 

@@ -17,7 +17,9 @@ constexpr int kScanLanes = 64;
 constexpr int kScanItemsPerLane = 64;
 constexpr std::size_t kScanBlock = std::size_t(kScanLanes) * kScanItemsPerLane;
 
-std::size_t divUp(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
+std::size_t divUp(std::size_t a, std::size_t b) {
+    return (a + b - 1) / b;
+}
 
 GLint uniform(const Program& program, const char* name) {
     GLint location = glGetUniformLocation(program.id(), name);
@@ -48,8 +50,7 @@ RadixSort RadixSort::create(const Config& config) {
     TC_CHECK(config.lanes >= 1 && config.itemsPerLane >= 1);
     GLint maxShared = 0;
     glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &maxShared);
-    TC_CHECK_OP((std::size_t(1) << config.digitBits) * config.lanes * 4, <=,
-                static_cast<std::size_t>(maxShared));
+    TC_CHECK_OP((std::size_t(1) << config.digitBits) * config.lanes * 4, <=, static_cast<std::size_t>(maxShared));
 
     RadixSort sort;
     sort.m_config = config;
@@ -155,9 +156,8 @@ void RadixSort::sort(const Buffer& keys, const Buffer& values, std::size_t count
         std::swap(valuesA, valuesB);
     }
     glUseProgram(0);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
-                    GL_ELEMENT_ARRAY_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT |
-                    GL_COMMAND_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT |
+                    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 }
 
 }  // namespace tc::gl

@@ -34,8 +34,9 @@ std::unique_ptr<Technique> createOpacityOptimization(const Scene& scene, const T
 TechniqueDescriptor rasterizedTechnique() {
     TechniqueDescriptor d;
     d.name = "rasterized";
-    d.summary = "ray-cast rounded cones on view-aligned billboards; opaque (deferred shading), object order, "
-                "k-buffer, depth peeling or opacity optimization";
+    d.summary =
+        "ray-cast rounded cones on view-aligned billboards; opaque (deferred shading), object order, "
+        "k-buffer, depth peeling or opacity optimization";
     d.paper = "Groß & Gumhold 2020; opacity optimization: Günther, Rössl & Theisel 2013";
     d.backend = TechniqueBackend::Gl;
     d.data = {DataKind::Lines};
@@ -53,9 +54,12 @@ TechniqueDescriptor rasterizedTechnique() {
     };
     d.pixelBuffers = [](const Scene& scene, DataKind) {
         switch (scene.render.transparency) {
-        case Transparency::Opaque: return RoundedConeRenderer::pixelBuffers(scene);
-        case Transparency::OpacityOptimization: return OpacityRenderer::pixelBuffers(scene);
-        default: return TransparentRenderer::pixelBuffers(scene);
+            case Transparency::Opaque:
+                return RoundedConeRenderer::pixelBuffers(scene);
+            case Transparency::OpacityOptimization:
+                return OpacityRenderer::pixelBuffers(scene);
+            default:
+                return TransparentRenderer::pixelBuffers(scene);
         }
     };
     // Opacity optimization solves one system over the whole image's fragments and blends it into

@@ -27,8 +27,8 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
         r->m_ao->buildLineCache(r->m_geometry, lines);
         defines = r->m_ao->lineDefines();
     }
-    r->m_shadingProgram = compileProgram(
-        {{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "deferred_shading.frag"}}, defines);
+    r->m_shadingProgram =
+        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "deferred_shading.frag"}}, defines);
     return r;
 }
 

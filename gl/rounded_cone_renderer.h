@@ -2,18 +2,18 @@
 // Opaque rounded cones (Groß & Gumhold 2020, Sect. 5.1-5.2): one billboard per segment, an
 // analytic ray-rounded-cone intersection per fragment writing gl_FragDepth into a G-buffer, then
 // one deferred full-screen shading pass, so shading (and AO later) runs once per visible pixel.
-#include "core/scene.h"
-#include "core/styled_lines.h"
-#include "core/technique_registry.h"
 #include <optional>
 
+#include "core/scene.h"
+#include "core/styled_lines.h"
+#include "core/technique.h"
+#include "core/technique_registry.h"
 #include "gl/ambient_occlusion.h"
 #include "gl/gbuffer_pass.h"
 #include "gl/hierarchical_culling.h"
-#include "gl/segment_order.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
-#include "core/technique.h"
+#include "gl/segment_order.h"
 
 namespace tc::gl {
 

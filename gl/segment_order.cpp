@@ -27,7 +27,8 @@ bool SegmentOrder::needsSort(const Camera& cam) const {
         return last.eye != cam.eye || last.target != cam.target;
     const float lastDistance = glm::distance(last.eye, m_centre);
     if (glm::distance(last.eye, cam.eye) > m_resortDistance * lastDistance) return true;
-    const glm::vec3 a = cam.projection == Projection::Orthographic ? last.forward() : glm::normalize(m_centre - last.eye);
+    const glm::vec3 a =
+        cam.projection == Projection::Orthographic ? last.forward() : glm::normalize(m_centre - last.eye);
     const glm::vec3 b = cam.projection == Projection::Orthographic ? cam.forward() : glm::normalize(m_centre - cam.eye);
     return glm::dot(a, b) < m_resortCos;
 }
@@ -38,7 +39,8 @@ bool SegmentOrder::sortedForView(const FrameSetup& setup) const {
     const Camera& b = setup.camera;
     return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDeg == b.fovYDeg &&
            a.projection == b.projection && a.orthoHeight == b.orthoHeight &&
-           m_sortedImageSize == glm::ivec2(fullWidthOf(setup.window, setup.width), fullHeightOf(setup.window, setup.height));
+           m_sortedImageSize ==
+               glm::ivec2(fullWidthOf(setup.window, setup.width), fullHeightOf(setup.window, setup.height));
 }
 
 bool SegmentOrder::update(const LineGeometry& geometry, const FrameSetup& setup, StageSink& timer) {

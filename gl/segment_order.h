@@ -18,15 +18,13 @@
 
 #include "core/camera.h"
 #include "core/scene.h"
+#include "core/technique.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
 #include "gl/radix_sort.h"
 #include "gl/sort_keys.h"
-#include "core/technique.h"
 
 namespace tc::gl {
-
-
 
 class SegmentOrder {
 public:

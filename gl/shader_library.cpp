@@ -58,8 +58,7 @@ std::string ShaderLibrary::source(std::string_view name) const {
     if (const EmbeddedShader* shader = findEmbedded(name)) return std::string(shader->source);
     throw Error(ExitCode::Internal,
                 "shader file '" + std::string(name) + "' is not embedded" +
-                    (m_overrideDir.empty() ? std::string()
-                                           : " and not in --shader-dir " + m_overrideDir) +
+                    (m_overrideDir.empty() ? std::string() : " and not in --shader-dir " + m_overrideDir) +
                     " (is it in shaders/ and was CMake re-run?)");
 }
 
@@ -93,8 +92,7 @@ public:
         static const std::regex version(R"(^\s*#\s*version\b.*)");
         // In GLSL >= 3.30, as in C, `#line L N` numbers the *next* line L.
         auto lineMarker = [file](int nextLine) {
-            return "#line " + std::to_string(file * kShaderLineStride + nextLine) + " " +
-                   std::to_string(file);
+            return "#line " + std::to_string(file * kShaderLineStride + nextLine) + " " + std::to_string(file);
         };
         emit(lineMarker(1), -1, 0);
         std::istringstream lines(text);
@@ -106,10 +104,9 @@ public:
                 expand(match[1].str());
                 emit(lineMarker(lineNumber + 1), -1, 0);
             } else if (std::regex_match(line, version)) {
-                throw Error(ExitCode::Internal,
-                            m_out.files[static_cast<size_t>(file)] + ":" +
-                                std::to_string(lineNumber) +
-                                ": #version is added by the shader library; remove it");
+                throw Error(ExitCode::Internal, m_out.files[static_cast<size_t>(file)] + ":" +
+                                                    std::to_string(lineNumber) +
+                                                    ": #version is added by the shader library; remove it");
             } else {
                 emit(line, file, lineNumber);
             }
@@ -123,13 +120,20 @@ private:
 
 const char* stageName(GLenum stage) {
     switch (stage) {
-    case GL_VERTEX_SHADER: return "vertex";
-    case GL_TESS_CONTROL_SHADER: return "tessellation control";
-    case GL_TESS_EVALUATION_SHADER: return "tessellation evaluation";
-    case GL_GEOMETRY_SHADER: return "geometry";
-    case GL_FRAGMENT_SHADER: return "fragment";
-    case GL_COMPUTE_SHADER: return "compute";
-    default: return "unknown";
+        case GL_VERTEX_SHADER:
+            return "vertex";
+        case GL_TESS_CONTROL_SHADER:
+            return "tessellation control";
+        case GL_TESS_EVALUATION_SHADER:
+            return "tessellation evaluation";
+        case GL_GEOMETRY_SHADER:
+            return "geometry";
+        case GL_FRAGMENT_SHADER:
+            return "fragment";
+        case GL_COMPUTE_SHADER:
+            return "compute";
+        default:
+            return "unknown";
     }
 }
 
@@ -181,8 +185,8 @@ ExpandedShader expandShader(std::string_view name, const std::vector<std::string
     for (const std::string& d : defines) {
         std::smatch match;
         if (!std::regex_match(d, match, define))
-            throw Error(ExitCode::Internal, "shader define '" + d + "' for " + std::string(name) +
-                                                ": expected \"NAME\" or \"NAME VALUE\"");
+            throw Error(ExitCode::Internal,
+                        "shader define '" + d + "' for " + std::string(name) + ": expected \"NAME\" or \"NAME VALUE\"");
         expander.emit("#define " + d, 0, static_cast<int>(out.origins.size()) + 1);
     }
     expander.expand(std::string(name));
@@ -247,11 +251,9 @@ Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>
         glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
         const std::string log = rewriteShaderLog(shaderLog(shader.id()), expanded.files);
         if (!ok)
-            throw Error(ExitCode::Internal, std::string("compiling ") + stageName(stage) +
-                                                " shader " + expanded.files.at(1) + defineList +
-                                                " failed:\n" + log);
-        if (verbose && log.find_first_not_of(" \n") != std::string::npos)
-            std::fprintf(stderr, "%s", log.c_str());
+            throw Error(ExitCode::Internal, std::string("compiling ") + stageName(stage) + " shader " +
+                                                expanded.files.at(1) + defineList + " failed:\n" + log);
+        if (verbose && log.find_first_not_of(" \n") != std::string::npos) std::fprintf(stderr, "%s", log.c_str());
         shaders.push_back(std::move(shader));
     }
 
@@ -263,8 +265,8 @@ Program compileProgram(std::initializer_list<std::pair<GLenum, std::string_view>
     GLint ok = GL_FALSE;
     glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
     if (!ok)
-        throw Error(ExitCode::Internal, "linking program " + joined(stageFiles) + defineList +
-                                            " failed:\n" + programLog(program.id()));
+        throw Error(ExitCode::Internal,
+                    "linking program " + joined(stageFiles) + defineList + " failed:\n" + programLog(program.id()));
     return program;
 }
 

@@ -38,10 +38,9 @@ SegmentSortKeys SegmentSortKeys::create() {
     return pass;
 }
 
-void SegmentSortKeys::compute(const Buffer& positionRadius, const Buffer& segmentVertices,
-                              std::size_t segments, const glm::vec3& eye, bool orthographic,
-                              const glm::vec3& forward, Buffer& keysOut, Buffer& segmentIdsOut,
-                              const ViewFrustum* frustum) {
+void SegmentSortKeys::compute(const Buffer& positionRadius, const Buffer& segmentVertices, std::size_t segments,
+                              const glm::vec3& eye, bool orthographic, const glm::vec3& forward, Buffer& keysOut,
+                              Buffer& segmentIdsOut, const ViewFrustum* frustum) {
     ensureSize(keysOut, segments * sizeof(GLuint));
     ensureSize(segmentIdsOut, segments * sizeof(GLuint));
     const GLuint zero = 0;

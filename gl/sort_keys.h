@@ -5,7 +5,6 @@
 // value S. RadixSort::sort on the two buffers then yields the front-to-back segment order; the
 // draw fetches vertices segmentVertices[2S], [2S+1], so vertex data is never reordered.
 #include <cstddef>
-
 #include <glm/glm.hpp>
 
 #include "core/frustum.h"

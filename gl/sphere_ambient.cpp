@@ -14,11 +14,13 @@ namespace tc::gl {
 
 namespace {
 
-constexpr GLuint kGroup = 64;          // local_size_x of the voxelize and resolve shaders
+constexpr GLuint kGroup = 64;  // local_size_x of the voxelize and resolve shaders
 constexpr std::size_t kMaxGroups = 65535;
 constexpr glm::ivec3 kMipGroup(8, 8, 1);  // shaders/density_mip.comp
 
-GLuint divUp(int n, int d) { return GLuint((n + d - 1) / d); }
+GLuint divUp(int n, int d) {
+    return GLuint((n + d - 1) / d);
+}
 
 }  // namespace
 

@@ -7,10 +7,9 @@
 // along the axes) and blended per fragment (shaders/sphere_ambient_cache.comp); programs that
 // read the cache are compiled with AMBIENT_CACHE too.
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "core/line_set.h"
 #include "core/region.h"

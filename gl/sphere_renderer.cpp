@@ -25,10 +25,14 @@ constexpr std::size_t kMaxGroups = 65535;
 
 const char* densityName(SphereDensity d) {
     switch (d) {
-    case SphereDensity::Constant: return "constant";
-    case SphereDensity::L2: return "l2";
-    case SphereDensity::HollowConstant: return "hollow_constant";
-    case SphereDensity::HollowL2: return "hollow_l2";
+        case SphereDensity::Constant:
+            return "constant";
+        case SphereDensity::L2:
+            return "l2";
+        case SphereDensity::HollowConstant:
+            return "hollow_constant";
+        case SphereDensity::HollowL2:
+            return "hollow_l2";
     }
     return "?";
 }
@@ -60,7 +64,8 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
     if (rs.ao.enabled) {
-        r->m_ambient = std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao, rs.ao.cache != AoSpec::Cache::None));
+        r->m_ambient =
+            std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao, rs.ao.cache != AoSpec::Cache::None));
         r->m_defines.push_back("AMBIENT_OCCLUSION");
         if (r->m_ambient->cached()) r->m_defines.push_back("AMBIENT_CACHE");
     }
@@ -99,13 +104,13 @@ SphereRenderer::Programs SphereRenderer::compilePrograms(bool points) const {
         auto sorted = defines;
         sorted.push_back("DRAW_ORDER");
         if (m_spheres.chunks > 1) sorted.push_back("EARLY_Z");
-        p.transparent = compileProgram(
-            {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, sorted);
+        p.transparent =
+            compileProgram({{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere.frag"}}, sorted);
         if (m_spheres.chunks > 1 && m_spheres.earlyZStats) {
             std::vector<std::string> countDefines = {"DRAW_ORDER"};
             if (points) countDefines.push_back("POINTS");
-            p.count = compileProgram({{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere_count.frag"}},
-                                     countDefines);
+            p.count = compileProgram(
+                {{GL_VERTEX_SHADER, "sphere_billboard.vert"}, {GL_FRAGMENT_SHADER, "sphere_count.frag"}}, countDefines);
         }
     }
     return p;
@@ -394,7 +399,8 @@ void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink
         out.normal.resize(3 * n);
         for (std::size_t i = 0; i < n; ++i) {
             out.depth[i] = normalDepth[4 * i + 3];
-            for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = std::isinf(out.depth[i]) ? 0.0f : normalDepth[4 * i + c];
+            for (int c = 0; c < 3; ++c)
+                out.normal[3 * i + c] = std::isinf(out.depth[i]) ? 0.0f : normalDepth[4 * i + c];
         }
         out.id.resize(n);
         readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
@@ -408,13 +414,14 @@ void SphereRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink
 }
 
 nlohmann::json SphereRenderer::describe() const {
-    nlohmann::json j = {{"technique", "spheres"},
-                        {"transparency", m_opaque ? "opaque" : "object_order"},
-                        {"particles", m_count},
-                        {"billboards", "vertex shader, vertex pulling, perspective-correct sphere bounds"},
-                        {"primitive", m_pointPrograms.opaque ? "points (quads when a sphere exceeds the point size)" : "quads"},
-                        {"max_point_size", m_maxPointSize},
-                        {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
+    nlohmann::json j = {
+        {"technique", "spheres"},
+        {"transparency", m_opaque ? "opaque" : "object_order"},
+        {"particles", m_count},
+        {"billboards", "vertex shader, vertex pulling, perspective-correct sphere bounds"},
+        {"primitive", m_pointPrograms.opaque ? "points (quads when a sphere exceeds the point size)" : "quads"},
+        {"max_point_size", m_maxPointSize},
+        {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
     if (!m_opaque) {
         j["density"] = densityName(m_spheres.density);
         j["inner_radius"] = m_spheres.innerRadius;
@@ -429,8 +436,9 @@ nlohmann::json SphereRenderer::describe() const {
 TechniqueDescriptor spheresTechnique() {
     TechniqueDescriptor d;
     d.name = "spheres";
-    d.summary = "particles as sphere glyphs with emission-absorption density models, sorted front to back; "
-                "a line dataset as one sphere per vertex";
+    d.summary =
+        "particles as sphere glyphs with emission-absorption density models, sorted front to back; "
+        "a line dataset as one sphere per vertex";
     d.paper = "Staib, Grottel & Gumhold 2015";
     d.backend = TechniqueBackend::Gl;
     d.data = {DataKind::Particles, DataKind::Lines};

@@ -18,10 +18,10 @@
 #include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_particles.h"
+#include "core/technique.h"
 #include "core/technique_registry.h"
 #include "gl/objects.h"
 #include "gl/radix_sort.h"
-#include "core/technique.h"
 
 namespace tc::gl {
 

@@ -63,42 +63,42 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
         sortedDefines = r->m_culling->drawDefines();
     }
     switch (r->m_mode) {
-    case Transparency::ObjectOrder: {
-        std::vector<std::string> defines = sortedDefines;
-        if (r->m_ao)
-            for (const std::string& d : r->m_ao->lineDefines()) defines.push_back(d);
-        r->m_blendProgram = r->m_geometry.compileDrawProgram("object_order.frag", defines);
-        break;
-    }
-    case Transparency::KBuffer: {
-        std::vector<std::string> defines = syncDefines;
-        defines.insert(defines.end(), sortedDefines.begin(), sortedDefines.end());
-        defines.push_back("KBUFFER_K " + std::to_string(r->m_k));
-        r->m_blendProgram = r->m_geometry.compileDrawProgram("kbuffer_insert.frag", defines);
-        r->m_resolveProgram = compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"},
-                                              {GL_FRAGMENT_SHADER, "kbuffer_resolve.frag"}},
-                                             {"KBUFFER_K " + std::to_string(r->m_k)});
-        break;
-    }
-    case Transparency::DepthPeeling: {
-        std::vector<std::string> defines = syncDefines;
-        if (context.hasExtension("GL_ARB_shader_atomic_int64")) {
-            std::erase(defines, std::string("USE_INTERLOCK"));
-            defines.push_back("USE_ATOMIC64");
-            r->m_synchronisation = "ARB_shader_atomic_int64 (atomicMin)";
+        case Transparency::ObjectOrder: {
+            std::vector<std::string> defines = sortedDefines;
+            if (r->m_ao)
+                for (const std::string& d : r->m_ao->lineDefines()) defines.push_back(d);
+            r->m_blendProgram = r->m_geometry.compileDrawProgram("object_order.frag", defines);
+            break;
         }
-        auto minDefines = defines, shadeDefines = defines;
-        minDefines.push_back("PEEL_MIN");
-        shadeDefines.push_back("PEEL_SHADE");
-        r->m_peelMinProgram = r->m_geometry.compileDrawProgram("depth_peel.frag", minDefines);
-        r->m_peelShadeProgram = r->m_geometry.compileDrawProgram("depth_peel.frag", shadeDefines);
-        r->m_candidates = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
-        break;
-    }
-    case Transparency::Opaque:
-    case Transparency::OpacityOptimization:  // gl/opacity_renderer.cpp
-    case Transparency::Auto:                 // resolved before any technique is made
-        TC_CHECK(false);
+        case Transparency::KBuffer: {
+            std::vector<std::string> defines = syncDefines;
+            defines.insert(defines.end(), sortedDefines.begin(), sortedDefines.end());
+            defines.push_back("KBUFFER_K " + std::to_string(r->m_k));
+            r->m_blendProgram = r->m_geometry.compileDrawProgram("kbuffer_insert.frag", defines);
+            r->m_resolveProgram =
+                compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "kbuffer_resolve.frag"}},
+                               {"KBUFFER_K " + std::to_string(r->m_k)});
+            break;
+        }
+        case Transparency::DepthPeeling: {
+            std::vector<std::string> defines = syncDefines;
+            if (context.hasExtension("GL_ARB_shader_atomic_int64")) {
+                std::erase(defines, std::string("USE_INTERLOCK"));
+                defines.push_back("USE_ATOMIC64");
+                r->m_synchronisation = "ARB_shader_atomic_int64 (atomicMin)";
+            }
+            auto minDefines = defines, shadeDefines = defines;
+            minDefines.push_back("PEEL_MIN");
+            shadeDefines.push_back("PEEL_SHADE");
+            r->m_peelMinProgram = r->m_geometry.compileDrawProgram("depth_peel.frag", minDefines);
+            r->m_peelShadeProgram = r->m_geometry.compileDrawProgram("depth_peel.frag", shadeDefines);
+            r->m_candidates = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
+            break;
+        }
+        case Transparency::Opaque:
+        case Transparency::OpacityOptimization:  // gl/opacity_renderer.cpp
+        case Transparency::Auto:                 // resolved before any technique is made
+            TC_CHECK(false);
     }
     if (r->m_mode != Transparency::DepthPeeling)
         r->m_order = SegmentOrder::create(SegmentOrder::ResortPolicy::EveryChange, rs.culling,
@@ -116,26 +116,29 @@ PixelBuffers TransparentRenderer::pixelBuffers(const Scene& scene) {
     const std::size_t aovs = o.aovDepth || o.aovNormal || o.aovId ? GBufferPass::kBytesPerPixel : 0;
     const std::size_t pyramid = r.culling.enabled ? HierarchicalCulling::kBytesPerPixel : 0;
     switch (r.transparency) {
-    case Transparency::KBuffer: {
-        const std::size_t entries = 8 * std::size_t(r.kbufferK);  // m_kbuffer; + 4 B ring header
-        return {16 + entries + 4 + aovs + pyramid, entries, "kbuffer with k=" + std::to_string(r.kbufferK)};
-    }
-    case Transparency::DepthPeeling: return {16 + 16 + aovs, 8, "depth_peeling"};  // + two 8 B key buffers
-    default: return {16 + aovs + pyramid, 0, transparencyName(r.transparency)};
+        case Transparency::KBuffer: {
+            const std::size_t entries = 8 * std::size_t(r.kbufferK);  // m_kbuffer; + 4 B ring header
+            return {16 + entries + 4 + aovs + pyramid, entries, "kbuffer with k=" + std::to_string(r.kbufferK)};
+        }
+        case Transparency::DepthPeeling:
+            return {16 + 16 + aovs, 8, "depth_peeling"};  // + two 8 B key buffers
+        default:
+            return {16 + aovs + pyramid, 0, transparencyName(r.transparency)};
     }
 }
 
 void TransparentRenderer::resize(int width, int height) {
     if (width == m_width && height == m_height) return;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    std::size_t bytes = pixels * 16;  // the float colour target
+    std::size_t bytes = pixels * 16;                                                    // the float colour target
     if (m_mode == Transparency::KBuffer) bytes += pixels * (std::size_t(m_k) * 8 + 4);  // entries, ring header
     if (m_mode == Transparency::DepthPeeling) bytes += pixels * 16;
     if (bytes > m_memoryBudgetBytes)
-        throw InputError("render.memory_budget_mb: " + std::string(transparencyName(m_mode)) + " at " + std::to_string(width) + "x" +
-                         std::to_string(height) + (m_mode == Transparency::KBuffer ? " with k=" + std::to_string(m_k) : "") +
-                         " needs " + std::to_string(bytes / (1024 * 1024) + 1) + " MB of per-pixel buffers, over the budget of " +
-                         std::to_string(m_memoryBudgetBytes / (1024 * 1024)) + " MB (lower image size or k, or raise the budget)");
+        throw InputError(
+            "render.memory_budget_mb: " + std::string(transparencyName(m_mode)) + " at " + std::to_string(width) + "x" +
+            std::to_string(height) + (m_mode == Transparency::KBuffer ? " with k=" + std::to_string(m_k) : "") +
+            " needs " + std::to_string(bytes / (1024 * 1024) + 1) + " MB of per-pixel buffers, over the budget of " +
+            std::to_string(m_memoryBudgetBytes / (1024 * 1024)) + " MB (lower image size or k, or raise the budget)");
     m_width = width;
     m_height = height;
     m_color = makeTexture2D(GL_RGBA32F, width, height);
@@ -189,12 +192,19 @@ void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
 
     switch (m_mode) {
-    case Transparency::ObjectOrder: renderObjectOrder(setup, timer); break;
-    case Transparency::KBuffer: renderKBuffer(setup, timer); break;
-    case Transparency::DepthPeeling: renderDepthPeeling(setup, timer); break;
-    case Transparency::Opaque:
-    case Transparency::OpacityOptimization:
-    case Transparency::Auto: TC_CHECK(false);
+        case Transparency::ObjectOrder:
+            renderObjectOrder(setup, timer);
+            break;
+        case Transparency::KBuffer:
+            renderKBuffer(setup, timer);
+            break;
+        case Transparency::DepthPeeling:
+            renderDepthPeeling(setup, timer);
+            break;
+        case Transparency::Opaque:
+        case Transparency::OpacityOptimization:
+        case Transparency::Auto:
+            TC_CHECK(false);
     }
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);

@@ -8,14 +8,14 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique.h"
 #include "core/technique_registry.h"
 #include "gl/ambient_occlusion.h"
 #include "gl/gbuffer_pass.h"
+#include "gl/hierarchical_culling.h"
 #include "gl/line_geometry.h"
 #include "gl/objects.h"
-#include "gl/hierarchical_culling.h"
 #include "gl/segment_order.h"
-#include "core/technique.h"
 
 namespace tc::gl {
 
@@ -58,8 +58,8 @@ private:
 
     LineGeometry m_geometry;
     std::optional<AmbientOcclusion> m_ao;
-    std::optional<GBufferPass> m_gbuffer;  // for the depth / normal / id AOVs, when requested
-    std::optional<SegmentOrder> m_order;            // object order and k-buffer
+    std::optional<GBufferPass> m_gbuffer;          // for the depth / normal / id AOVs, when requested
+    std::optional<SegmentOrder> m_order;           // object order and k-buffer
     std::optional<HierarchicalCulling> m_culling;  // render.culling (object order and k-buffer)
 
     Program m_blendProgram, m_resolveProgram, m_peelMinProgram, m_peelShadeProgram;

@@ -246,8 +246,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
             // starts one density voxel out (the AO start offset; self-shadowing is excluded per
             // step by shaders/cone_tracing.glsl).
             r->m_shadowDistance = ao.distance * glm::length(extent);
-            r->m_shadowStartOffset =
-                std::max({extent.x, extent.y, extent.z}) / float(std::max(ao.resolution - 1, 1));
+            r->m_shadowStartOffset = std::max({extent.x, extent.y, extent.z}) / float(std::max(ao.resolution - 1, 1));
         }
     }
     r->m_program = compileProgram({{GL_COMPUTE_SHADER, "vrc_raycast.comp"}}, defines);
@@ -399,7 +398,8 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         glProgramUniform1f(p, uniformLocation(p, "uShadowVoxelSize"), m_shadowVoxelSize);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcShadowLines, m_shadowLines.id());
     }
-    glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y, m_brickGridSize.z);
+    glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y,
+                       m_brickGridSize.z);
     glUseProgram(p);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcBricks, m_bricks.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, m_header.id());
@@ -450,38 +450,41 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
 
 nlohmann::json VrcRenderer::describe() const {
     const double mb = 1024.0 * 1024.0;
-    return {{"technique", "voxel_raycast"},
-            {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
-            {"grid", {m_size.x, m_size.y, m_size.z}},
-            {"voxel_size", m_voxelSize},
-            {"quantization", m_quantization},
-            {"neighbors", m_spec.neighbors},
-            {"opacity_threshold", m_spec.opacityThreshold},
-            {"path_length_opacity", m_transparent && m_spec.pathLengthOpacity},
-            {"pieces", m_pieces},
-            {"copies", m_copies},
-            {"copies_did_not_fit", m_copiesDidNotFit},
-            {"piece_blocks", m_pieceBlockCount},
-            {"piece_texture", m_pieceTexture.id() != 0},
-            {"segments", m_segments},
-            {"bytes_per_piece", m_bytesPerPiece},
-            {"model_mb", double(m_modelBytes) / mb},
-            {"raw_lines_mb", double(m_rawBytes) / mb},
-            {"build_ms", m_buildMs},
-            {"upload_ms", m_uploadMs},
-            {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
-            {"hard_shadows", m_shadowLines.id() != 0 ? nlohmann::json{{"level", m_shadowLevel},
-                                                                       {"grid", {m_shadowGridSize.x, m_shadowGridSize.y, m_shadowGridSize.z}},
-                                                                       {"build_ms", m_representativeMs}}
-                                                     : nlohmann::json(false)},
-            {"ambient_occlusion", m_ao && m_aoEnabled ? m_ao->describe() : nlohmann::json(false)}};
+    return {
+        {"technique", "voxel_raycast"},
+        {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
+        {"grid", {m_size.x, m_size.y, m_size.z}},
+        {"voxel_size", m_voxelSize},
+        {"quantization", m_quantization},
+        {"neighbors", m_spec.neighbors},
+        {"opacity_threshold", m_spec.opacityThreshold},
+        {"path_length_opacity", m_transparent && m_spec.pathLengthOpacity},
+        {"pieces", m_pieces},
+        {"copies", m_copies},
+        {"copies_did_not_fit", m_copiesDidNotFit},
+        {"piece_blocks", m_pieceBlockCount},
+        {"piece_texture", m_pieceTexture.id() != 0},
+        {"segments", m_segments},
+        {"bytes_per_piece", m_bytesPerPiece},
+        {"model_mb", double(m_modelBytes) / mb},
+        {"raw_lines_mb", double(m_rawBytes) / mb},
+        {"build_ms", m_buildMs},
+        {"upload_ms", m_uploadMs},
+        {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
+        {"hard_shadows", m_shadowLines.id() != 0
+                             ? nlohmann::json{{"level", m_shadowLevel},
+                                              {"grid", {m_shadowGridSize.x, m_shadowGridSize.y, m_shadowGridSize.z}},
+                                              {"build_ms", m_representativeMs}}
+                             : nlohmann::json(false)},
+        {"ambient_occlusion", m_ao && m_aoEnabled ? m_ao->describe() : nlohmann::json(false)}};
 }
 
 TechniqueDescriptor voxelRaycastTechnique() {
     TechniqueDescriptor d;
     d.name = "voxel_raycast";
-    d.summary = "rays through a voxel model of the lines (quantized pieces per voxel); opaque, or transparent "
-                "composited front to back along each ray";
+    d.summary =
+        "rays through a voxel model of the lines (quantized pieces per voxel); opaque, or transparent "
+        "composited front to back along each ray";
     d.paper = "Kanzler, Rautenhaus & Westermann 2019";
     d.backend = TechniqueBackend::Gl;
     d.data = {DataKind::Lines};
@@ -489,7 +492,8 @@ TechniqueDescriptor voxelRaycastTechnique() {
     // (docs/performance.md).
     d.autoData = {};
     // Every transparent mode name means the same here: front-to-back compositing along the ray.
-    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
+    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
+                      Transparency::DepthPeeling};
     d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced};

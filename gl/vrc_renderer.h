@@ -13,11 +13,11 @@
 
 #include "core/scene.h"
 #include "core/styled_lines.h"
+#include "core/technique.h"
 #include "core/technique_registry.h"
 #include "core/vrc_model.h"
 #include "gl/ambient_occlusion.h"
 #include "gl/objects.h"
-#include "core/technique.h"
 
 namespace tc::gl {
 
@@ -81,7 +81,8 @@ private:
     glm::vec3 m_origin{0.0f};
     float m_voxelSize = 0, m_maxRadius = 0;
     int m_quantization = 0;
-    std::size_t m_pieces = 0, m_copies = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0, m_rawBytes = 0;
+    std::size_t m_pieces = 0, m_copies = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0,
+                m_rawBytes = 0;
     double m_buildMs = 0, m_uploadMs = 0;
     bool m_copiesDidNotFit = false;  // render.vrc.neighbors off, but the copies exceeded one SSBO
 

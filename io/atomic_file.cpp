@@ -28,8 +28,7 @@ AtomicFile::AtomicFile(std::string finalPath) : m_finalPath(std::move(finalPath)
     fs::path path(m_finalPath);
     std::string name = path.filename().string();
     TC_CHECK(!name.empty());
-    std::string temp = "." + name + ".tmp-" + hostName() + "-" + std::to_string(getpid()) +
-                       path.extension().string();
+    std::string temp = "." + name + ".tmp-" + hostName() + "-" + std::to_string(getpid()) + path.extension().string();
     m_tempPath = (path.parent_path() / temp).string();
 }
 
@@ -43,8 +42,7 @@ void AtomicFile::commit() {
     TC_CHECK(!m_committed);
     std::error_code ec;
     if (!fs::exists(m_tempPath, ec))
-        throw OutputError(m_finalPath + ": cannot write: temporary file " + m_tempPath +
-                          " was not created");
+        throw OutputError(m_finalPath + ": cannot write: temporary file " + m_tempPath + " was not created");
     fs::rename(m_tempPath, m_finalPath, ec);
     if (ec) throw OutputError(m_finalPath + ": cannot write: " + ec.message());
     m_committed = true;

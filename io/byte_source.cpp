@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,8 +10,6 @@
 #include <cerrno>
 #include <filesystem>
 #include <set>
-
-#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 
@@ -38,7 +37,9 @@ void ByteSource::failAtLine(std::size_t line, const std::string& message) const 
     throw InputError(m_name + ": line " + std::to_string(line) + ": " + message);
 }
 
-void ByteSource::fail(const std::string& message) const { throw InputError(m_name + ": " + message); }
+void ByteSource::fail(const std::string& message) const {
+    throw InputError(m_name + ": " + message);
+}
 
 void ByteSource::warnAt(std::uint64_t offset, const std::string& message) const {
     m_warnings.push_back("byte " + std::to_string(offset) + ": " + message);
@@ -51,8 +52,8 @@ void ByteSource::warnAtLine(std::size_t line, const std::string& message) const 
 void ByteSource::checkExpansion(std::uint64_t outputBytes, std::uint64_t offset, const char* what) const {
     const std::uint64_t limit = 128 * m_size + (std::uint64_t(256) << 20);
     if (outputBytes > limit)
-        failAt(offset, std::string(what) + " would need " + std::to_string(outputBytes) + " bytes, more than 128x the " +
-                           std::to_string(m_size) + "-byte file (malformed counts?)");
+        failAt(offset, std::string(what) + " would need " + std::to_string(outputBytes) +
+                           " bytes, more than 128x the " + std::to_string(m_size) + "-byte file (malformed counts?)");
 }
 
 FileSource::FileSource(const std::string& path) : ByteSource(path, 0) {

@@ -101,9 +101,15 @@ T loadLittle(const std::uint8_t* p) {
     return v;
 }
 
-inline std::uint16_t byteSwap(std::uint16_t v) { return __builtin_bswap16(v); }
-inline std::uint32_t byteSwap(std::uint32_t v) { return __builtin_bswap32(v); }
-inline std::uint64_t byteSwap(std::uint64_t v) { return __builtin_bswap64(v); }
+inline std::uint16_t byteSwap(std::uint16_t v) {
+    return __builtin_bswap16(v);
+}
+inline std::uint32_t byteSwap(std::uint32_t v) {
+    return __builtin_bswap32(v);
+}
+inline std::uint64_t byteSwap(std::uint64_t v) {
+    return __builtin_bswap64(v);
+}
 
 // Reverses the byte order of every `width`-byte word (2, 4 or 8) of `data` in place.
 void byteSwapWords(void* data, std::size_t bytes, std::size_t width);

@@ -6,12 +6,12 @@
 
 #include "core/error.h"
 #include "core/generators.h"
+#include "core/particle_generators.h"
 #include "io/line_formats.h"
 #include "io/line_reader.h"
 #include "io/partition.h"
 #include "io/particle_reader.h"
 #include "io/stream_tracer.h"
-#include "core/particle_generators.h"
 
 namespace tc {
 
@@ -37,8 +37,10 @@ DatasetLoad loadDataset(const DatasetSpec& spec) {
         load.source = spec.path;
     } else if (isVtkFile(spec.path)) {
         VtkFileData data = readVtkFile(spec.path, &load.cleaned);  // lines, or points as particles
-        if (data.isPoints) load.particles.frames.push_back(std::move(data.points));
-        else load.lines = std::move(data.lines);
+        if (data.isPoints)
+            load.particles.frames.push_back(std::move(data.points));
+        else
+            load.lines = std::move(data.lines);
         load.source = spec.path;
     } else {
         load.lines = readLineSet(spec.path, &load.cleaned);

@@ -11,8 +11,8 @@ namespace tc {
 struct DatasetLoad {
     LineSet lines;
     ParticleData particles;  // particle datasets: one or more frames; `lines` is empty then
-    CleanReport cleaned;   // what was skipped (NaN/Inf, duplicates, short polylines)
-    std::string source;    // the path, or "generate:tornado(lines=..,points=..,seed=..)"
+    CleanReport cleaned;     // what was skipped (NaN/Inf, duplicates, short polylines)
+    std::string source;      // the path, or "generate:tornado(lines=..,points=..,seed=..)"
     double seconds = 0;
 
     bool isParticles() const { return !particles.frames.empty(); }

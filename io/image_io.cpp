@@ -1,13 +1,5 @@
 #include "io/image_io.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <filesystem>
-#include <functional>
-#include <limits>
-
 #include <OpenImageIO/half.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -16,8 +8,16 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "core/srgb8.h"
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+
 #include "core/error.h"
+#include "core/srgb8.h"
 #include "io/atomic_file.h"
 
 namespace tc {
@@ -32,8 +32,7 @@ using OIIO::TypeDesc;
 // OIIO reports some errors on the object and some (failed create/open) globally.
 std::string oiioError(const std::string& objectError) {
     std::string message = objectError.empty() ? OIIO::geterror() : objectError;
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
-        message.pop_back();
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
     return message.empty() ? "unknown OpenImageIO error" : message;
 }
 
@@ -89,8 +88,8 @@ std::uint8_t quantise(float v) {
 
 }  // namespace
 
-void writePng(const FrameImages& frame, const std::string& path,
-              const std::map<std::string, std::string>& text, int zlibLevel) {
+void writePng(const FrameImages& frame, const std::string& path, const std::map<std::string, std::string>& text,
+              int zlibLevel) {
     TC_CHECK(frame.width > 0 && frame.height > 0);
     TC_CHECK_OP(frame.rgba.size(), ==, 4 * frame.pixelCount());
     TC_CHECK(zlibLevel >= 0 && zlibLevel <= 9);
@@ -101,7 +100,8 @@ void writePng(const FrameImages& frame, const std::string& path,
     const bool opaque = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, n, 1 << 16), true,
         [&](const tbb::blocked_range<std::size_t>& range, bool all) {
-            for (std::size_t i = range.begin(); all && i != range.end(); ++i) all = quantise(frame.rgba[4 * i + 3]) == 255;
+            for (std::size_t i = range.begin(); all && i != range.end(); ++i)
+                all = quantise(frame.rgba[4 * i + 3]) == 255;
             return all;
         },
         [](bool a, bool b) { return a && b; });
@@ -205,12 +205,9 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
                     Imath::half h(static_cast<const float*>(ch.source)[i * std::size_t(ch.stride)]);
                     std::memcpy(dst, &h, sizeof h);
                 } else if (ch.type == TypeDesc::FLOAT) {
-                    std::memcpy(dst, static_cast<const float*>(ch.source) + i * std::size_t(ch.stride),
-                                4);
+                    std::memcpy(dst, static_cast<const float*>(ch.source) + i * std::size_t(ch.stride), 4);
                 } else {
-                    std::memcpy(
-                        dst, static_cast<const std::uint32_t*>(ch.source) + i * std::size_t(ch.stride),
-                        4);
+                    std::memcpy(dst, static_cast<const std::uint32_t*>(ch.source) + i * std::size_t(ch.stride), 4);
                 }
                 dst += ch.type.size();
             }
@@ -234,8 +231,7 @@ FrameImages readExr(const std::string& path, std::map<std::string, std::string>*
     std::vector<float> all(n * std::size_t(nch));
     if (!in->read_image(0, 0, 0, nch, TypeDesc::FLOAT, all.data()))
         throw InputError(prefix + oiioError(in->geterror()));
-    auto gather = [&](std::vector<float>& dst, std::initializer_list<const char*> names,
-                      bool required) {
+    auto gather = [&](std::vector<float>& dst, std::initializer_list<const char*> names, bool required) {
         std::vector<int> idx;
         for (const char* name : names) idx.push_back(channelIndex(spec, name));
         bool present = std::all_of(idx.begin(), idx.end(), [](int c) { return c >= 0; });
@@ -256,8 +252,7 @@ FrameImages readExr(const std::string& path, std::map<std::string, std::string>*
         gather(alpha, {"A"}, false);
         frame.rgba.resize(4 * n);
         for (std::size_t i = 0; i < n; ++i) {
-            for (int c = 0; c < 3; ++c)
-                frame.rgba[4 * i + std::size_t(c)] = rgb[3 * i + std::size_t(c)];
+            for (int c = 0; c < 3; ++c) frame.rgba[4 * i + std::size_t(c)] = rgb[3 * i + std::size_t(c)];
             frame.rgba[4 * i + 3] = alpha.empty() ? 1.0f : alpha[i];
         }
     }
@@ -279,16 +274,15 @@ FrameImages readExr(const std::string& path, std::map<std::string, std::string>*
 
 std::map<std::string, std::string> verifyImage(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw InputError(path + ": cannot read image: is a directory");
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": cannot read image: is a directory");
     auto in = openInput(path);
     const ImageSpec spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         throw InputError(path + ": unsupported image dimensions");
     // Every pixel of every channel, as float: OpenEXR and libpng report missing or corrupt
     // scanlines here, not when the header is opened.
-    std::vector<float> all(std::size_t(spec.width) * std::size_t(spec.height) *
-                           std::size_t(std::max(spec.depth, 1)) * std::size_t(spec.nchannels));
+    std::vector<float> all(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(std::max(spec.depth, 1)) *
+                           std::size_t(spec.nchannels));
     if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, all.data()))
         throw InputError(path + ": cannot read image: " + oiioError(in->geterror()));
     std::map<std::string, std::string> metadata;
@@ -339,15 +333,13 @@ ImageDiff compareImages(const std::string& a, const std::string& b, float thresh
     RgbaImage ia = readImageRgba(a);
     RgbaImage ib = readImageRgba(b);
     if (ia.width != ib.width || ia.height != ib.height)
-        throw InputError(a + ": image size " + std::to_string(ia.width) + "x" +
-                         std::to_string(ia.height) + " differs from " + b + ": " +
-                         std::to_string(ib.width) + "x" + std::to_string(ib.height));
+        throw InputError(a + ": image size " + std::to_string(ia.width) + "x" + std::to_string(ia.height) +
+                         " differs from " + b + ": " + std::to_string(ib.width) + "x" + std::to_string(ib.height));
     ImageSpec spec(ia.width, ia.height, 4, TypeDesc::FLOAT);
     // ImageBuf wraps the buffers without copying; compare only reads them.
     OIIO::ImageBuf bufA(spec, ia.rgba.data());
     OIIO::ImageBuf bufB(spec, ib.rgba.data());
-    OIIO::ImageBufAlgo::CompareResults r =
-        OIIO::ImageBufAlgo::compare(bufA, bufB, threshold, threshold);
+    OIIO::ImageBufAlgo::CompareResults r = OIIO::ImageBufAlgo::compare(bufA, bufB, threshold, threshold);
     // r.error is not checked: OIIO sets it whenever some value exceeds failthresh (nfail > 0),
     // not only on real errors, and the buffers here are known to match in size and format.
 
@@ -356,8 +348,7 @@ ImageDiff compareImages(const std::string& a, const std::string& b, float thresh
     diff.rmse = r.rms_error;
     diff.maxError = r.maxerror;
     // Our own PSNR rather than OIIO's so the formula is stated here: peak 1 over RGBA in 0..1.
-    diff.psnr = diff.rmse > 0.0 ? 20.0 * std::log10(1.0 / diff.rmse)
-                                : std::numeric_limits<double>::infinity();
+    diff.psnr = diff.rmse > 0.0 ? 20.0 * std::log10(1.0 / diff.rmse) : std::numeric_limits<double>::infinity();
     diff.fractionOver = diff.pixels ? double(r.nfail) / double(diff.pixels) : 0.0;
     return diff;
 }

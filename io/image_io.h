@@ -20,8 +20,8 @@ namespace tc {
 // ray-traced frame, level 1 unfiltered a quarter of that (`scripts/bench/raytraced.sh 3 7 stages`).
 // Throws OutputError "PATH: cannot write PNG: <reason>".
 constexpr int kPngFrameZlibLevel = 1;
-void writePng(const FrameImages& frame, const std::string& path,
-              const std::map<std::string, std::string>& text = {}, int zlibLevel = kPngFrameZlibLevel);
+void writePng(const FrameImages& frame, const std::string& path, const std::map<std::string, std::string>& text = {},
+              int zlibLevel = kPngFrameZlibLevel);
 
 // Which optional EXR channels to write, and string metadata for the header (scene name,
 // technique, tubecast version, ...). Keys are written as given.
@@ -31,7 +31,7 @@ struct ExrOptions {
     bool id = true;
     bool ao = false;  // written only when frame.ao is non-empty
     std::map<std::string, std::string> metadata;
-    std::map<std::string, float> floats;                   // float attributes (render time)
+    std::map<std::string, float> floats;                    // float attributes (render time)
     std::map<std::string, std::array<float, 16>> matrices;  // m44f attributes (worldToCamera):
     // the 16 values in glm's column-major order, which is Imath's row-major M44f of the same
     // transform for row vectors (p * M), the OpenEXR convention.
@@ -49,8 +49,7 @@ void writeExr(const FrameImages& frame, const std::string& path, const ExrOption
 // Reads an EXR written by writeExr (channels are looked up by name; missing optional ones
 // leave the matching FrameImages vector empty, missing A reads as 1). `metadata`, if given,
 // receives the header's string attributes. Throws InputError "PATH: ...".
-FrameImages readExr(const std::string& path,
-                    std::map<std::string, std::string>* metadata = nullptr);
+FrameImages readExr(const std::string& path, std::map<std::string, std::string>* metadata = nullptr);
 
 // Decodes every pixel of any image OpenImageIO reads (so a truncated or corrupt file fails) and
 // returns its string metadata: EXR header attributes, PNG text chunks.

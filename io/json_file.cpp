@@ -54,8 +54,8 @@ nlohmann::json readJsonFile(const std::string& path) {
     } catch (const nlohmann::json::parse_error& e) {
         // e.byte is the 1-based index of the last character read, i.e. where parsing failed.
         TextPosition pos = textPosition(text, e.byte > 0 ? e.byte - 1 : 0);
-        throw InputError(path + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.column) +
-                         ": " + parserMessage(e.what()));
+        throw InputError(path + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.column) + ": " +
+                         parserMessage(e.what()));
     }
 }
 

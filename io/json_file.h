@@ -1,8 +1,7 @@
 #pragma once
 // JSON files with errors that name the file, line and column.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace tc {
 

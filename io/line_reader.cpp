@@ -1,11 +1,5 @@
 #include "io/line_reader.h"
 
-#include <algorithm>
-#include <cctype>
-#include <cmath>
-#include <filesystem>
-#include <numeric>
-
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkCellType.h>
@@ -24,6 +18,12 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -70,8 +70,7 @@ public:
             vtkDataArray* array = pd->GetArray(i);  // null for string arrays
             if (!array || array->GetNumberOfTuples() != pointCount || skip(array)) continue;
             m_arrays.push_back(array);
-            std::string name = array->GetName() && *array->GetName() ? array->GetName()
-                                                                     : "array" + std::to_string(i);
+            std::string name = array->GetName() && *array->GetName() ? array->GetName() : "array" + std::to_string(i);
             const int k = array->GetNumberOfComponents();
             if (k == 1) {
                 attributes.push_back({name, {}});
@@ -121,9 +120,8 @@ public:
         for (vtkIdType j = 0; j < n; ++j) {
             const vtkIdType id = ids[j];
             if (id < 0 || id >= m_pointCount)
-                throw InputError(m_path + ": cell " + std::to_string(cell) + ": point id " +
-                                 std::to_string(id) + " out of range (" +
-                                 std::to_string(m_pointCount) + " points)");
+                throw InputError(m_path + ": cell " + std::to_string(cell) + ": point id " + std::to_string(id) +
+                                 " out of range (" + std::to_string(m_pointCount) + " points)");
             double p[3];
             points->GetPoint(id, p);
             m_lines.positions.emplace_back(float(p[0]), float(p[1]), float(p[2]));
@@ -149,15 +147,15 @@ private:
     PointDataColumns m_columns;
 };
 
-[[noreturn]] void throwNoPolylines(const std::string& path, vtkDataSet* data,
-                                   vtkIdType otherCells) {
-    throw InputError(path + ": no polylines (" + std::to_string(data->GetNumberOfPoints()) +
-                     " points, " + std::to_string(otherCells) + " cells of other types)");
+[[noreturn]] void throwNoPolylines(const std::string& path, vtkDataSet* data, vtkIdType otherCells) {
+    throw InputError(path + ": no polylines (" + std::to_string(data->GetNumberOfPoints()) + " points, " +
+                     std::to_string(otherCells) + " cells of other types)");
 }
 
 // Line and polyline cells of a PolyData or UnstructuredGrid (0 for other data sets).
 vtkIdType lineCellCount(vtkDataObject* object) {
-    if (auto* poly = vtkPolyData::SafeDownCast(object)) return poly->GetLines() ? poly->GetLines()->GetNumberOfCells() : 0;
+    if (auto* poly = vtkPolyData::SafeDownCast(object))
+        return poly->GetLines() ? poly->GetLines()->GetNumberOfCells() : 0;
     vtkIdType lineCells = 0;
     if (auto* grid = vtkUnstructuredGrid::SafeDownCast(object))
         for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
@@ -192,8 +190,10 @@ ParticleSet extractPoints(const std::string& path, vtkDataSet* data) {
     for (int i = 0; pd && i < pd->GetNumberOfArrays(); ++i) {
         vtkDataArray* array = pd->GetArray(i);
         if (!array || array->GetNumberOfTuples() != data->GetNumberOfPoints()) continue;
-        if (!radius && isRadiusArray(array)) radius = array;
-        else if (!color && isColorArray(array)) color = array;
+        if (!radius && isRadiusArray(array))
+            radius = array;
+        else if (!color && isColorArray(array))
+            color = array;
     }
     PointDataColumns columns(data, set.attributes, [&](vtkDataArray* a) { return a == radius || a == color; });
     const vtkIdType n = data->GetNumberOfPoints();
@@ -230,8 +230,7 @@ LineSet extractLines(const std::string& path, vtkDataObject* object) {
     if (auto* poly = vtkPolyData::SafeDownCast(object)) {
         vtkCellArray* cells = poly->GetLines();
         const vtkIdType lineCells = cells ? cells->GetNumberOfCells() : 0;
-        if (lineCells == 0 || !poly->GetPoints())
-            throwNoPolylines(path, poly, poly->GetNumberOfCells() - lineCells);
+        if (lineCells == 0 || !poly->GetPoints()) throwNoPolylines(path, poly, poly->GetNumberOfCells() - lineCells);
         LineSetBuilder builder(path, poly);
         auto it = vtk::TakeSmartPointer(cells->NewIterator());
         for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell()) {
@@ -249,8 +248,7 @@ LineSet extractLines(const std::string& path, vtkDataObject* object) {
             int type = grid->GetCellType(c);
             lineCells += type == VTK_LINE || type == VTK_POLY_LINE;
         }
-        if (lineCells == 0 || !grid->GetPoints())
-            throwNoPolylines(path, grid, cellCount - lineCells);
+        if (lineCells == 0 || !grid->GetPoints()) throwNoPolylines(path, grid, cellCount - lineCells);
         LineSetBuilder builder(path, grid);
         for (vtkIdType c = 0; c < cellCount; ++c) {
             int type = grid->GetCellType(c);
@@ -268,13 +266,11 @@ LineSet extractLines(const std::string& path, vtkDataObject* object) {
 
 // Runs `reader` and returns its output, turning VTK's complaints into an InputError.
 template <class Reader>
-vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader,
-                                         const VtkMessageCapture& capture) {
+vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader, const VtkMessageCapture& capture) {
     reader->SetFileName(path.c_str());
     reader->Update();
     if (capture.failed()) throw InputError(path + ": VTK: " + capture.firstError());
-    if (reader->GetErrorCode() != 0)
-        throw InputError(path + ": VTK: " + errorCodeText(reader->GetErrorCode()));
+    if (reader->GetErrorCode() != 0) throw InputError(path + ": VTK: " + errorCodeText(reader->GetErrorCode()));
     return reader->GetOutputDataObject(0);
 }
 
@@ -394,9 +390,8 @@ void writePolyData(vtkPolyData* poly, const std::string& path) {
         writer->SetHeaderTypeToUInt64();
         const int ok = writer->Write();
         if (!ok || capture.failed() || writer->GetErrorCode() != 0)
-            throw OutputError(
-                path + ": cannot write: " +
-                (capture.failed() ? capture.firstError() : errorCodeText(writer->GetErrorCode())));
+            throw OutputError(path + ": cannot write: " +
+                              (capture.failed() ? capture.firstError() : errorCodeText(writer->GetErrorCode())));
     }
     file.commit();
 }
@@ -440,8 +435,9 @@ void writeParticleSetVtp(const ParticleSet& particles, const std::string& path) 
         colors->SetNumberOfTuples(vtkIdType(particles.size()));
         for (std::size_t i = 0; i < particles.size(); ++i)
             for (int c = 0; c < 4; ++c)
-                colors->SetValue(vtkIdType(4 * i + c),
-                                 static_cast<unsigned char>(std::lround(std::clamp(particles.colors[i][c], 0.0f, 1.0f) * 255.0f)));
+                colors->SetValue(
+                    vtkIdType(4 * i + c),
+                    static_cast<unsigned char>(std::lround(std::clamp(particles.colors[i][c], 0.0f, 1.0f) * 255.0f)));
         poly->GetPointData()->AddArray(colors);
     }
     for (const Attribute& a : particles.attributes) addFloatArray(poly, a.name, a.values);

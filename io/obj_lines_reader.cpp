@@ -19,7 +19,9 @@ namespace {
 // A "vt" row with more values than this is not an attribute row of any writer we know.
 constexpr std::size_t kMaxAttributes = 256;
 
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+bool isSpace(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 // Splits a line into whitespace-separated tokens (views into the line).
 void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
@@ -88,7 +90,8 @@ private:
     void vertexAttributes(const std::vector<std::string_view>& tokens) {
         const std::size_t k = tokens.size() - 1;
         if (k == 0) fail("\"vt\" without values");
-        if (k > kMaxAttributes) fail("\"vt\" with " + std::to_string(k) + " values (at most " + std::to_string(kMaxAttributes) + ")");
+        if (k > kMaxAttributes)
+            fail("\"vt\" with " + std::to_string(k) + " values (at most " + std::to_string(kMaxAttributes) + ")");
         if (m_rows == 0) {
             m_attributeCount = k;
         } else if (k != m_attributeCount) {
@@ -132,8 +135,9 @@ private:
     LineSet finish() {
         const std::size_t k = m_rows ? m_attributeCount : 0;
         if (!m_names.empty() && m_names.size() != k)
-            m_source.failAtLine(m_namesLine, std::to_string(m_names.size()) + " attribute names, but \"vt\" rows have " +
-                                                 std::to_string(k) + " values");
+            m_source.failAtLine(m_namesLine, std::to_string(m_names.size()) +
+                                                 " attribute names, but \"vt\" rows have " + std::to_string(k) +
+                                                 " values");
         if (m_refs.size() > std::numeric_limits<std::uint32_t>::max())
             m_source.fail("more than 2^32 - 1 polyline vertices are not supported");
         // Every reference copies a position and a row: an index list that repeats one vertex can
@@ -185,6 +189,8 @@ private:
 
 }  // namespace
 
-LineSet readObjLines(const ByteSource& source) { return ObjParser(source).parse(); }
+LineSet readObjLines(const ByteSource& source) {
+    return ObjParser(source).parse();
+}
 
 }  // namespace tc

@@ -21,8 +21,10 @@ std::string stripTrailingCommas(std::string_view text) {
     for (std::size_t i = 0; i < out.size(); ++i) {
         char c = out[i];
         if (inString) {
-            if (c == '\\') ++i;  // skip the escaped character (\" must not end the string)
-            else if (c == '"') inString = false;
+            if (c == '\\')
+                ++i;  // skip the escaped character (\" must not end the string)
+            else if (c == '"')
+                inString = false;
             continue;
         }
         if (c == '"') {
@@ -53,7 +55,8 @@ std::vector<double> readGroups(const json& preset, const char* key, std::size_t 
     values.reserve(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) {
         if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-            fail(source, std::string(key) + "[" + std::to_string(i) + "]", "expected a finite number, got " + v[i].dump());
+            fail(source, std::string(key) + "[" + std::to_string(i) + "]",
+                 "expected a finite number, got " + v[i].dump());
         values.push_back(v[i].get<double>());
     }
     for (std::size_t p = 1; p < values.size() / group; ++p)
@@ -68,7 +71,8 @@ std::vector<double> readGroups(const json& preset, const char* key, std::size_t 
 
 void checkUnit(double v, const std::string& source, const std::string& key, std::size_t index, const char* what) {
     if (!(v >= 0 && v <= 1))
-        fail(source, key + "[" + std::to_string(index) + "]", std::string(what) + " must be in [0, 1], got " + std::to_string(v));
+        fail(source, key + "[" + std::to_string(index) + "]",
+             std::string(what) + " must be in [0, 1], got " + std::to_string(v));
 }
 
 // vtkPiecewiseFunction's value between two nodes at s in [0,1] for the first node's midpoint
@@ -79,8 +83,10 @@ double shapedSegment(double y1, double y2, double s, double midpoint, double sha
     s = s < midpoint ? 0.5 * s / midpoint : 0.5 + 0.5 * (s - midpoint) / (1 - midpoint);
     if (sharpness > 0.99) return s < 0.5 ? y1 : y2;
     if (sharpness < 0.01) return (1 - s) * y1 + s * y2;
-    if (s < 0.5) s = 0.5 * std::pow(s * 2, 1 + 10 * sharpness);
-    else if (s > 0.5) s = 1 - 0.5 * std::pow((1 - s) * 2, 1 + 10 * sharpness);
+    if (s < 0.5)
+        s = 0.5 * std::pow(s * 2, 1 + 10 * sharpness);
+    else if (s > 0.5)
+        s = 1 - 0.5 * std::pow((1 - s) * 2, 1 + 10 * sharpness);
     double ss = s * s, sss = ss * s;
     double h1 = 2 * sss - 3 * ss + 1, h2 = -2 * sss + 3 * ss, h3 = sss - 2 * ss + s, h4 = sss - ss;
     double tangent = (1 - sharpness) * (y2 - y1);
@@ -111,12 +117,18 @@ Colormap colormapFromParaViewPreset(const json& input, const std::string& source
         const json& cs = preset["ColorSpace"];
         std::string name = cs.is_string() ? cs.get<std::string>() : std::string();
         std::string lower = name;
-        std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        if (lower == "rgb") map.space = ColorSpace::Rgb;
-        else if (lower == "lab" || lower == "cielab" || lower == "lab/ciede2000") map.space = ColorSpace::Lab;
-        else if (lower == "diverging") map.space = ColorSpace::Diverging;
-        else if (lower == "hsv") map.space = ColorSpace::Hsv;
-        else if (lower == "step") map.space = ColorSpace::Step;
+        std::transform(lower.begin(), lower.end(), lower.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        if (lower == "rgb")
+            map.space = ColorSpace::Rgb;
+        else if (lower == "lab" || lower == "cielab" || lower == "lab/ciede2000")
+            map.space = ColorSpace::Lab;
+        else if (lower == "diverging")
+            map.space = ColorSpace::Diverging;
+        else if (lower == "hsv")
+            map.space = ColorSpace::Hsv;
+        else if (lower == "step")
+            map.space = ColorSpace::Step;
         else
             fail(source, "ColorSpace",
                  "expected \"RGB\", \"Lab\", \"Diverging\", \"HSV\" or \"Step\", got " + cs.dump());
@@ -207,8 +219,8 @@ Colormap readParaViewPreset(const std::string& path) {
         TextPosition pos = textPosition(text, e.byte > 0 ? e.byte - 1 : 0);
         std::string what = e.what();
         std::size_t colon = what.find("syntax error");
-        throw InputError(path + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.column) + ": invalid JSON: " +
-                         (colon != std::string::npos ? what.substr(colon) : what));
+        throw InputError(path + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.column) +
+                         ": invalid JSON: " + (colon != std::string::npos ? what.substr(colon) : what));
     }
     return colormapFromParaViewPreset(doc, path);
 }
@@ -218,7 +230,8 @@ void loadStylePresets(StyleSpec& style, const std::string& sceneFile) {
     try {
         style.color.preset = std::make_shared<const Colormap>(readParaViewPreset(style.color.colormap));
     } catch (const InputError& e) {
-        throw InputError((sceneFile.empty() ? std::string("scene") : sceneFile) + ": style.color.colormap: " + e.what());
+        throw InputError((sceneFile.empty() ? std::string("scene") : sceneFile) +
+                         ": style.color.colormap: " + e.what());
     }
 }
 

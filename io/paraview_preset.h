@@ -14,10 +14,9 @@
 //   linear.
 // - Other keys (Creator, License, DefaultMap, Annotations, ...) are ignored; categorical
 //   "IndexedColors" presets are rejected.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
-
-#include <nlohmann/json.hpp>
 
 #include "core/colormap.h"
 #include "core/scene.h"

@@ -85,7 +85,8 @@ bool parseDouble(const std::string& s, double& v) {
 
 double number(const Lines& lines, const std::string& s, const char* what) {
     double v;
-    if (!parseDouble(s, v)) lines.fail(lines.lineNumber(), std::string("expected a number for ") + what + ", got \"" + s + "\"");
+    if (!parseDouble(s, v))
+        lines.fail(lines.lineNumber(), std::string("expected a number for ") + what + ", got \"" + s + "\"");
     return v;
 }
 
@@ -95,8 +96,8 @@ std::size_t countField(const Lines& lines, const std::string& s, std::size_t per
     if (!parseDouble(s, v) || v < 0 || v != std::floor(v))
         lines.fail(lines.lineNumber(), std::string("expected a non-negative integer ") + what + ", got \"" + s + "\"");
     if (v > double(lines.remaining()) / double(perItem))
-        lines.fail(lines.lineNumber(), std::string(what) + " " + s + " exceeds the " + std::to_string(lines.remaining()) +
-                                           " lines left in the file");
+        lines.fail(lines.lineNumber(), std::string(what) + " " + s + " exceeds the " +
+                                           std::to_string(lines.remaining()) + " lines left in the file");
     return std::size_t(v);
 }
 
@@ -142,9 +143,10 @@ std::vector<XyzColumn> xyzProperties(const Lines& lines, const std::string& comm
     for (std::size_t i = 0; i < parts.size(); i += 3) {
         double n;
         const std::string& type = parts[i + 1];
-        if (type.size() != 1 || std::string("SRIL").find(type[0]) == std::string::npos || !parseDouble(parts[i + 2], n) ||
-            n < 1 || n > 64 || n != std::floor(n))
-            lines.fail("extended XYZ Properties=" + spec + ": bad column \"" + parts[i] + ":" + type + ":" + parts[i + 2] + "\"");
+        if (type.size() != 1 || std::string("SRIL").find(type[0]) == std::string::npos ||
+            !parseDouble(parts[i + 2], n) || n < 1 || n > 64 || n != std::floor(n))
+            lines.fail("extended XYZ Properties=" + spec + ": bad column \"" + parts[i] + ":" + type + ":" +
+                       parts[i + 2] + "\"");
         cols.push_back({parts[i], type[0], int(n)});
     }
     return cols;
@@ -160,7 +162,8 @@ ParticleData readXyz(const std::string& path, const std::string& text) {
         }
         const std::string& countLine = lines.next("the particle count");
         auto countTokens = split(countLine);
-        if (countTokens.size() != 1) lines.fail("expected the particle count on a line of its own, got \"" + countLine + "\"");
+        if (countTokens.size() != 1)
+            lines.fail("expected the particle count on a line of its own, got \"" + countLine + "\"");
         std::size_t n = countField(lines, countTokens[0], 1, "particle count");
         const std::string comment = lines.next("the comment line");
         auto columns = xyzProperties(lines, comment);
@@ -202,12 +205,17 @@ ParticleData readXyz(const std::string& path, const std::string& text) {
                 }
                 for (int j = 0; j < c.cols; ++j, ++k) {
                     double v;
-                    if (c.type == 'L') v = (t[k] == "T" || t[k] == "True" || t[k] == "1") ? 1.0 : 0.0;
-                    else v = number(lines, t[k], c.name.c_str());
-                    if (c.name == "pos") pos[j] = float(v);
+                    if (c.type == 'L')
+                        v = (t[k] == "T" || t[k] == "True" || t[k] == "1") ? 1.0 : 0.0;
+                    else
+                        v = number(lines, t[k], c.name.c_str());
+                    if (c.name == "pos")
+                        pos[j] = float(v);
                     else if (c.name == "radius" && c.cols == 1) {
-                        if (hadRadius) f.radii.back() = float(v);
-                        else f.radii.push_back(float(v)), hadRadius = true;
+                        if (hadRadius)
+                            f.radii.back() = float(v);
+                        else
+                            f.radii.push_back(float(v)), hadRadius = true;
                         f.radiiFrom = Provenance::File;
                     } else if ((c.name == "color" || c.name == "colour") && (c.cols == 3 || c.cols == 4)) {
                         color[j] = float(v);
@@ -215,7 +223,9 @@ ParticleData readXyz(const std::string& path, const std::string& text) {
                         f.colorsFrom = Provenance::File;
                     } else {
                         static const char* xyz[3] = {"_x", "_y", "_z"};
-                        std::string name = c.cols == 1 ? c.name : c.cols == 3 ? c.name + xyz[j] : c.name + "_" + std::to_string(j);
+                        std::string name = c.cols == 1   ? c.name
+                                           : c.cols == 3 ? c.name + xyz[j]
+                                                         : c.name + "_" + std::to_string(j);
                         attributeNamed(f, name).values.push_back(float(v));
                     }
                 }
@@ -224,7 +234,8 @@ ParticleData readXyz(const std::string& path, const std::string& text) {
                 lines.fail("non-finite position");
             f.positions.push_back(pos);
             if (hadColor) f.colors.push_back(color);
-            if ((hadColor && f.colors.size() != f.positions.size()) || (hadRadius && f.radii.size() != f.positions.size()))
+            if ((hadColor && f.colors.size() != f.positions.size()) ||
+                (hadRadius && f.radii.size() != f.positions.size()))
                 lines.fail("radius/colour columns present for some particles only");
         }
         f.update();
@@ -270,7 +281,8 @@ ParticleData readPdb(const std::string& path, const std::string& text) {
             finishFrame();
             inModel = false;
         } else if (record == "ATOM  " || record == "HETATM") {
-            if (line.size() < 54) lines.fail("ATOM/HETATM record shorter than 54 columns (x, y, z are in columns 31-54)");
+            if (line.size() < 54)
+                lines.fail("ATOM/HETATM record shorter than 54 columns (x, y, z are in columns 31-54)");
             glm::vec3 p(float(number(lines, column(line, 31, 38), "x (columns 31-38)")),
                         float(number(lines, column(line, 39, 46), "y (columns 39-46)")),
                         float(number(lines, column(line, 47, 54), "z (columns 47-54)")));
@@ -280,7 +292,8 @@ ParticleData readPdb(const std::string& path, const std::string& text) {
             current.positions.push_back(p);
             addElement(current, element);
             double occupancy = 1.0, bfactor = 0.0, residue = 0.0;
-            std::string occ = trim(column(line, 55, 60)), bf = trim(column(line, 61, 66)), res = trim(column(line, 23, 26));
+            std::string occ = trim(column(line, 55, 60)), bf = trim(column(line, 61, 66)),
+                        res = trim(column(line, 23, 26));
             if (!occ.empty()) occupancy = number(lines, occ, "occupancy (columns 55-60)");
             if (!bf.empty()) bfactor = number(lines, bf, "temperature factor (columns 61-66)");
             if (!res.empty() && !parseDouble(res, residue)) residue = std::nan("");  // hybrid-36 etc.
@@ -309,7 +322,8 @@ std::vector<std::string> cifTokens(const Lines& lines, const std::string& line) 
             const char quote = line[i];
             std::size_t end = i + 1;
             while (end < line.size() &&
-                   !(line[end] == quote && (end + 1 == line.size() || std::isspace(static_cast<unsigned char>(line[end + 1])))))
+                   !(line[end] == quote &&
+                     (end + 1 == line.size() || std::isspace(static_cast<unsigned char>(line[end + 1])))))
                 ++end;
             if (end >= line.size()) lines.fail("unterminated quoted value");
             tokens.push_back(line.substr(i + 1, end - i - 1));
@@ -370,7 +384,8 @@ ParticleData readMmcif(const std::string& path, const std::string& text) {
         for (std::string& t : cifTokens(lines, line)) row.push_back(std::move(t));
         if (row.size() < names.size()) continue;  // a row may span lines
         if (row.size() > names.size())
-            lines.fail(std::to_string(row.size()) + " values for " + std::to_string(names.size()) + " _atom_site columns");
+            lines.fail(std::to_string(row.size()) + " values for " + std::to_string(names.size()) +
+                       " _atom_site columns");
         const glm::vec3 p(float(number(lines, row[x], "Cartn_x")), float(number(lines, row[y], "Cartn_y")),
                           float(number(lines, row[z], "Cartn_z")));
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) lines.fail("non-finite position");
@@ -394,8 +409,9 @@ ParticleData readMmcif(const std::string& path, const std::string& text) {
         attributeNamed(current, "residue").values.push_back(float(res));
         row.clear();
     }
-    if (!row.empty()) lines.fail("_atom_site loop ends inside a row (" + std::to_string(row.size()) + " of " +
-                                 std::to_string(names.size()) + " values)");
+    if (!row.empty())
+        lines.fail("_atom_site loop ends inside a row (" + std::to_string(row.size()) + " of " +
+                   std::to_string(names.size()) + " values)");
     finishFrame();
     if (data.frames.empty()) throw InputError(path + ": _atom_site loop without atoms");
     return data;
@@ -440,33 +456,47 @@ ParticleData readLammps(const std::string& path, const std::string& text) {
                 int iRadius = -1, iDiameter = -1;
                 for (std::size_t k = 0; k < names.size(); ++k) {
                     const std::string& c = names[k];
-                    if (c == "x" || c == "xu") ix = int(k);
-                    else if (c == "y" || c == "yu") iy = int(k);
-                    else if (c == "z" || c == "zu") iz = int(k);
-                    else if (c == "xs" || c == "xsu") ix = int(k), scaled = true;
-                    else if (c == "ys" || c == "ysu") iy = int(k), scaled = true;
-                    else if (c == "zs" || c == "zsu") iz = int(k), scaled = true;
-                    else if (c == "radius") iRadius = int(k);
-                    else if (c == "diameter") iDiameter = int(k);
+                    if (c == "x" || c == "xu")
+                        ix = int(k);
+                    else if (c == "y" || c == "yu")
+                        iy = int(k);
+                    else if (c == "z" || c == "zu")
+                        iz = int(k);
+                    else if (c == "xs" || c == "xsu")
+                        ix = int(k), scaled = true;
+                    else if (c == "ys" || c == "ysu")
+                        iy = int(k), scaled = true;
+                    else if (c == "zs" || c == "zsu")
+                        iz = int(k), scaled = true;
+                    else if (c == "radius")
+                        iRadius = int(k);
+                    else if (c == "diameter")
+                        iDiameter = int(k);
                 }
                 if (ix < 0 || iy < 0 || iz < 0) lines.fail("ITEM: ATOMS has no x y z (or xs ys zs) columns");
-                if (scaled && !haveBox) lines.fail("scaled coordinates (xs ys zs) need ITEM: BOX BOUNDS before ITEM: ATOMS");
+                if (scaled && !haveBox)
+                    lines.fail("scaled coordinates (xs ys zs) need ITEM: BOX BOUNDS before ITEM: ATOMS");
                 if (n > lines.remaining())
-                    lines.fail("NUMBER OF ATOMS " + std::to_string(n) + " exceeds the " + std::to_string(lines.remaining()) +
-                               " lines left in the file");
+                    lines.fail("NUMBER OF ATOMS " + std::to_string(n) + " exceeds the " +
+                               std::to_string(lines.remaining()) + " lines left in the file");
                 ParticleSet f;
                 f.positions.reserve(n);
                 for (std::size_t i = 0; i < n; ++i) {
                     auto t = split(lines.next("an atom line"));
                     if (t.size() != names.size())
-                        lines.fail("expected " + std::to_string(names.size()) + " columns, got " + std::to_string(t.size()));
-                    glm::vec3 p(float(number(lines, t[std::size_t(ix)], "x")), float(number(lines, t[std::size_t(iy)], "y")),
+                        lines.fail("expected " + std::to_string(names.size()) + " columns, got " +
+                                   std::to_string(t.size()));
+                    glm::vec3 p(float(number(lines, t[std::size_t(ix)], "x")),
+                                float(number(lines, t[std::size_t(iy)], "y")),
                                 float(number(lines, t[std::size_t(iz)], "z")));
                     if (scaled) p = lo + p * (hi - lo);
-                    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) lines.fail("non-finite position");
+                    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                        lines.fail("non-finite position");
                     f.positions.push_back(p);
-                    if (iRadius >= 0) f.radii.push_back(float(number(lines, t[std::size_t(iRadius)], "radius")));
-                    else if (iDiameter >= 0) f.radii.push_back(0.5f * float(number(lines, t[std::size_t(iDiameter)], "diameter")));
+                    if (iRadius >= 0)
+                        f.radii.push_back(float(number(lines, t[std::size_t(iRadius)], "radius")));
+                    else if (iDiameter >= 0)
+                        f.radii.push_back(0.5f * float(number(lines, t[std::size_t(iDiameter)], "diameter")));
                     if (iRadius >= 0 || iDiameter >= 0) f.radiiFrom = Provenance::File;
                     for (std::size_t k = 0; k < names.size(); ++k) {
                         if (int(k) == ix || int(k) == iy || int(k) == iz || int(k) == iRadius || int(k) == iDiameter ||
@@ -515,7 +545,8 @@ ParticleData readGro(const std::string& path, const std::string& text) {
             p *= 10.0f;
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) lines.fail("non-finite position");
             f.positions.push_back(p);
-            addElement(f, elementFromAtomName(trim(column(line, 11, 15)), trim(column(line, 6, 10)) == trim(column(line, 11, 15))));
+            addElement(f, elementFromAtomName(trim(column(line, 11, 15)),
+                                              trim(column(line, 6, 10)) == trim(column(line, 11, 15))));
             double residue = 0;
             if (!parseDouble(column(line, 1, 5), residue)) residue = std::nan("");
             attributeNamed(f, "residue").values.push_back(float(residue));
@@ -544,13 +575,22 @@ ParticleData readParticles(const std::string& path) {
     const std::string ext = extensionLower(path);
     const std::string text = readAll(path);
     ParticleData data;
-    if (ext == ".xyz" || ext == ".extxyz") data = readXyz(path, text);
-    else if (ext == ".pdb" || ext == ".ent") data = readPdb(path, text);
-    else if (ext == ".cif" || ext == ".mmcif") data = readMmcif(path, text);
-    else if (ext == ".lammpstrj" || ext == ".dump") data = readLammps(path, text);
-    else if (ext == ".gro") data = readGro(path, text);
-    else if (ext == ".mmpld") data = readMmpld(path, text);
-    else throw InputError(path + ": not a particle format (.xyz, .extxyz, .pdb, .ent, .cif, .mmcif, .lammpstrj, .dump, .gro, .mmpld)");
+    if (ext == ".xyz" || ext == ".extxyz")
+        data = readXyz(path, text);
+    else if (ext == ".pdb" || ext == ".ent")
+        data = readPdb(path, text);
+    else if (ext == ".cif" || ext == ".mmcif")
+        data = readMmcif(path, text);
+    else if (ext == ".lammpstrj" || ext == ".dump")
+        data = readLammps(path, text);
+    else if (ext == ".gro")
+        data = readGro(path, text);
+    else if (ext == ".mmpld")
+        data = readMmpld(path, text);
+    else
+        throw InputError(
+            path +
+            ": not a particle format (.xyz, .extxyz, .pdb, .ent, .cif, .mmcif, .lammpstrj, .dump, .gro, .mmpld)");
     for (const ParticleSet& f : data.frames) f.checkConsistent();
     return data;
 }

@@ -1,9 +1,8 @@
 #pragma once
 // Chemical elements for particle readers (PDB, GRO, XYZ): van der Waals radii in Angstrom
 // (Bondi 1964; Alvarez 2013 for elements Bondi lacks) and CPK colours as Jmol draws them (sRGB).
-#include <string>
-
 #include <glm/glm.hpp>
+#include <string>
 
 namespace tc {
 

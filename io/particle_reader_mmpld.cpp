@@ -86,7 +86,8 @@ ParticleData readMmpld(const std::string& path, const std::string& bytes) {
     for (std::uint32_t fi = 0; fi < frames; ++fi) {
         if (seek[fi] > seek[fi + 1] || seek[fi + 1] > bytes.size())
             r.fail("seek table entry " + std::to_string(fi) + " (" + std::to_string(seek[fi]) + ".." +
-                   std::to_string(seek[fi + 1]) + ") is out of order or beyond the file (" + std::to_string(bytes.size()) + " bytes)");
+                   std::to_string(seek[fi + 1]) + ") is out of order or beyond the file (" +
+                   std::to_string(bytes.size()) + " bytes)");
         r.seek(seek[fi]);
         if (version >= 102) r.read<float>("frame timestamp");
         const auto lists = r.read<std::int32_t>("list count");
@@ -115,44 +116,71 @@ ParticleData readMmpld(const std::string& path, const std::string& bytes) {
             if (version == 103) r.skip(6 * sizeof(float), "list bounding box");
             const std::uint64_t stride = kVertexSize[vtype] + kColorSize[ctype];
             if (vtype == 0) {  // no positions: nothing to draw; skip the colours
-                if (count > (bytes.size() - r.pos()) / std::max<std::uint64_t>(stride, 1)) r.fail("list data truncated");
+                if (count > (bytes.size() - r.pos()) / std::max<std::uint64_t>(stride, 1))
+                    r.fail("list data truncated");
                 r.skip(count * stride, "list data");
                 continue;
             }
             if (count > (bytes.size() - r.pos()) / stride)
-                r.fail("list " + std::to_string(li) + ": " + std::to_string(count) + " particles of " + std::to_string(stride) +
-                       " bytes exceed the " + std::to_string(bytes.size() - r.pos()) + " bytes left");
+                r.fail("list " + std::to_string(li) + ": " + std::to_string(count) + " particles of " +
+                       std::to_string(stride) + " bytes exceed the " + std::to_string(bytes.size() - r.pos()) +
+                       " bytes left");
             const char* p = r.data();
             for (std::uint64_t i = 0; i < count; ++i, p += stride) {
                 glm::vec3 pos;
                 float radius = globalRadius;
                 switch (vtype) {
-                case 1: pos = {load<float>(p), load<float>(p + 4), load<float>(p + 8)}; break;
-                case 2:
-                    pos = {load<float>(p), load<float>(p + 4), load<float>(p + 8)};
-                    radius = load<float>(p + 12);
-                    break;
-                // Short coordinates are stored as is (MegaMol scales them by the bounding box only
-                // in some data sources); the integer values become world units.
-                case 3: pos = {float(load<std::int16_t>(p)), float(load<std::int16_t>(p + 2)), float(load<std::int16_t>(p + 4))}; break;
-                default: pos = {float(load<double>(p)), float(load<double>(p + 8)), float(load<double>(p + 16))}; break;
+                    case 1:
+                        pos = {load<float>(p), load<float>(p + 4), load<float>(p + 8)};
+                        break;
+                    case 2:
+                        pos = {load<float>(p), load<float>(p + 4), load<float>(p + 8)};
+                        radius = load<float>(p + 12);
+                        break;
+                    // Short coordinates are stored as is (MegaMol scales them by the bounding box only
+                    // in some data sources); the integer values become world units.
+                    case 3:
+                        pos = {float(load<std::int16_t>(p)), float(load<std::int16_t>(p + 2)),
+                               float(load<std::int16_t>(p + 4))};
+                        break;
+                    default:
+                        pos = {float(load<double>(p)), float(load<double>(p + 8)), float(load<double>(p + 16))};
+                        break;
                 }
                 if (!std::isfinite(pos.x) || !std::isfinite(pos.y) || !std::isfinite(pos.z)) continue;
                 const char* c = p + kVertexSize[vtype];
                 glm::vec4 color = globalColor;
                 float value = std::nanf("");
                 switch (ctype) {
-                case 1: color = glm::vec4(float(std::uint8_t(c[0])), float(std::uint8_t(c[1])), float(std::uint8_t(c[2])), 255.0f) / 255.0f; break;
-                case 2: color = glm::vec4(float(std::uint8_t(c[0])), float(std::uint8_t(c[1])), float(std::uint8_t(c[2])), float(std::uint8_t(c[3]))) / 255.0f; break;
-                case 3: value = load<float>(c); break;
-                case 4: color = glm::vec4(load<float>(c), load<float>(c + 4), load<float>(c + 8), 1.0f); break;
-                case 5: color = glm::vec4(load<float>(c), load<float>(c + 4), load<float>(c + 8), load<float>(c + 12)); break;
-                case 6:
-                    color = glm::vec4(load<std::uint16_t>(c), load<std::uint16_t>(c + 2), load<std::uint16_t>(c + 4),
-                                      load<std::uint16_t>(c + 6)) / 65535.0f;
-                    break;
-                case 7: value = float(load<double>(c)); break;
-                default: break;
+                    case 1:
+                        color = glm::vec4(float(std::uint8_t(c[0])), float(std::uint8_t(c[1])),
+                                          float(std::uint8_t(c[2])), 255.0f) /
+                                255.0f;
+                        break;
+                    case 2:
+                        color = glm::vec4(float(std::uint8_t(c[0])), float(std::uint8_t(c[1])),
+                                          float(std::uint8_t(c[2])), float(std::uint8_t(c[3]))) /
+                                255.0f;
+                        break;
+                    case 3:
+                        value = load<float>(c);
+                        break;
+                    case 4:
+                        color = glm::vec4(load<float>(c), load<float>(c + 4), load<float>(c + 8), 1.0f);
+                        break;
+                    case 5:
+                        color = glm::vec4(load<float>(c), load<float>(c + 4), load<float>(c + 8), load<float>(c + 12));
+                        break;
+                    case 6:
+                        color = glm::vec4(load<std::uint16_t>(c), load<std::uint16_t>(c + 2),
+                                          load<std::uint16_t>(c + 4), load<std::uint16_t>(c + 6)) /
+                                65535.0f;
+                        break;
+                    case 7:
+                        value = float(load<double>(c));
+                        break;
+                    default:
+                        break;
                 }
                 if (ctype == 3 || ctype == 7) {
                     anyIntensity = true;

@@ -1,12 +1,5 @@
 #include "io/stream_tracer.h"
 
-#include <algorithm>
-#include <cctype>
-#include <cmath>
-#include <filesystem>
-#include <map>
-#include <random>
-
 #include <vtkAppendFilter.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -29,6 +22,13 @@
 #include <vtkXMLRectilinearGridReader.h>
 #include <vtkXMLStructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
 
 #include "core/error.h"
 #include "io/byte_source.h"
@@ -88,7 +88,8 @@ vtkSmartPointer<vtkDataSet> readGrid(const std::string& path, const VtkMessageCa
     it.TakeReference(composite->NewIterator());
     int blocks = 0;
     for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-        if (auto* block = vtkDataSet::SafeDownCast(it->GetCurrentDataObject()); block && block->GetNumberOfPoints() > 0) {
+        if (auto* block = vtkDataSet::SafeDownCast(it->GetCurrentDataObject());
+            block && block->GetNumberOfPoints() > 0) {
             append->AddInputData(block);
             ++blocks;
         }
@@ -288,8 +289,10 @@ LineSet traceStreamlines(const std::string& path, const TraceSpec& spec, CleanRe
             for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = ids->GetId(vtkIdType(k));
             if (pts.empty()) continue;
             const bool isBackward = time && pts.size() > 1 && time->GetComponent(pts.back(), 0) < 0;
-            if (isBackward) backward = std::move(pts);
-            else forward = std::move(pts);
+            if (isBackward)
+                backward = std::move(pts);
+            else
+                forward = std::move(pts);
         }
         // The backward half reversed, then the forward half; both start at the seed: keep it once.
         const std::size_t skip = !backward.empty() && !forward.empty() ? 1 : 0;

@@ -22,7 +22,9 @@ constexpr std::size_t kHeaderBytes = 40;
 constexpr std::uint32_t kMaxAttributes = 65535;
 constexpr std::uint32_t kMaxNameBytes = 4096;
 
-std::uint64_t padTo8(std::uint64_t n) { return (n + 7) & ~std::uint64_t(7); }
+std::uint64_t padTo8(std::uint64_t n) {
+    return (n + 7) & ~std::uint64_t(7);
+}
 
 }  // namespace
 
@@ -43,7 +45,8 @@ LineSet readTcb(const ByteSource& source) {
     // Each count alone must fit the file before the sizes are combined (no overflow below).
     const std::uint64_t size = source.size();
     if (attributeCount > kMaxAttributes)
-        source.failAt(12, "attribute count " + std::to_string(attributeCount) + " exceeds " + std::to_string(kMaxAttributes));
+        source.failAt(
+            12, "attribute count " + std::to_string(attributeCount) + " exceeds " + std::to_string(kMaxAttributes));
     if (vertexCount > std::numeric_limits<std::uint32_t>::max() || vertexCount > size / 12)
         source.failAt(16, "vertex count " + std::to_string(vertexCount) + " does not fit the " + std::to_string(size) +
                               "-byte file");
@@ -85,7 +88,8 @@ LineSet readTcb(const ByteSource& source) {
 
     lines.offsets.resize(polylineCount + 1);
     source.read(offsetsAt, lines.offsets.data(), 4 * lines.offsets.size(), "the polyline offsets");
-    if (lines.offsets[0] != 0) source.failAt(offsetsAt, "first polyline offset is " + std::to_string(lines.offsets[0]) + ", not 0");
+    if (lines.offsets[0] != 0)
+        source.failAt(offsetsAt, "first polyline offset is " + std::to_string(lines.offsets[0]) + ", not 0");
     for (std::size_t i = 1; i < lines.offsets.size(); ++i)
         if (lines.offsets[i] < lines.offsets[i - 1])
             source.failAt(offsetsAt + 4 * i, "polyline offsets decrease (" + std::to_string(lines.offsets[i - 1]) +

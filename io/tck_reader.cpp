@@ -7,9 +7,9 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
-#include <cstring>
 #include <map>
 #include <optional>
 
@@ -92,11 +92,14 @@ MrtrixHeader parseHeader(const ByteSource& source, const std::vector<std::uint8_
         std::string key = lowerCase(trim(std::string_view(content).substr(0, colon)));
         std::string value = trim(std::string_view(content).substr(colon + 1));
         if (key == "datatype") {
-            static const std::map<std::string, std::pair<std::size_t, bool>> types = {
-                {"float32le", {4, false}}, {"float32be", {4, true}}, {"float64le", {8, false}}, {"float64be", {8, true}}};
+            static const std::map<std::string, std::pair<std::size_t, bool>> types = {{"float32le", {4, false}},
+                                                                                      {"float32be", {4, true}},
+                                                                                      {"float64le", {8, false}},
+                                                                                      {"float64be", {8, true}}};
             auto it = types.find(lowerCase(value));
             if (it == types.end())
-                source.failAtLine(line, "unsupported datatype \"" + value + "\" (Float32LE, Float32BE, Float64LE, Float64BE)");
+                source.failAtLine(
+                    line, "unsupported datatype \"" + value + "\" (Float32LE, Float32BE, Float64LE, Float64BE)");
             h.elementBytes = it->second.first;
             h.bigEndian = it->second.second;
             haveType = true;
@@ -104,7 +107,8 @@ MrtrixHeader parseHeader(const ByteSource& source, const std::vector<std::uint8_
             std::size_t space = value.find_first_of(" \t");
             std::string name = value.substr(0, space);
             if (name != ".")
-                source.failAtLine(line, "data in a separate file (\"" + name + "\") is not supported, only \"file: . OFFSET\"");
+                source.failAtLine(
+                    line, "data in a separate file (\"" + name + "\") is not supported, only \"file: . OFFSET\"");
             std::string number = space == std::string::npos ? "" : trim(std::string_view(value).substr(space));
             auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), h.dataOffset);
             if (number.empty() || ec != std::errc() || end != number.data() + number.size())
@@ -126,9 +130,9 @@ MrtrixHeader parseHeader(const ByteSource& source, const std::vector<std::uint8_
     if (!haveType) source.fail("header has no datatype");
     if (!haveFile) source.fail("header has no \"file: . OFFSET\" line");
     if (h.dataOffset < pos || h.dataOffset > bytes.size())
-        source.failAt(h.dataOffset, "data offset " + std::to_string(h.dataOffset) + " is not between the end of the header (" +
-                                        std::to_string(pos) + ") and the end of the file (" +
-                                        std::to_string(bytes.size()) + ")");
+        source.failAt(h.dataOffset, "data offset " + std::to_string(h.dataOffset) +
+                                        " is not between the end of the header (" + std::to_string(pos) +
+                                        ") and the end of the file (" + std::to_string(bytes.size()) + ")");
     return h;
 }
 
@@ -231,8 +235,8 @@ std::vector<float> readTsf(const ByteSource& source, const LineSet& tracks) {
     auto endTrack = [&](std::size_t at) {
         const std::size_t n = values.size() - trackStart;
         if (track >= tracks.polylineCount())
-            source.failAt(e.offsetOf(at), "more tracks than the " + std::to_string(tracks.polylineCount()) +
-                                              " of the tracks file");
+            source.failAt(e.offsetOf(at),
+                          "more tracks than the " + std::to_string(tracks.polylineCount()) + " of the tracks file");
         const std::size_t expected = tracks.offsets[track + 1] - tracks.offsets[track];
         if (n != expected)
             source.failAt(e.offsetOf(at), "track " + std::to_string(track) + " has " + std::to_string(n) +

@@ -17,8 +17,8 @@ namespace {
 
 constexpr std::size_t kHeaderSize = 1000;
 // Byte offsets of the header fields used.
-constexpr std::size_t kVoxelSize = 12, kNScalars = 36, kScalarNames = 38, kNProperties = 238,
-                      kPropertyNames = 240, kVoxToRas = 440, kNCount = 988, kVersion = 992, kHdrSize = 996;
+constexpr std::size_t kVoxelSize = 12, kNScalars = 36, kScalarNames = 38, kNProperties = 238, kPropertyNames = 240,
+                      kVoxToRas = 440, kNCount = 988, kVersion = 992, kHdrSize = 996;
 constexpr std::size_t kNameBytes = 20, kNameSlots = 10;
 // More values per point or track than any tool writes; a larger count is a corrupt header.
 constexpr int kMaxValues = 255;

@@ -1,12 +1,12 @@
 #include "io/vtk_message_capture.h"
 
-#include <algorithm>
-#include <cctype>
-#include <vector>
-
 #include <vtkLogger.h>
 #include <vtkObjectFactory.h>
 #include <vtkOutputWindow.h>
+
+#include <algorithm>
+#include <cctype>
+#include <vector>
 
 namespace tc {
 
@@ -48,9 +48,13 @@ VtkMessageCapture::VtkMessageCapture(bool warningsFail)
     vtkOutputWindow::SetInstance(m_window);
 }
 
-VtkMessageCapture::~VtkMessageCapture() { vtkOutputWindow::SetInstance(m_previous); }
+VtkMessageCapture::~VtkMessageCapture() {
+    vtkOutputWindow::SetInstance(m_previous);
+}
 
-bool VtkMessageCapture::failed() const { return !m_window->messages.empty(); }
+bool VtkMessageCapture::failed() const {
+    return !m_window->messages.empty();
+}
 
 std::string VtkMessageCapture::firstError() const {
     if (m_window->messages.empty()) return {};

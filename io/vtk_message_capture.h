@@ -4,11 +4,11 @@
 // (the XML parser, readers' parsers, the executive) that cannot be observed directly; a
 // VtkMessageCapture installs a collecting window for its lifetime so readers and the stream
 // tracer can report the first message as an InputError naming the file.
-#include <mutex>
-#include <string>
-
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
+
+#include <mutex>
+#include <string>
 
 class vtkOutputWindow;
 

@@ -2,9 +2,8 @@
 // Ambient occlusion at a shaded point for the ray tracer: the two render.ao.method variants
 // (rt/cone_traced_ao.h, rt/ray_traced_ao.h) behind one interface.
 #include <cstdint>
-#include <memory>
-
 #include <glm/glm.hpp>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "core/region.h"
@@ -21,7 +20,8 @@ public:
     // 1 = unoccluded, 0 = fully occluded, at world point p with unit normal n facing the viewer.
     // `pixel` seeds per-pixel sampling (deterministic: same pixel, same result); `segment` is the
     // shaded segment (cone tracing excludes its own tube). Thread-safe.
-    virtual float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel, std::uint32_t segment) const = 0;
+    virtual float visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t pixel,
+                             std::uint32_t segment) const = 0;
     virtual nlohmann::json describe() const = 0;
 };
 

@@ -1,12 +1,12 @@
 #include "rt/cone_traced_ao.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
 #include <glm/gtc/constants.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "core/tangent_frame.h"
@@ -39,8 +39,7 @@ float coneLevelDensityExcluding(const DensityPyramid& v, glm::vec3 pv, int level
     const glm::ivec3 i0(base);
     const float perLength = ownDensity / (w.x * w.y * w.z);
     const glm::vec3 lo0 = base * w - kConeOwnSlack, hi0 = lo0 + w + 2.0f * kConeOwnSlack;
-    const glm::vec3 a0 = (lo0 - o) * invU, b0 = (hi0 - o) * invU, a1 = (lo0 + w - o) * invU,
-                    b1 = (hi0 + w - o) * invU;
+    const glm::vec3 a0 = (lo0 - o) * invU, b0 = (hi0 - o) * invU, a1 = (lo0 + w - o) * invU, b1 = (hi0 + w - o) * invU;
     const glm::vec3 near0 = glm::min(a0, b0), far0 = glm::max(a0, b0), near1 = glm::min(a1, b1),
                     far1 = glm::max(a1, b1);
     float sum = 0.0f;
@@ -54,8 +53,7 @@ float coneLevelDensityExcluding(const DensityPyramid& v, glm::vec3 pv, int level
             tNear[a] = d[a] ? near1[a] : near0[a];
             tFar[a] = d[a] ? far1[a] : far0[a];
         }
-        const float len =
-            std::max(std::min({tFar.x, tFar.y, tFar.z}) - std::max({tNear.x, tNear.y, tNear.z}), 0.0f);
+        const float len = std::max(std::min({tFar.x, tFar.y, tFar.z}) - std::max({tNear.x, tNear.y, tNear.z}), 0.0f);
         const float texel = v.texel(level, i.x, i.y, i.z);
         sum += w3.x * w3.y * w3.z * std::max(texel - perLength * len, 0.0f);
     }
@@ -78,8 +76,7 @@ float coneDensityExcluding(const DensityPyramid& v, glm::vec3 p, float lod, cons
     for (int i = 0; i < 3; ++i) invU[i] = 1.0f / (std::abs(own.dir[i]) < 1e-20f ? 1e-20f : own.dir[i]);
     const float ownDensity = own.density * kConeOwnMargin;
     float rho = coneLevelDensityExcluding(v, pv, l0, o, invU, ownDensity);
-    if (frac > 0.0f && l1 != l0)
-        rho = glm::mix(rho, coneLevelDensityExcluding(v, pv, l1, o, invU, ownDensity), frac);
+    if (frac > 0.0f && l1 != l0) rho = glm::mix(rho, coneLevelDensityExcluding(v, pv, l1, o, invU, ownDensity), frac);
     return rho;
 }
 
@@ -97,8 +94,7 @@ float traceOcclusionCone(const DensityPyramid& v, const ConeTracingParams& prm, 
         const float lod = glm::clamp(std::log2(diameter / vs), 0.0f, maxLod);
         const float rho =
             glm::clamp(coneDensityExcluding(v, apex + (t + 0.5f * stepLength) * dir, lod, own), 0.0f, 1.0f);
-        const float transmittance =
-            std::exp2(prm.strength * stepLength / vs * std::log2(std::max(1.0f - rho, 1e-30f)));
+        const float transmittance = std::exp2(prm.strength * stepLength / vs * std::log2(std::max(1.0f - rho, 1e-30f)));
         occlusion += (1.0f - occlusion) * (1.0f - transmittance);
         t += stepLength;
     }
@@ -169,9 +165,9 @@ ConeTracedAo::ConeTracedAo(const AoSpec& spec, const StyledLines& lines, const R
 float ConeTracedAo::visibility(const glm::vec3& p, const glm::vec3& n, std::uint32_t, std::uint32_t segment) const {
     const StyledLines& L = *m_lines;
     const std::uint32_t a = L.segmentVertices[2 * segment], b = L.segmentVertices[2 * segment + 1];
-    return coneTracedOcclusion(m_volume, m_params, p, n,
-                               coneOwnTube(L.positionRadius[a], L.positionRadius[b], L.color[a].w, L.color[b].w,
-                                           m_volume.voxelSize()));
+    return coneTracedOcclusion(
+        m_volume, m_params, p, n,
+        coneOwnTube(L.positionRadius[a], L.positionRadius[b], L.color[a].w, L.color[b].w, m_volume.voxelSize()));
 }
 
 nlohmann::json ConeTracedAo::describe() const {

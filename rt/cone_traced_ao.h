@@ -5,6 +5,7 @@
 // Sampling reproduces a GL_LINEAR_MIPMAP_LINEAR 3D texture with CLAMP_TO_BORDER (border 0):
 // trilinear within a level, linear between the two levels around the LOD. Keep in lock-step with
 // the shader (its header comment explains the occlusion model and the self-occlusion handling).
+#include <glm/glm.hpp>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -13,7 +14,6 @@
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/voxel_density.h"
-#include "core/mip_pyramid.h"
 #include "rt/ao_estimator.h"
 
 namespace tc::rt {
@@ -54,16 +54,16 @@ struct ConeTracingParams {
 
 // ConeOwnTube of shaders/cone_tracing.glsl: the shaded tube, excluded from the density reads.
 struct ConeOwnTube {
-    glm::vec3 origin{0.0f};                // a point on the axis, world
-    glm::vec3 dir{0.0f, 0.0f, 1.0f};       // unit axis
-    float density = 0.0f;                  // deposit per voxel of axis length; 0: none
+    glm::vec3 origin{0.0f};           // a point on the axis, world
+    glm::vec3 dir{0.0f, 0.0f, 1.0f};  // unit axis
+    float density = 0.0f;             // deposit per voxel of axis length; 0: none
 };
 // coneOwnTube of shaders/cone_tracing.glsl: the rounded cone a -> b (xyz, radius w).
 ConeOwnTube coneOwnTube(const glm::vec4& a, const glm::vec4& b, float alphaA, float alphaB, float voxelSize);
 
 // traceOcclusionCone of shaders/cone_tracing.glsl: occlusion in [0, 1] of one cone.
-float traceOcclusionCone(const DensityPyramid& volume, const ConeTracingParams& params, glm::vec3 apex,
-                         glm::vec3 dir, float tanHalfAperture, const ConeOwnTube& own = {});
+float traceOcclusionCone(const DensityPyramid& volume, const ConeTracingParams& params, glm::vec3 apex, glm::vec3 dir,
+                         float tanHalfAperture, const ConeOwnTube& own = {});
 
 // coneTracedTubeOcclusion of shaders/cone_tracing.glsl: AO factor (1 = unoccluded) at `position`
 // on the surface of `own` (default: no own tube, coneTracedOcclusion).

@@ -22,7 +22,8 @@ bool monitorMemory(void* user, ssize_t bytes, bool /*post*/) {
 void throwOnError(RTCDevice device, const char* what) {
     RTCError e = rtcGetDeviceError(device);
     if (e != RTC_ERROR_NONE)
-        throw Error(ExitCode::Internal, std::string("Embree: ") + what + " failed with error " + std::to_string(int(e)));
+        throw Error(ExitCode::Internal,
+                    std::string("Embree: ") + what + " failed with error " + std::to_string(int(e)));
 }
 
 }  // namespace

@@ -6,12 +6,12 @@
 // polyline as ONE tube: the union of its rounded cones without internal surfaces (Embree's
 // round_linear_curve = cone_sphere(p0..p1) minus the neighbours' cones), so a ray enters and
 // leaves a polyline's tube once per crossing. Without, every segment is a closed rounded cone.
-#include <cstddef>
+#include <embree3/rtcore.h>
+
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
-
-#include <embree3/rtcore.h>
 
 #include "core/styled_lines.h"
 

@@ -11,13 +11,12 @@
 // hit is rejected (valid = 0), which makes Embree continue as if it had missed. A pixel that needs
 // more than K hits traces again from just before the K-th (the filter skips it and everything
 // before by `last`).
+#include <embree3/rtcore.h>
+
 #include <cmath>
 #include <cstdint>
-#include <limits>
-
-#include <embree3/rtcore.h>
 #include <glm/glm.hpp>
-
+#include <limits>
 
 namespace tc::rt {
 
@@ -25,7 +24,9 @@ constexpr int kMaxHitsPerPass = 48;
 
 // Hits gathered per traversal: cut-off rays usually stop within the first pass; exact ones
 // (alpha cutoff 1) take fewer passes with a larger K.
-inline int hitsPerPass(float alphaCutoff) { return alphaCutoff >= 1.0f ? kMaxHitsPerPass : 16; }
+inline int hitsPerPass(float alphaCutoff) {
+    return alphaCutoff >= 1.0f ? kMaxHitsPerPass : 16;
+}
 
 struct RayHitRecord {
     float t;  // sort key along the ray (<= the hit's Embree t)

@@ -1,14 +1,14 @@
 #include "rt/particle_ambient.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <limits>
-
 #include <glm/gtc/constants.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <limits>
 
 #include "core/camera.h"
 #include "core/error.h"
@@ -22,14 +22,12 @@ namespace {
 // GLSL packUnorm4x8 / unpackUnorm4x8 (other names: glm has its own, found by ADL).
 std::uint32_t packUnorm8x4(const glm::vec4& v) {
     std::uint32_t r = 0;
-    for (int c = 0; c < 4; ++c)
-        r |= std::uint32_t(std::lround(std::clamp(v[c], 0.0f, 1.0f) * 255.0f)) << (8 * c);
+    for (int c = 0; c < 4; ++c) r |= std::uint32_t(std::lround(std::clamp(v[c], 0.0f, 1.0f) * 255.0f)) << (8 * c);
     return r;
 }
 glm::vec4 unpackUnorm8x4(std::uint32_t v) {
     return glm::vec4(float(v & 0xFFu), float((v >> 8) & 0xFFu), float((v >> 16) & 0xFFu), float(v >> 24)) / 255.0f;
 }
-
 
 const glm::vec3 kFaceNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 
@@ -87,7 +85,8 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
                             if (n == 0u) continue;
                         }
                         const std::size_t v =
-                            4 * (std::size_t(x) + std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z)));
+                            4 * (std::size_t(x) +
+                                 std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z)));
                         const std::uint32_t w = n * opacity;
                         std::atomic_ref<std::uint32_t>(acc[v + 0]).fetch_add(w * rgb.x, std::memory_order_relaxed);
                         std::atomic_ref<std::uint32_t>(acc[v + 1]).fetch_add(w * rgb.y, std::memory_order_relaxed);
@@ -100,9 +99,9 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
     std::vector<glm::vec4> level0(voxels);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels, 4096), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v)
-            level0[v] = glm::vec4(float(acc[4 * v]) / (27.0f * 255.0f * 255.0f),
-                                  float(acc[4 * v + 1]) / (27.0f * 255.0f * 255.0f),
-                                  float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
+            level0[v] = glm::vec4(
+                float(acc[4 * v]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 1]) / (27.0f * 255.0f * 255.0f),
+                float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
     });
     acc = {};
     if (region.reduceDensity) {

@@ -17,14 +17,14 @@
 //   particle opacity when the spheres are drawn opaque). A_O = (1 - mean blocked)^strength; L_A =
 //   the mean of blocked x sphere colour (the light the occluders reflect, as the cones gather it).
 // Keep in lock-step with the shaders named above.
+#include <embree3/rtcore.h>
+
 #include <atomic>
 #include <cstdint>
-#include <memory>
-#include <vector>
-
-#include <embree3/rtcore.h>
 #include <glm/glm.hpp>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "core/mip_pyramid.h"
 #include "core/region.h"
@@ -59,8 +59,8 @@ private:
 };
 
 struct AmbientTerms {
-    float ao = 1.0f;              // A_O: 1 unoccluded .. 0
-    glm::vec3 light{0.0f};        // L_A
+    float ao = 1.0f;        // A_O: 1 unoccluded .. 0
+    glm::vec3 light{0.0f};  // L_A
 };
 
 class ParticleAmbient {

@@ -7,10 +7,14 @@ namespace tc::rt {
 
 const char* traversalName(Traversal t) {
     switch (t) {
-    case Traversal::Single: return "rtcIntersect1";
-    case Traversal::Packet8: return "rtcIntersect8";
-    case Traversal::Packet16: return "rtcIntersect16";
-    case Traversal::Stream: return "rtcIntersect1M";
+        case Traversal::Single:
+            return "rtcIntersect1";
+        case Traversal::Packet8:
+            return "rtcIntersect8";
+        case Traversal::Packet16:
+            return "rtcIntersect16";
+        case Traversal::Stream:
+            return "rtcIntersect1M";
     }
     return "?";
 }
@@ -20,8 +24,7 @@ namespace {
 // The first hits of tile.rays[first .. first + count) as one rtcIntersectK packet (count <= K; the
 // unused lanes are invalid).
 template <int K, class RayHitK>
-void tracePacket(RTCScene scene, RTCIntersectContext& context, const Tile& tile, int first, int count,
-                 FirstHit* hits) {
+void tracePacket(RTCScene scene, RTCIntersectContext& context, const Tile& tile, int first, int count, FirstHit* hits) {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     alignas(64) int valid[K];
     alignas(64) RayHitK rh;
@@ -45,8 +48,10 @@ void tracePacket(RTCScene scene, RTCIntersectContext& context, const Tile& tile,
         rh.hit.primID[j] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
     }
-    if constexpr (K == 8) rtcIntersect8(valid, scene, &context, &rh);
-    else rtcIntersect16(valid, scene, &context, &rh);
+    if constexpr (K == 8)
+        rtcIntersect8(valid, scene, &context, &rh);
+    else
+        rtcIntersect16(valid, scene, &context, &rh);
     for (int j = 0; j < count; ++j) {
         FirstHit& h = hits[first + j];
         h.hit = rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID;
@@ -111,35 +116,35 @@ void traceFirstHits(RTCScene scene, Traversal traversal, const Tile& tile, First
         h.ng = glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     };
     switch (traversal) {
-    case Traversal::Single:
-        for (int k = 0; k < n; ++k) {
-            RTCRayHit rh;
-            setRay(rh, tile.rays[k]);
-            rtcIntersect1(scene, &context, &rh);
-            record(hits[k], rh);
+        case Traversal::Single:
+            for (int k = 0; k < n; ++k) {
+                RTCRayHit rh;
+                setRay(rh, tile.rays[k]);
+                rtcIntersect1(scene, &context, &rh);
+                record(hits[k], rh);
+            }
+            break;
+        case Traversal::Packet8:
+            // One tile row per packet: adjacent pixels, so the packet's rays share most BVH nodes.
+            static_assert(kTile == 8, "one rtcIntersect8 packet per tile row");
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            for (int row = 0; row < tile.h; ++row)
+                tracePacket<8, RTCRayHit8>(scene, context, tile, row * tile.w, std::min(8, n - row * tile.w), hits);
+            break;
+        case Traversal::Packet16:
+            // Two tile rows per packet (8x2 pixels; a partial tile row packs its rows contiguously).
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            for (int first = 0; first < n; first += 16)
+                tracePacket<16, RTCRayHit16>(scene, context, tile, first, std::min(16, n - first), hits);
+            break;
+        case Traversal::Stream: {
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            RTCRayHit rh[kTile * kTile];
+            for (int k = 0; k < n; ++k) setRay(rh[k], tile.rays[k]);
+            rtcIntersect1M(scene, &context, rh, unsigned(n), sizeof(RTCRayHit));
+            for (int k = 0; k < n; ++k) record(hits[k], rh[k]);
+            break;
         }
-        break;
-    case Traversal::Packet8:
-        // One tile row per packet: adjacent pixels, so the packet's rays share most BVH nodes.
-        static_assert(kTile == 8, "one rtcIntersect8 packet per tile row");
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        for (int row = 0; row < tile.h; ++row)
-            tracePacket<8, RTCRayHit8>(scene, context, tile, row * tile.w, std::min(8, n - row * tile.w), hits);
-        break;
-    case Traversal::Packet16:
-        // Two tile rows per packet (8x2 pixels; a partial tile row packs its rows contiguously).
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        for (int first = 0; first < n; first += 16)
-            tracePacket<16, RTCRayHit16>(scene, context, tile, first, std::min(16, n - first), hits);
-        break;
-    case Traversal::Stream: {
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        RTCRayHit rh[kTile * kTile];
-        for (int k = 0; k < n; ++k) setRay(rh[k], tile.rays[k]);
-        rtcIntersect1M(scene, &context, rh, unsigned(n), sizeof(RTCRayHit));
-        for (int k = 0; k < n; ++k) record(hits[k], rh[k]);
-        break;
-    }
     }
 }
 

@@ -3,14 +3,14 @@
 // rt/raytraced_particles.h): the image in 8x8 pixel tiles over oneTBB, the camera rays of a tile
 // (core/camera.h PixelRays, bit-identical to tc::pixelRay), and the opaque first hit of a tile by
 // one of Embree's traversal interfaces.
-#include <algorithm>
-#include <cstdint>
-#include <limits>
-
 #include <embree3/rtcore.h>
-#include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <limits>
 
 #include "core/camera.h"
 #include "core/frame_images.h"
@@ -25,10 +25,10 @@ constexpr int kTile = 8;
 // notes"; `scripts/bench/raytraced.sh 3 7 stages` compares them all), the others stay
 // selectable for tests/bench/raytraced_bench.cpp.
 enum class Traversal {
-    Single,   // rtcIntersect1 per pixel
-    Packet8,  // rtcIntersect8 per 8-pixel tile row, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
-    Packet16, // rtcIntersect16 per two tile rows (8x2 pixels), RTC_INTERSECT_CONTEXT_FLAG_COHERENT
-    Stream,   // rtcIntersect1M over the tile's 64 rays, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+    Single,    // rtcIntersect1 per pixel
+    Packet8,   // rtcIntersect8 per 8-pixel tile row, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+    Packet16,  // rtcIntersect16 per two tile rows (8x2 pixels), RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+    Stream,    // rtcIntersect1M over the tile's 64 rays, RTC_INTERSECT_CONTEXT_FLAG_COHERENT
 };
 const char* traversalName(Traversal t);
 

@@ -1,9 +1,8 @@
 #include "rt/ray_traced_ao.h"
 
 #include <cmath>
-#include <limits>
-
 #include <glm/gtc/constants.hpp>
+#include <limits>
 
 #include "rt/cone_traced_ao.h"
 #include "rt/embree_lines.h"
@@ -24,15 +23,16 @@ float RayTracedAo::visibility(const glm::vec3& p, const glm::vec3& n, std::uint3
     const glm::vec3 origin = p + (m_offset + 1e-6f * glm::length(p)) * n;
     float blocked = 0.0f;
     const int m = m_strata;
-    traceHemisphereRays(m_embree.scene(), origin, n, pixel, m, m_distance, [&](const RTCRayHit& rh, const glm::vec3& dir) {
-        const std::uint32_t v0 = m_lines.segmentVertices[2 * rh.hit.primID];
-        const std::uint32_t v1 = m_lines.segmentVertices[2 * rh.hit.primID + 1];
-        const glm::vec3 x0(m_lines.positionRadius[v0]), x1(m_lines.positionRadius[v1]);
-        const glm::vec3 q = origin + rh.ray.tfar * dir;
-        const float len2 = glm::dot(x1 - x0, x1 - x0);
-        const float u = len2 > 0.0f ? glm::clamp(glm::dot(q - x0, x1 - x0) / len2, 0.0f, 1.0f) : 0.0f;
-        blocked += glm::mix(m_lines.color[v0].w, m_lines.color[v1].w, u);
-    });
+    traceHemisphereRays(
+        m_embree.scene(), origin, n, pixel, m, m_distance, [&](const RTCRayHit& rh, const glm::vec3& dir) {
+            const std::uint32_t v0 = m_lines.segmentVertices[2 * rh.hit.primID];
+            const std::uint32_t v1 = m_lines.segmentVertices[2 * rh.hit.primID + 1];
+            const glm::vec3 x0(m_lines.positionRadius[v0]), x1(m_lines.positionRadius[v1]);
+            const glm::vec3 q = origin + rh.ray.tfar * dir;
+            const float len2 = glm::dot(x1 - x0, x1 - x0);
+            const float u = len2 > 0.0f ? glm::clamp(glm::dot(q - x0, x1 - x0) / len2, 0.0f, 1.0f) : 0.0f;
+            blocked += glm::mix(m_lines.color[v0].w, m_lines.color[v1].w, u);
+        });
     const float visible = 1.0f - blocked / float(m * m);
     return std::pow(std::max(visible, 0.0f), m_strength);
 }

@@ -8,10 +8,10 @@
 // (the vertex alpha, interpolated), so transparent tubes occlude in proportion, as they do in the
 // density volume. AO = (1 - mean blocked)^strength: cosine-weighted sampling makes the plain mean
 // the cosine-weighted hemisphere integral.
+#include <embree3/rtcore.h>
+
 #include <cmath>
 #include <cstdint>
-
-#include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
 
@@ -29,7 +29,9 @@ inline std::uint32_t pcgHash(std::uint32_t v) {
     std::uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
 }
-inline float unitFloat(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
+inline float unitFloat(std::uint32_t h) {
+    return float(h >> 8) * (1.0f / 16777216.0f);
+}
 }  // namespace detail
 
 // The hemisphere rays of "ray_traced" AO (lines and particles): m x m stratified cosine-weighted
@@ -51,8 +53,8 @@ void traceHemisphereRays(RTCScene scene, const glm::vec3& origin, const glm::vec
             const float u2 = (float(j) + detail::unitFloat(seed)) / float(m);
             // Cosine-weighted: uniform on the disk, projected up.
             const float r = std::sqrt(u1), phi = glm::two_pi<float>() * u2;
-            const glm::vec3 dir =
-                glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
+            const glm::vec3 dir = glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b +
+                                                 std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
             RTCRayHit rh = makeRayHit(Ray{origin, dir}, 0.0f);
             rh.ray.tfar = distance;
             rtcIntersect1(scene, &context, &rh);

@@ -1,6 +1,7 @@
 #include "rt/raytraced_particles.h"
 
-#include "rt/techniques.h"
+#include <embree3/rtcore.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -9,13 +10,11 @@
 #include <limits>
 #include <string>
 
-#include <embree3/rtcore.h>
-#include <tbb/task_arena.h>
-
 #include "core/error.h"
 #include "core/shading.h"
 #include "core/sphere_glyph.h"
 #include "rt/hit_collector.h"
+#include "rt/techniques.h"
 
 namespace tc::rt {
 namespace {
@@ -47,7 +46,8 @@ void collectEntry(const RTCFilterFunctionNArguments* args) {
 void throwOnError(RTCDevice device, const char* what) {
     RTCError e = rtcGetDeviceError(device);
     if (e != RTC_ERROR_NONE)
-        throw Error(ExitCode::Internal, std::string("Embree: ") + what + " failed with error " + std::to_string(int(e)));
+        throw Error(ExitCode::Internal,
+                    std::string("Embree: ") + what + " failed with error " + std::to_string(int(e)));
 }
 
 }  // namespace
@@ -259,18 +259,52 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                         out.normal[3 * pixel + 2] = nrm.z;
                         out.id[pixel] = S.id[i];
                     }
-                    // "Under", as the reference and the GPU's blending of premultiplied colour.
-                    const float w = 1.0f - acc.w;
-                    acc += glm::vec4(w * (alpha * e), w * alpha);
-                    if (m_alphaCutoff < 1.0f && acc.w >= m_alphaCutoff) done = true;
+                    if (!out.ao.empty()) out.ao[pixel] = ao;
+                    continue;
                 }
-                if (n < collector.capacity) break;
-                if (!done) tnear = collector.continueBehindLast();
+                glm::vec4 acc(0.0f);
+                bool first = true, done = false;
+                float tnear = 0.0f;
+                collector.haveLast = false;
+                while (!done) {
+                    collector.count = 0;
+                    RTCRayHit rh = makeRayHit(ray, tnear);
+                    rtcIntersect1(m_bvh->scene, &collector.context, &rh);
+                    const int n = collector.count;
+                    for (int h = 0; h < n && !done; ++h) {
+                        ++hits;
+                        const std::uint32_t i = collector.hits[h].prim;
+                        const glm::vec4& cr = S.centerRadius[i];
+                        const glm::vec4& col = S.color[i];
+                        const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
+                        if (!s.hit) continue;  // grazing: no optical depth
+                        const float alpha = sphereOpacity(
+                            col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
+                        const glm::vec3 nrm = entryNormal(ray, i, s.tNear);
+                        const AmbientTerms amb = ambientAt(i, ray, s.tNear, nrm, pixel);
+                        const glm::vec3 e = sphereEmission(glm::vec3(col), nrm, ray.dir, lightDir, m_lighting,
+                                                           m_spheres.alphaRv, m_spheres.alphaA, amb.ao, amb.light);
+                        if (first) {
+                            first = false;
+                            out.depth[pixel] = s.tNear * depthScale;
+                            out.normal[3 * pixel + 0] = nrm.x;
+                            out.normal[3 * pixel + 1] = nrm.y;
+                            out.normal[3 * pixel + 2] = nrm.z;
+                            out.id[pixel] = S.id[i];
+                        }
+                        // "Under", as the reference and the GPU's blending of premultiplied colour.
+                        const float w = 1.0f - acc.w;
+                        acc += glm::vec4(w * (alpha * e), w * alpha);
+                        if (m_alphaCutoff < 1.0f && acc.w >= m_alphaCutoff) done = true;
+                    }
+                    if (n < collector.capacity) break;
+                    if (!done) tnear = collector.continueBehindLast();
+                }
+                for (int c = 0; c < 4; ++c) out.rgba[4 * pixel + std::size_t(c)] = acc[c];
             }
-            for (int c = 0; c < 4; ++c) out.rgba[4 * pixel + std::size_t(c)] = acc[c];
-        }
-        totalHits += hits;
-    }, &bounds);
+            totalHits += hits;
+        },
+        &bounds);
     m_lastHits = totalHits.load();
     sink.setItems(m_lastHits);
     sink.end();

@@ -21,19 +21,18 @@
 // the CPU, "ray_traced" = hemisphere rays against the same BVH); the ao AOV for opaque spheres.
 #include <cstdint>
 #include <memory>
-#include <optional>
-
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/camera.h"
 #include "core/frame_images.h"
 #include "core/region.h"
 #include "core/scene.h"
+#include "core/stage_sink.h"
 #include "core/styled_particles.h"
 #include "core/technique.h"
 #include "rt/particle_ambient.h"
 #include "rt/primary_rays.h"
-#include "core/stage_sink.h"
 
 namespace tc::rt {
 

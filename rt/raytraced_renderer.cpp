@@ -1,13 +1,11 @@
 #include "rt/raytraced_renderer.h"
 
-#include "rt/techniques.h"
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
-
-#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "core/rounded_cone.h"
@@ -16,6 +14,7 @@
 #include "rt/embree_lines.h"
 #include "rt/hit_collector.h"
 #include "rt/primary_rays.h"
+#include "rt/techniques.h"
 
 namespace tc::rt {
 namespace {
@@ -111,7 +110,6 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
                     // Background: PixelContext's defaults are FrameImages::allocate's clear values.
                     storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
                     if (ao) ao[c.pixel] = c.ao;
-                    continue;
                 }
                 c.ray = tile.rays[k];
                 c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
@@ -128,9 +126,9 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
                 storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
                 if (ao) ao[c.pixel] = c.ao;
             }
-        }
-        totalHits += hits;
-    }, &m_bounds);
+            totalHits += hits;
+        },
+        &m_bounds);
     m_lastHits = totalHits.load();
     sink.setItems(m_lastHits);
     sink.end();
@@ -299,7 +297,8 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
             const std::uint32_t v0 = L.segmentVertices[2 * h.prim], v1 = L.segmentVertices[2 * h.prim + 1];
             // A ray through the rim shared by adjacent segments at a joint is reported by both.
             // (Unjoined segments are separate rounded cones: both count, as without cap clipping.)
-            const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back && h.t - prev.t <= m_jointEpsilon &&
+            const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back &&
+                                   h.t - prev.t <= m_jointEpsilon &&
                                    (h.prim == prev.prim + 1 || prev.prim == h.prim + 1) &&
                                    L.polylineId[v0] == L.polylineId[L.segmentVertices[2 * prev.prim]];
             havePrev = true;

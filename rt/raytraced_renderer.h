@@ -31,18 +31,17 @@
 // Images are deterministic: every pixel is computed independently of the thread that runs it.
 #include <cstdint>
 #include <memory>
-
 #include <nlohmann/json.hpp>
 
 #include "core/camera.h"
 #include "core/frame_images.h"
 #include "core/region.h"
 #include "core/scene.h"
+#include "core/stage_sink.h"
 #include "core/styled_lines.h"
 #include "core/technique.h"
 #include "core/tiling.h"
 #include "rt/primary_rays.h"
-#include "core/stage_sink.h"
 
 namespace tc::rt {
 

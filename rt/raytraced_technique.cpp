@@ -10,13 +10,15 @@ namespace tc::rt {
 TechniqueDescriptor raytracedTechnique() {
     TechniqueDescriptor d;
     d.name = "raytraced";
-    d.summary = "the same tubes and spheres ray traced on the CPU with Embree; transparent modes composite every "
-                "hit in exact depth order (up to render.raytraced.alpha_cutoff)";
+    d.summary =
+        "the same tubes and spheres ray traced on the CPU with Embree; transparent modes composite every "
+        "hit in exact depth order (up to render.raytraced.alpha_cutoff)";
     d.paper = "tubes: Groß & Gumhold 2020; spheres: Staib, Grottel & Gumhold 2015 (on Embree)";
     d.backend = TechniqueBackend::Cpu;
     d.data = {DataKind::Lines, DataKind::Particles};
     d.autoData = {DataKind::Lines, DataKind::Particles};
-    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
+    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
+                      Transparency::DepthPeeling};
     d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced};

@@ -2,6 +2,8 @@
 
 namespace tc::rt {
 
-void registerTechniques(TechniqueRegistry& registry) { registry.add(raytracedTechnique()); }
+void registerTechniques(TechniqueRegistry& registry) {
+    registry.add(raytracedTechnique());
+}
 
 }  // namespace tc::rt

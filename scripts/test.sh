@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fresh machine to green tests: installs dependencies, checks that code and docs speak of the
-# product only (scripts/check-words.sh), builds everything (tests and benchmarks)
+# product only (scripts/check-words.sh) and that the C++ follows .clang-format
+# (scripts/check-format.sh), builds everything (tests and benchmarks)
 # with warnings as errors (TUBECAST_WERROR=ON), runs the whole suite with ctest (labels unit, gl,
 # cli, mpi, package, slurm), then the sanitizer + libFuzzer run of the binary readers (scripts/fuzz.sh:
 # a separate clang build of core/ and io/ in <build dir>-fuzz, ctest labels fuzz and sanitize;
@@ -11,6 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/check-words.sh
+scripts/check-format.sh
 export TUBECAST_WERROR=ON
 BUILD_DIR=${BUILD_DIR:-build}
 BUILD_DIR=$BUILD_DIR scripts/build.sh

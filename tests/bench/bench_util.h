@@ -33,6 +33,8 @@ inline std::vector<std::size_t> parseList(const char* text) {
     return values;
 }
 
-inline double megabytes(std::size_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+inline double megabytes(std::size_t bytes) {
+    return double(bytes) / (1024.0 * 1024.0);
+}
 
 }  // namespace tc::bench

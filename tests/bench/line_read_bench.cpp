@@ -70,10 +70,11 @@ int main(int argc, char** argv) {
         t0 = std::chrono::steady_clock::now();
         tc::cleanLineSet(raw);
         const double clean = seconds(t0);
-        std::printf("%s: %.1f MB, %zu segments, %zu attributes: cold %.3f s (%.0f MB/s), warm %.3f s (%.0f MB/s); "
-                    "warm read without clean %.3f s (%.0f MB/s), clean %.3f s\n",
-                    path.c_str(), mb, lines.segmentCount(), lines.attributes.size(), cold, mb / cold, warm, mb / warm,
-                    readOnly, mb / readOnly, clean);
+        std::printf(
+            "%s: %.1f MB, %zu segments, %zu attributes: cold %.3f s (%.0f MB/s), warm %.3f s (%.0f MB/s); "
+            "warm read without clean %.3f s (%.0f MB/s), clean %.3f s\n",
+            path.c_str(), mb, lines.segmentCount(), lines.attributes.size(), cold, mb / cold, warm, mb / warm, readOnly,
+            mb / readOnly, clean);
     }
     return 0;
 }

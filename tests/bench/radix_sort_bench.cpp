@@ -4,6 +4,8 @@
 //
 //   tubecast_radix_sort_bench [--sizes 100000,1000000,10000000] [--reps 5]
 //                             [--digit-bits 8] [--lanes 32] [--items 128]
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,8 +15,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include <tbb/parallel_sort.h>
 
 #include "bench_util.h"
 #include "core/error.h"
@@ -52,11 +52,16 @@ int main(int argc, char** argv) try {
     tc::gl::RadixSort::Config config;
     for (int i = 1; i + 1 < argc; i += 2) {
         std::string flag = argv[i];
-        if (flag == "--sizes") sizes = parseList(argv[i + 1]);
-        else if (flag == "--reps") reps = std::atoi(argv[i + 1]);
-        else if (flag == "--digit-bits") config.digitBits = std::atoi(argv[i + 1]);
-        else if (flag == "--lanes") config.lanes = std::atoi(argv[i + 1]);
-        else if (flag == "--items") config.itemsPerLane = std::atoi(argv[i + 1]);
+        if (flag == "--sizes")
+            sizes = parseList(argv[i + 1]);
+        else if (flag == "--reps")
+            reps = std::atoi(argv[i + 1]);
+        else if (flag == "--digit-bits")
+            config.digitBits = std::atoi(argv[i + 1]);
+        else if (flag == "--lanes")
+            config.lanes = std::atoi(argv[i + 1]);
+        else if (flag == "--items")
+            config.itemsPerLane = std::atoi(argv[i + 1]);
         else {
             std::fprintf(stderr, "error: unknown option %s\n", argv[i]);
             return 2;
@@ -70,10 +75,11 @@ int main(int argc, char** argv) try {
     std::printf("%s, %s; %d threads for TBB; median of %d runs; random 32-bit keys, uint32 values\n",
                 context.info().renderer.c_str(), context.info().version.c_str(),
                 tbb::this_task_arena::max_concurrency(), reps);
-    std::printf("GPU: %d-bit digits (%d passes), %d lanes x %d keys per workgroup\n\n",
-                config.digitBits, 32 / config.digitBits, config.lanes, config.itemsPerLane);
-    std::printf("| keys | GPU radix sort, GL timer (ms) | GPU, wall incl. glFinish (ms) | "
-                "GPU Mkeys/s | tbb::parallel_sort (ms) | std::sort (ms) | TBB / GPU |\n");
+    std::printf("GPU: %d-bit digits (%d passes), %d lanes x %d keys per workgroup\n\n", config.digitBits,
+                32 / config.digitBits, config.lanes, config.itemsPerLane);
+    std::printf(
+        "| keys | GPU radix sort, GL timer (ms) | GPU, wall incl. glFinish (ms) | "
+        "GPU Mkeys/s | tbb::parallel_sort (ms) | std::sort (ms) | TBB / GPU |\n");
     std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
     for (std::size_t n : sizes) {
         std::mt19937 rng(static_cast<unsigned>(n));
@@ -107,8 +113,7 @@ int main(int argc, char** argv) try {
 
         // The GPU result must be the stable order, or the timing means nothing.
         std::vector<Pair> expected = pairs;
-        std::stable_sort(expected.begin(), expected.end(),
-                         [](const Pair& a, const Pair& b) { return a.key < b.key; });
+        std::stable_sort(expected.begin(), expected.end(), [](const Pair& a, const Pair& b) { return a.key < b.key; });
         std::vector<std::uint32_t> gotKeys(n), gotValues(n);
         glGetNamedBufferSubData(keyBuffer.id(), 0, n * 4, gotKeys.data());
         glGetNamedBufferSubData(valueBuffer.id(), 0, n * 4, gotValues.data());
@@ -119,15 +124,12 @@ int main(int argc, char** argv) try {
             }
 
         auto byKey = [](const Pair& a, const Pair& b) { return a.key < b.key; };
-        double tbbMs = timeCpu(pairs, reps, [&](std::vector<Pair>& p) {
-            tbb::parallel_sort(p.begin(), p.end(), byKey);
-        });
-        double stdMs = timeCpu(pairs, reps, [&](std::vector<Pair>& p) {
-            std::sort(p.begin(), p.end(), byKey);
-        });
+        double tbbMs =
+            timeCpu(pairs, reps, [&](std::vector<Pair>& p) { tbb::parallel_sort(p.begin(), p.end(), byKey); });
+        double stdMs = timeCpu(pairs, reps, [&](std::vector<Pair>& p) { std::sort(p.begin(), p.end(), byKey); });
         double gpu = median(gpuMs), wall = median(wallMs);
-        std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |\n", n, gpu, wall,
-                    n / (wall * 1e3), tbbMs, stdMs, tbbMs / wall);
+        std::printf("| %zu | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |\n", n, gpu, wall, n / (wall * 1e3), tbbMs, stdMs,
+                    tbbMs / wall);
         std::fflush(stdout);
     }
     return 0;

@@ -7,8 +7,8 @@
 // Prints per-variant medians over the frames (wall ms) and the PNG sizes.
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -28,7 +28,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 // CPU time of the whole process (all threads): on a shared machine the wall clock mostly measures
 // the other processes; CPU ms say what the work costs (x 1/threads on an idle machine for the
@@ -58,7 +60,8 @@ std::vector<std::string> split(const std::string& s) {
 int main(int argc, char** argv) {
     using namespace tc;
     if (argc < 2) {
-        std::cerr << "usage: tubecast_raytraced_bench SCENE [--frames N] [--set k=v ...] [--modes single,packet8,packet16,stream]"
+        std::cerr << "usage: tubecast_raytraced_bench SCENE [--frames N] [--set k=v ...] [--modes "
+                     "single,packet8,packet16,stream]"
                      " [--png-levels 6,1] [--png-dir DIR]\n";
         return 2;
     }
@@ -69,11 +72,16 @@ int main(int argc, char** argv) {
     std::string pngDir = std::filesystem::temp_directory_path() / "tubecast_raytraced_bench";
     for (int i = 2; i + 1 < argc; i += 2) {
         const std::string a = argv[i], v = argv[i + 1];
-        if (a == "--frames") frames = std::stoi(v);
-        else if (a == "--set") overrides.push_back(v);
-        else if (a == "--modes") modes = split(v);
-        else if (a == "--png-levels") pngLevels = split(v);
-        else if (a == "--png-dir") pngDir = v;
+        if (a == "--frames")
+            frames = std::stoi(v);
+        else if (a == "--set")
+            overrides.push_back(v);
+        else if (a == "--modes")
+            modes = split(v);
+        else if (a == "--png-levels")
+            pngLevels = split(v);
+        else if (a == "--png-dir")
+            pngDir = v;
         else {
             std::cerr << "unknown option " << a << "\n";
             return 2;
@@ -95,11 +103,10 @@ int main(int argc, char** argv) {
 
     const int w = scene.image.width, h = scene.image.height;
     const Camera base = fitCamera(scene.camera, lines.bounds, float(w) / float(h));
-    const std::map<std::string, rt::Traversal> byName{
-        {"single", rt::Traversal::Single},
-        {"packet8", rt::Traversal::Packet8},
-        {"packet16", rt::Traversal::Packet16},
-        {"stream", rt::Traversal::Stream}};
+    const std::map<std::string, rt::Traversal> byName{{"single", rt::Traversal::Single},
+                                                      {"packet8", rt::Traversal::Packet8},
+                                                      {"packet16", rt::Traversal::Packet16},
+                                                      {"stream", rt::Traversal::Stream}};
     std::map<std::string, std::vector<double>> ms, cpu;
     std::map<std::string, std::uintmax_t> bytes;
     FrameImages images;
@@ -128,9 +135,10 @@ int main(int argc, char** argv) {
             bytes["writePng level " + level] = std::filesystem::file_size(path);
         }
     }
-    std::printf("| variant | wall ms (median of %d) | CPU ms, all threads (median) | wall ms per frame | output |\n"
-                "|---|---|---|---|---|\n",
-                frames);
+    std::printf(
+        "| variant | wall ms (median of %d) | CPU ms, all threads (median) | wall ms per frame | output |\n"
+        "|---|---|---|---|---|\n",
+        frames);
     for (const auto& [name, v] : ms) {
         std::ostringstream all;
         for (double x : v) all << (all.tellp() > 0 ? " " : "") << int(x + 0.5);

@@ -7,6 +7,9 @@
 //   tubecast_voxel_density_bench [--segments 100000,1000000,10000000] [--points 501]
 //                                [--resolution 256]
 //                                [--reps 3] [--threads N]
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -15,9 +18,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include "bench_util.h"
 #include "core/error.h"
@@ -58,11 +58,11 @@ int main(int argc, char** argv) try {
     }
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0)
-        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                      std::size_t(threads));
-    const int usedThreads = int(std::min<std::size_t>(
-        tbb::info::default_concurrency(),
-        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+        limit =
+            std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    const int usedThreads =
+        int(std::min<std::size_t>(tbb::info::default_concurrency(),
+                                  tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
 
     tc::StyleSpec style;
     style.radius.constant = 0.0025f;
@@ -78,8 +78,7 @@ int main(int argc, char** argv) try {
     std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (std::size_t target : segmentCounts) {
         const int lineCount = int(double(target) / double(points - 1) * 1.25) + 1;
-        tc::StyledLines lines =
-            tc::styleLines(tc::generateTornado(lineCount, points, 1), style, "bench");
+        tc::StyledLines lines = tc::styleLines(tc::generateTornado(lineCount, points, 1), style, "bench");
         if (lines.segmentCount() > target) lines.segmentVertices.resize(2 * target);
         std::vector<double> times;
         tc::DensityGrid grid;
@@ -90,9 +89,9 @@ int main(int argc, char** argv) try {
             times.push_back(msSince(start));
         }
         const double ms = median(times);
-        std::printf("| %zu | %d x %d | %dx%dx%d | %.1f | %.1f | %.1f | %.1f | %.4g | %zu |\n",
-                    lines.segmentCount(), lineCount, points, grid.size.x, grid.size.y, grid.size.z,
-                    ms, double(lines.segmentCount()) / ms / 1000.0, megabytes(grid.bytes()),
+        std::printf("| %zu | %d x %d | %dx%dx%d | %.1f | %.1f | %.1f | %.1f | %.4g | %zu |\n", lines.segmentCount(),
+                    lineCount, points, grid.size.x, grid.size.y, grid.size.z, ms,
+                    double(lines.segmentCount()) / ms / 1000.0, megabytes(grid.bytes()),
                     megabytes(grid.accumulatorBytes()), grid.total(), grid.clampedSegments);
         std::fflush(stdout);
     }

@@ -11,6 +11,9 @@
 //
 //   tubecast_vrc_bench [--segments 100000,1000000] [--points 501] [--resolution 128]
 //                      [--quantization 32,0] [--reps 2] [--threads N] [--frames 0|N]
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,23 +22,20 @@
 #include <string>
 #include <vector>
 
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-
 #include "bench_util.h"
 #include "core/animation.h"
 #include "core/error.h"
 #include "core/generators.h"
 #include "core/image_metrics.h"
-#include "gl/techniques.h"
+#include "core/scene.h"
+#include "core/styling.h"
+#include "core/technique.h"
+#include "core/vrc_model.h"
 #include "gl/context.h"
 #include "gl/gpu_timer.h"
 #include "gl/line_geometry.h"
-#include "core/technique.h"
+#include "gl/techniques.h"
 #include "gl/vrc_renderer.h"
-#include "core/scene.h"
-#include "core/styling.h"
-#include "core/vrc_model.h"
 
 namespace {
 
@@ -86,9 +86,10 @@ void frames(std::size_t segments, int points) {
     cameraSpec.camera.fovYDeg = 30;
     cameraSpec.fit = true;
 
-    std::printf("\n1920x1080, %d TBB threads, llvmpipe; one frame each, wall time of the technique's stages "
-                "(readback included); model build not included (once per dataset)\n\n",
-                int(tbb::info::default_concurrency()));
+    std::printf(
+        "\n1920x1080, %d TBB threads, llvmpipe; one frame each, wall time of the technique's stages "
+        "(readback included); model build not included (once per dataset)\n\n",
+        int(tbb::info::default_concurrency()));
     std::printf("| segments | technique | frame (ms) | notes |\n|---:|---|---:|---|\n");
     for (float opacity : {1.0f, 0.2f}) {
         const tc::StyledLines lines = tornado(segments, points, opacity);
@@ -149,13 +150,20 @@ int main(int argc, char** argv) try {
             std::fprintf(stderr, "error: %s needs a value\n", argv[i]);
             return 2;
         }
-        if (flag == "--segments") segmentCounts = parseList(argv[i + 1]);
-        else if (flag == "--quantization") quantizations = parseList(argv[i + 1]);
-        else if (flag == "--points") points = std::atoi(argv[i + 1]);
-        else if (flag == "--resolution") resolution = std::atoi(argv[i + 1]);
-        else if (flag == "--reps") reps = std::atoi(argv[i + 1]);
-        else if (flag == "--threads") threads = std::atoi(argv[i + 1]);
-        else if (flag == "--frames") frameSegments = parseList(argv[i + 1]).at(0);
+        if (flag == "--segments")
+            segmentCounts = parseList(argv[i + 1]);
+        else if (flag == "--quantization")
+            quantizations = parseList(argv[i + 1]);
+        else if (flag == "--points")
+            points = std::atoi(argv[i + 1]);
+        else if (flag == "--resolution")
+            resolution = std::atoi(argv[i + 1]);
+        else if (flag == "--reps")
+            reps = std::atoi(argv[i + 1]);
+        else if (flag == "--threads")
+            threads = std::atoi(argv[i + 1]);
+        else if (flag == "--frames")
+            frameSegments = parseList(argv[i + 1]).at(0);
         else {
             std::fprintf(stderr, "error: unknown option %s\n", argv[i]);
             return 2;
@@ -163,19 +171,24 @@ int main(int argc, char** argv) try {
     }
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0)
-        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-    const int usedThreads = int(std::min<std::size_t>(
-        tbb::info::default_concurrency(), tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+        limit =
+            std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    const int usedThreads =
+        int(std::min<std::size_t>(tbb::info::default_concurrency(),
+                                  tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
 
     const std::size_t pixels = 1920 * 1080;
     const tc::gl::Context context = tc::gl::Context::create(tc::gl::ContextConfig{});
 
-    std::printf("Tornado (generateTornado, seed 1, %d points per line), radius 0.0025, opacity 0.3; VRC resolution %d "
-                "along the longest axis; %d TBB threads; median of %d runs of buildVrcModel (incl. the Eq. 1 LoD "
-                "pyramid); GPU: buildVrcModelGpu on llvmpipe (upload to finished model, no readback)\n\n",
-                points, resolution, usedThreads, reps);
-    std::printf("| segments | q | grid | CPU build (ms) | GPU build (ms) | pieces | pieces / segment | B / piece | model (MB) | LoD (MB) | "
-                "raw lines (MB) | k-buffer k=8 @1080p (MB) |\n");
+    std::printf(
+        "Tornado (generateTornado, seed 1, %d points per line), radius 0.0025, opacity 0.3; VRC resolution %d "
+        "along the longest axis; %d TBB threads; median of %d runs of buildVrcModel (incl. the Eq. 1 LoD "
+        "pyramid); GPU: buildVrcModelGpu on llvmpipe (upload to finished model, no readback)\n\n",
+        points, resolution, usedThreads, reps);
+    std::printf(
+        "| segments | q | grid | CPU build (ms) | GPU build (ms) | pieces | pieces / segment | B / piece | model (MB) "
+        "| LoD (MB) | "
+        "raw lines (MB) | k-buffer k=8 @1080p (MB) |\n");
     std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (std::size_t target : segmentCounts) {
         const tc::StyledLines lines = tornado(target, points, 0.3f);

@@ -1,19 +1,18 @@
 // Batch rendering through the binary (docs/batch.md): shards with per-shard side files, --resume
 // with completeness and scene-hash checks, --keep-going, placeholders, merge-timings, the EXR
 // camera metadata and JSON-lines progress.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <OpenImageIO/imageio.h>
-#include <glm/gtc/type_ptr.hpp>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include "cli/batch.h"
-#include "io/atomic_file.h"
 #include "cli_fixture.h"
+#include "io/atomic_file.h"
 #include "io/image_io.h"
 
 namespace fs = std::filesystem;
@@ -32,7 +31,8 @@ protected:
   "camera": {"eye": [0, 0, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 40},
   "animation": {"type": "orbit", "frames": 4, "axis": [0, 1, 0], "degrees": 360},
   "image": {"width": 32, "height": 24},
-  "output": {"dir": "out", "name": "f.####", "aovs": ["depth"]})" + extra + "\n}\n");
+  "output": {"dir": "out", "name": "f.####", "aovs": ["depth"]})" +
+                                          extra + "\n}\n");
     }
     fs::path out(const std::string& name) const { return dir / "out" / name; }
     std::vector<int> framesIn(const std::string& csv) const {

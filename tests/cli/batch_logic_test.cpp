@@ -1,6 +1,7 @@
 // The GL-free batch logic of cli/batch.cpp, tested directly: shard partitioning (I/N and the Slurm
 // array variables), side-file names, the scene hash, placeholders and their staleness, merging
 // timings, and the llvmpipe thread / CUDA device rules.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,12 +11,10 @@
 #include <set>
 #include <thread>
 
-#include <gtest/gtest.h>
-
 #include "cli/batch.h"
-#include "io/atomic_file.h"
 #include "cli_fixture.h"
 #include "core/error.h"
+#include "io/atomic_file.h"
 
 namespace fs = std::filesystem;
 using namespace tc::cli;
@@ -76,25 +75,26 @@ TEST(BatchShard, ParsesIOverNAndRejectsBadSpecs) {
 TEST(BatchShard, SlurmIndexIsTaskIdMinusMinOverStep) {
     // --array=3-6: ids 3..6, min 3, count 4.
     Shard s = parseShard("slurm", envOf({{"SLURM_ARRAY_TASK_ID", "5"},
-                                          {"SLURM_ARRAY_TASK_MIN", "3"},
-                                          {"SLURM_ARRAY_TASK_COUNT", "4"},
-                                          {"SLURM_ARRAY_TASK_MAX", "6"}}));
+                                         {"SLURM_ARRAY_TASK_MIN", "3"},
+                                         {"SLURM_ARRAY_TASK_COUNT", "4"},
+                                         {"SLURM_ARRAY_TASK_MAX", "6"}}));
     EXPECT_EQ(s.index, 2);
     EXPECT_EQ(s.count, 4);
     // --array=0-12:4: ids 0, 4, 8, 12, step 4, count 4 -> id 8 is shard 2 of 4.
     s = parseShard("slurm", envOf({{"SLURM_ARRAY_TASK_ID", "8"},
-                                    {"SLURM_ARRAY_TASK_MIN", "0"},
-                                    {"SLURM_ARRAY_TASK_STEP", "4"},
-                                    {"SLURM_ARRAY_TASK_COUNT", "4"}}));
+                                   {"SLURM_ARRAY_TASK_MIN", "0"},
+                                   {"SLURM_ARRAY_TASK_STEP", "4"},
+                                   {"SLURM_ARRAY_TASK_COUNT", "4"}}));
     EXPECT_EQ(s.index, 2);
     EXPECT_EQ(s.count, 4);
     // A list array (--array=1,4,9): id 4 is off any constant step from min 1 with count 3.
-    EXPECT_NE(inputErrorOf([] {
-                  parseShard("slurm", envOf({{"SLURM_ARRAY_TASK_ID", "9"},
-                                             {"SLURM_ARRAY_TASK_MIN", "1"},
-                                             {"SLURM_ARRAY_TASK_COUNT", "3"}}));
-              }).find("not as a list"),
-              std::string::npos);
+    EXPECT_NE(
+        inputErrorOf([] {
+            parseShard(
+                "slurm",
+                envOf({{"SLURM_ARRAY_TASK_ID", "9"}, {"SLURM_ARRAY_TASK_MIN", "1"}, {"SLURM_ARRAY_TASK_COUNT", "3"}}));
+        }).find("not as a list"),
+        std::string::npos);
     EXPECT_NE(inputErrorOf([] { parseShard("slurm", envOf({})); }).find("SLURM_ARRAY_TASK_ID is not set"),
               std::string::npos);
 }
@@ -199,8 +199,7 @@ TEST_F(BatchMerge, ConcatenatesRowsUnderOneHeaderAndRejectsForeignFiles) {
     tc::test::writeText(dir / "timings.1-of-2.csv", h + "1,frame,,2.000,10\n");
     mergeTimings((dir / "all.csv").string(),
                  {(dir / "timings.0-of-2.csv").string(), (dir / "timings.1-of-2.csv").string()});
-    EXPECT_EQ(tc::test::readText(dir / "all.csv"),
-              h + "0,frame,,1.000,10\n2,frame,,1.500,10\n1,frame,,2.000,10\n");
+    EXPECT_EQ(tc::test::readText(dir / "all.csv"), h + "0,frame,,1.000,10\n2,frame,,1.500,10\n1,frame,,2.000,10\n");
     tc::test::writeText(dir / "other.csv", "a,b\n1,2\n");
     std::string err = inputErrorOf([&] { mergeTimings((dir / "x.csv").string(), {(dir / "other.csv").string()}); });
     EXPECT_NE(err.find("other.csv:1: expected the timings header"), std::string::npos) << err;

@@ -30,8 +30,8 @@ void CliFixture::SetUp() {
 }
 
 RunResult CliFixture::run(const std::string& args, const std::string& env) {
-    std::string cmd = "cd '" + dir.string() + "' && " + env + (env.empty() ? "" : " ") + TUBECAST_BINARY + " " +
-                      args + " > stdout.txt 2> stderr.txt";
+    std::string cmd = "cd '" + dir.string() + "' && " + env + (env.empty() ? "" : " ") + TUBECAST_BINARY + " " + args +
+                      " > stdout.txt 2> stderr.txt";
     int status = std::system(cmd.c_str());
     RunResult r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

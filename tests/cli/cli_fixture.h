@@ -3,10 +3,10 @@
 // test under the build tree, and run() executing the tubecast binary in it as a user would.
 // Test files derive their own fixture (with their own scene writer) from CliFixture:
 //     class Cli : public tc::test::CliFixture { ... };
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 namespace tc::test {
 

@@ -1,4 +1,5 @@
 // Runs the tubecast binary the way a user does and checks exit codes, messages and files.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <chrono>
@@ -6,13 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
-
-#include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
 #include "io/image_io.h"
@@ -33,7 +31,8 @@ protected:
   "dataset": {"generate": "tornado", "lines": 20, "points": 30, "seed": 3},
   "style": {"radius": 0.02},
   "image": {"width": 32, "height": 24},
-  "output": {"dir": "out", "name": "f.####", "aovs": ["depth", "normal", "id"]})" + extra + "\n}\n";
+  "output": {"dir": "out", "name": "f.####", "aovs": ["depth", "normal", "id"]})" +
+                           extra + "\n}\n";
         writeText(dir / name, text);
         return dir / name;
     }
@@ -250,7 +249,8 @@ TEST_F(Cli, EglAndOsmesaRenderTheSameImage) {
     ASSERT_EQ(run("render scene.json --backend egl -o egl").code, 0);
     RunResult r = run("render scene.json --backend osmesa -o osmesa");
     ASSERT_EQ(r.code, 0) << r.err;
-    tc::ImageDiff d = tc::compareImages((dir / "egl" / "f.0000.exr").string(), (dir / "osmesa" / "f.0000.exr").string(), 0.0f);
+    tc::ImageDiff d =
+        tc::compareImages((dir / "egl" / "f.0000.exr").string(), (dir / "osmesa" / "f.0000.exr").string(), 0.0f);
     EXPECT_EQ(d.maxError, 0.0);
     tc::FrameImages a = tc::readExr((dir / "egl" / "f.0000.exr").string());
     tc::FrameImages b = tc::readExr((dir / "osmesa" / "f.0000.exr").string());

@@ -1,8 +1,8 @@
 // `tubecast compare` (cli/compare.cpp) through the binary: the metrics it prints and its own exit
 // code for --fail, distinct from 1 (internal error) and 2 (invalid input).
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "cli_fixture.h"
 #include "core/frame_images.h"

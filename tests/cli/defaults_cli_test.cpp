@@ -2,17 +2,16 @@
 // `tubecast scene` prints it), opacity below 1 means transparent, what the scene states wins over
 // what the data implies, the log names what the dataset holds, PNG-only runs compute no AOVs,
 // an empty tractogram renders the background, and "speed" follows the traced vector.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
 #include "io/image_io.h"
@@ -29,8 +28,7 @@ using Track = std::vector<std::array<float, 3>>;
 // track and an Inf triplet at the end. `count` is what the header claims.
 void writeTck(const fs::path& path, const std::vector<Track>& tracks, long count) {
     // The data starts at a fixed offset after the header's END line (the bytes between are padding).
-    std::string header =
-        "mrtrix tracks\ndatatype: Float32LE\ncount: " + std::to_string(count) + "\nfile: . 128\nEND\n";
+    std::string header = "mrtrix tracks\ndatatype: Float32LE\ncount: " + std::to_string(count) + "\nfile: . 128\nEND\n";
     header.resize(128, '\0');
     std::vector<float> data;
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
@@ -48,7 +46,8 @@ Track straight(std::array<float, 3> from, std::array<float, 3> to, int points = 
     Track t;
     for (int i = 0; i < points; ++i) {
         const float s = float(i) / float(points - 1);
-        t.push_back({from[0] + s * (to[0] - from[0]), from[1] + s * (to[1] - from[1]), from[2] + s * (to[2] - from[2])});
+        t.push_back(
+            {from[0] + s * (to[0] - from[0]), from[1] + s * (to[1] - from[1]), from[2] + s * (to[2] - from[2])});
     }
     return t;
 }
@@ -74,7 +73,8 @@ class Defaults : public CliFixture {
 protected:
     // Two tracts: one along x, one along y (the default view looks down -z).
     void writeFibers() {
-        writeTck(dir / "fibers.tck", {straight({-1, 0.5f, 0}, {1, 0.5f, 0}), straight({0.5f, -1, 0.2f}, {0.5f, 1, 0.2f})}, 2);
+        writeTck(dir / "fibers.tck",
+                 {straight({-1, 0.5f, 0}, {1, 0.5f, 0}), straight({0.5f, -1, 0.2f}, {0.5f, 1, 0.2f})}, 2);
     }
 };
 
@@ -115,15 +115,17 @@ TEST_F(Defaults, scene_prints_the_default_scene_and_rendering_it_gives_the_same_
 
 TEST_F(Defaults, opacity_below_one_is_transparent_unless_the_scene_says_opaque) {
     writeFibers();
-    RunResult r = run("render fibers.tck -o out --set image.width=48 --set image.height=48 --set style.opacity=0.3 "
-                      "--set render.technique=rasterized");
+    RunResult r =
+        run("render fibers.tck -o out --set image.width=48 --set image.height=48 --set style.opacity=0.3 "
+            "--set render.technique=rasterized");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("render.transparency auto: kbuffer"), std::string::npos) << r.err;
     auto run1 = nlohmann::json::parse(readText(dir / "out" / "run.json"));
     EXPECT_EQ(run1["technique"]["transparency"], "kbuffer");
     EXPECT_NE(run1["technique_choice"].get<std::string>().find("opacity below 1"), std::string::npos);
 
-    r = run("render fibers.tck -o opaque --set image.width=48 --set image.height=48 --set style.opacity=0.3 "
+    r =
+        run("render fibers.tck -o opaque --set image.width=48 --set image.height=48 --set style.opacity=0.3 "
             "--set render.technique=rasterized --set render.transparency=opaque");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("warning: fibers.tck: render.transparency: \"opaque\" draws every opacity below 1 as 1"),
@@ -139,7 +141,8 @@ void writeCarbon(const fs::path& path) {
     for (int i = 0; i < 7; ++i)
         for (int j = 0; j < 7; ++j)
             for (int k = 0; k < 7; ++k)
-                text += "C " + std::to_string(i / 6.0) + " " + std::to_string(j / 6.0) + " " + std::to_string(k / 6.0) + "\n";
+                text += "C " + std::to_string(i / 6.0) + " " + std::to_string(j / 6.0) + " " + std::to_string(k / 6.0) +
+                        "\n";
     writeText(path, text);
 }
 
@@ -167,8 +170,9 @@ TEST_F(Defaults, a_radius_the_scene_states_wins_over_element_radii) {
 
 TEST_F(Defaults, png_only_runs_compute_no_aovs_and_a_listed_aov_is_warned_about) {
     writeFibers();
-    const std::string common = "--set image.width=48 --set image.height=48 --set style.opacity=0.5 "
-                               "--set render.technique=rasterized --set render.transparency=kbuffer";
+    const std::string common =
+        "--set image.width=48 --set image.height=48 --set style.opacity=0.5 "
+        "--set render.technique=rasterized --set render.transparency=kbuffer";
     RunResult both = run("render fibers.tck -o both " + common);
     ASSERT_EQ(both.code, 0) << both.err;
     EXPECT_NE(readText(dir / "both" / "timings.csv").find(",gbuffer,"), std::string::npos);
@@ -215,8 +219,9 @@ TEST_F(Defaults, speed_is_the_magnitude_of_the_traced_vector_whatever_its_name) 
 <VTKFile type="ImageData" version="0.1" byte_order="LittleEndian">
   <ImageData WholeExtent="0 2 0 2 0 2" Origin="0 0 0" Spacing="0.5 0.5 0.5">
     <Piece Extent="0 2 0 2 0 2">
-      <PointData><DataArray type="Float32" Name="V" NumberOfComponents="3" format="ascii">)" + values +
-                                         R"(</DataArray></PointData>
+      <PointData><DataArray type="Float32" Name="V" NumberOfComponents="3" format="ascii">)" +
+                                     values +
+                                     R"(</DataArray></PointData>
     </Piece>
   </ImageData>
 </VTKFile>

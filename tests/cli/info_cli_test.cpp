@@ -1,12 +1,11 @@
 // `tubecast info` on datasets and scenes (cli/info.cpp), and scene-level styling keys that need
 // files (ParaView presets) or VTK grids (dataset.trace), run through the binary.
-#include <filesystem>
-#include <map>
-#include <string>
-
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cli_fixture.h"
 #include "core/colormap.h"
@@ -71,7 +70,7 @@ TEST_F(InfoCli, SceneGetsTheDerivedAttributesItsStyleNames) {
     EXPECT_TRUE(byName["curvature"]["derived"].get<bool>());
     EXPECT_GT(byName["curvature"]["max"].get<double>(), 0.0);
     EXPECT_GE(byName["local_density"]["min"].get<double>(), 1.0);  // a vertex's own line counts
-    EXPECT_FALSE(byName["speed"]["derived"].get<bool>());           // the generator's own
+    EXPECT_FALSE(byName["speed"]["derived"].get<bool>());          // the generator's own
 }
 
 TEST_F(InfoCli, TracedSceneDescribesTheStreamlines) {
@@ -82,8 +81,9 @@ TEST_F(InfoCli, TracedSceneDescribesTheStreamlines) {
 <VTKFile type="ImageData" version="0.1" byte_order="LittleEndian">
   <ImageData WholeExtent="0 2 0 2 0 2" Origin="0 0 0" Spacing="0.5 0.5 0.5">
     <Piece Extent="0 2 0 2 0 2">
-      <PointData><DataArray type="Float32" Name="wind" NumberOfComponents="3" format="ascii">)" + values +
-                                          R"(</DataArray></PointData>
+      <PointData><DataArray type="Float32" Name="wind" NumberOfComponents="3" format="ascii">)" +
+                                       values +
+                                       R"(</DataArray></PointData>
     </Piece>
   </ImageData>
 </VTKFile>
@@ -107,11 +107,13 @@ TEST_F(InfoCli, TracedSceneDescribesTheStreamlines) {
     for (const auto& a : j["attributes"])
         if (a["name"] == "arc_length") {
             hasArc = true;
-            EXPECT_NEAR(a["max"].get<double>(), j["bounds"]["max"][0].get<double>() - j["bounds"]["min"][0].get<double>(), 1e-4);
+            EXPECT_NEAR(a["max"].get<double>(),
+                        j["bounds"]["max"][0].get<double>() - j["bounds"]["min"][0].get<double>(), 1e-4);
         }
     EXPECT_TRUE(hasArc) << r.out;
 
-    writeText(dir / "bad.json", R"({"dataset": {"path": "uniform.vti", "trace": {"vector": "wind", "seeding": "line"}}})");
+    writeText(dir / "bad.json",
+              R"({"dataset": {"path": "uniform.vti", "trace": {"vector": "wind", "seeding": "line"}}})");
     RunResult bad = run("validate bad.json");
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("bad.json: dataset.trace.line: missing"), std::string::npos) << bad.err;
@@ -130,8 +132,9 @@ TEST_F(InfoCli, PresetColormapIsResolvedRelativeToTheSceneAndValidated) {
         "style": {"color": {"attribute": "height", "colormap": "../maps/broken.json"}}})");
     RunResult bad = run("validate scenes/broken.json");
     EXPECT_EQ(bad.code, 2);
-    EXPECT_NE(bad.err.find("scenes/broken.json: style.color.colormap: maps/broken.json: RGBPoints: expected a flat array"),
-              std::string::npos)
+    EXPECT_NE(
+        bad.err.find("scenes/broken.json: style.color.colormap: maps/broken.json: RGBPoints: expected a flat array"),
+        std::string::npos)
         << bad.err;
     writeText(dir / "scenes" / "jet.json", R"({"dataset": {"generate": "tornado"},
         "style": {"color": {"attribute": "height", "colormap": "jet"}}})");
@@ -151,7 +154,8 @@ TEST_F(InfoCli, OpacityPointErrorsNameTheElement) {
         "style": {"color": {"attribute": "height", "range": {"percentiles": [50, 10]}}}})");
     RunResult range = run("validate range.json");
     EXPECT_EQ(range.code, 2);
-    EXPECT_NE(range.err.find("range.json: style.color.range: percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100"),
+    EXPECT_NE(range.err.find(
+                  "range.json: style.color.range: percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100"),
               std::string::npos)
         << range.err;
 }

@@ -1,6 +1,8 @@
 // The line-format readers seen from the binary: malformed .trk/.tck/.obj/.tcb datasets make
 // `tubecast render` and `tubecast convert` exit 2 with the file and position in the message
 // (before any GL context is made), and `convert` writes .tcb that renders.
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -8,8 +10,6 @@
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_fixture.h"
 
@@ -49,8 +49,8 @@ std::vector<std::uint8_t> trkHeader() {
     std::vector<std::uint8_t> h(1000, 0);
     std::memcpy(h.data(), "TRACK", 6);
     auto put32 = [&](std::size_t at, std::int32_t v) { std::memcpy(h.data() + at, &v, 4); };
-    put32(988, 1);    // n_count
-    put32(992, 2);    // version
+    put32(988, 1);     // n_count
+    put32(992, 2);     // version
     put32(996, 1000);  // hdr_size, little-endian
     return h;
 }
@@ -58,7 +58,8 @@ std::vector<std::uint8_t> trkHeader() {
 TEST_F(FormatsCli, RenderOfTrkWithCountBombExitsTwoNamingTheByte) {
     std::vector<std::uint8_t> b = trkHeader();
     const std::int32_t points = 1 << 30;  // far more than the 12 bytes that follow
-    b.insert(b.end(), reinterpret_cast<const std::uint8_t*>(&points), reinterpret_cast<const std::uint8_t*>(&points) + 4);
+    b.insert(b.end(), reinterpret_cast<const std::uint8_t*>(&points),
+             reinterpret_cast<const std::uint8_t*>(&points) + 4);
     b.resize(b.size() + 12, 0);
     writeBytes("bomb.trk", b);
     expectRenderRejects("bomb.trk", "byte 1000: track 0 declares 1073741824 points");

@@ -1,15 +1,15 @@
 // render.technique "raytraced" / "auto" through the tubecast binary: outputs and run.json, the GL
 // depth peeling as reference for the exact ray-traced transparency (quality.csv), auto's choice on
 // llvmpipe, and the ray-traced AO method rejected for the rasterized technique.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
 #include "io/image_io.h"
@@ -31,8 +31,8 @@ protected:
   "camera": {"fit": true, "eye": [1.6, -1.2, 1.25], "target": [0.5, 0.5, 0.5], "up": [0, 0, 1], "fov_deg": 30},
   "image": {"width": )"
              << width << R"(, "height": )" << height << R"(},
-  "render": {)" << render
-             << R"(},
+  "render": {)"
+             << render << R"(},
   "output": {"dir": "out", "name": "f.####", "aovs": ["depth", "normal", "id"]}
 }
 )";
@@ -62,7 +62,8 @@ TEST_F(RaytracedCli, RaytracedRenderWritesImagesAndDescribesTheBvh) {
 // FrameImages: the files must be those of the serial loop, every frame reported once, in order.
 TEST_F(RaytracedCli, OverlappedWritesGiveTheFilesOfSerialWrites) {
     writeScene(R"("technique": "raytraced", "ao": {"enabled": true, "resolution": 32})");
-    const std::string anim = R"( --set 'animation={"type":"orbit","frames":4,"degrees":40}' --set 'output.aovs=["depth","normal","id","ao"]')";
+    const std::string anim =
+        R"( --set 'animation={"type":"orbit","frames":4,"degrees":40}' --set 'output.aovs=["depth","normal","id","ao"]')";
     RunResult r = run("render scene.json -q -o overlapped" + anim);
     ASSERT_EQ(r.code, 0) << r.err;
     r = run("render scene.json -q --serial-writes -o serial" + anim);
@@ -76,8 +77,8 @@ TEST_F(RaytracedCli, OverlappedWritesGiveTheFilesOfSerialWrites) {
                 << name;
         }
     // Frames 1..3 differ from each other (the reused buffers are rewritten, not left over).
-    EXPECT_GT(tc::compareImages((dir / "overlapped" / "f.0001.png").string(), (dir / "overlapped" / "f.0002.png").string(),
-                                0.0f)
+    EXPECT_GT(tc::compareImages((dir / "overlapped" / "f.0001.png").string(),
+                                (dir / "overlapped" / "f.0002.png").string(), 0.0f)
                   .maxError,
               0.0);
     for (const char* out : {"overlapped", "serial"}) {
@@ -146,7 +147,8 @@ TEST_F(RaytracedCli, RaytracedParticlesMatchTheGlSpheresOpaque) {
   "style": {"color": {"attribute": "density", "colormap": "viridis", "range": [0.0, 1.6]}, "opacity": 0.5},
   "camera": {"fit": true, "eye": [0.5, -1.2, 1.4], "target": [0.5, 0.5, 0.5], "up": [0, 0, 1], "fov_deg": 35},
   "image": {"width": 64, "height": 48, "background": [0, 0, 0, 1]},
-  "render": {"technique": ")" + technique + R"(", "transparency": "opaque")" + extra + R"(},
+  "render": {"technique": ")" + technique +
+                                          R"(", "transparency": "opaque")" + extra + R"(},
   "output": {"dir": "out_)" + technique + R"(", "name": "p", "formats": ["png"], "aovs": []}
 })");
     };
@@ -160,8 +162,8 @@ TEST_F(RaytracedCli, RaytracedParticlesMatchTheGlSpheresOpaque) {
     ASSERT_EQ(r.code, 0) << r.err;
     // 8-bit PNGs: the same spheres and shading (measured: PSNR 83 dB, no pixel over 3/255); the
     // allowance is for silhouette pixels decided differently by the two intersection codes.
-    tc::ImageDiff d = tc::compareImages((dir / "out_raytraced" / "p.png").string(), (dir / "out_spheres" / "p.png").string(),
-                                        3.0f / 255.0f);
+    tc::ImageDiff d = tc::compareImages((dir / "out_raytraced" / "p.png").string(),
+                                        (dir / "out_spheres" / "p.png").string(), 3.0f / 255.0f);
     EXPECT_LT(d.fractionOver, 0.01) << d.fractionOver;
     EXPECT_GT(d.psnr, 50.0) << d.psnr;
     std::cout << "raytraced vs GL spheres, opaque: PSNR " << d.psnr << " dB, " << 100.0 * d.fractionOver
@@ -180,9 +182,11 @@ TEST_F(RaytracedCli, RaytracedParticlesAoMatchesTheGlSpheresAo) {
   "style": {"color": {"attribute": "density", "colormap": "viridis", "range": [0.0, 1.6]}, "opacity": 0.5},
   "camera": {"fit": true, "eye": [0.5, -1.2, 1.4], "target": [0.5, 0.5, 0.5], "up": [0, 0, 1], "fov_deg": 35},
   "image": {"width": 64, "height": 48, "background": [0, 0, 0, 1]},
-  "render": {"technique": ")" + technique + R"(", "transparency": ")" + transparency + R"(",
+  "render": {"technique": ")" + technique + R"(", "transparency": ")" +
+                                              transparency + R"(",
              "spheres": {"chunks": 1, "alpha_a": 0.8},
-             "ao": {"enabled": )" + (ao ? "true" : "false") + R"(, "resolution": 32, "strength": 2}},
+             "ao": {"enabled": )" + (ao ? "true" : "false") +
+                                              R"(, "resolution": 32, "strength": 2}},
   "output": {"dir": ")" + out + R"(", "name": "p", "formats": ["png"], "aovs": []}
 })");
             RunResult r = run("render drops.json");
@@ -193,8 +197,8 @@ TEST_F(RaytracedCli, RaytracedParticlesAoMatchesTheGlSpheresAo) {
         const tc::ImageDiff d = tc::compareImages(render("raytraced", true), gl, 3.0f / 255.0f);
         const tc::ImageDiff noAo = tc::compareImages(render("raytraced", false), gl, 3.0f / 255.0f);
         std::cout << "raytraced vs GL spheres with AO, " << transparency << ": PSNR " << d.psnr << " dB, "
-                  << 100.0 * d.fractionOver << " % of pixels over 3/255 (without AO on the ray-traced side: "
-                  << noAo.psnr << " dB)\n";
+                  << 100.0 * d.fractionOver
+                  << " % of pixels over 3/255 (without AO on the ray-traced side: " << noAo.psnr << " dB)\n";
         // Measured: opaque 89 dB (no pixel over 3/255), transparent 65 dB (0.07 % of the pixels over
         // 3/255: silhouettes and overlapping spheres, where the GL sort and the exact order differ).
         EXPECT_GT(d.psnr, transparency == "opaque" ? 70.0 : 50.0) << transparency;

@@ -1,20 +1,20 @@
 // The parts of `tubecast render` tested on their own, without GL: the output plan (which frames
 // and files, --resume, --overwrite, side files), run.json, the frame writer pipeline (order,
 // overlap, failures) and the frame loop driven by a CPU technique.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
-#include <gtest/gtest.h>
-
 #include "cli/batch.h"
+#include "cli/commands.h"
 #include "cli/frame_loop.h"
 #include "cli/frame_writer.h"
 #include "cli/progress.h"
 #include "cli/render_plan.h"
 #include "cli/run_manifest.h"
 #include "cli/technique_registry.h"
-#include "cli/commands.h"
 #include "cli_fixture.h"
 #include "core/error.h"
 #include "io/image_io.h"
@@ -51,8 +51,7 @@ TEST_F(RenderParts, plan_lists_every_output_of_every_frame_and_the_side_files) {
     const OutputPlan plan = planOutputs(out, {{0, 4, 8}, Shard{1, 3}, "h", false, false, true});
     ASSERT_EQ(plan.todo.size(), 3u);
     EXPECT_EQ(plan.todo[1].frame, 4);
-    EXPECT_EQ(plan.todo[1].paths,
-              (std::vector<std::string>{out.dir + "/f.0004.png", out.dir + "/f.0004.exr"}));
+    EXPECT_EQ(plan.todo[1].paths, (std::vector<std::string>{out.dir + "/f.0004.png", out.dir + "/f.0004.exr"}));
     EXPECT_EQ(plan.timingsPath, out.dir + "/timings.1-of-3.csv");
     EXPECT_EQ(plan.runPath, out.dir + "/run.1-of-3.json");
     EXPECT_EQ(plan.skipped, 0u);
@@ -66,8 +65,9 @@ TEST_F(RenderParts, plan_refuses_existing_outputs_unless_resumed_or_overwritten)
         planOutputs(out, {{0, 1, 2}, std::nullopt, "h", false, false, true});
         FAIL() << "no error";
     } catch (const OutputError& e) {
-        EXPECT_EQ(std::string(e.what()), out.dir + "/f.0001.png exists; use --resume to skip finished frames or "
-                                                   "--overwrite to replace them");
+        EXPECT_EQ(std::string(e.what()), out.dir +
+                                             "/f.0001.png exists; use --resume to skip finished frames or "
+                                             "--overwrite to replace them");
     }
     EXPECT_EQ(planOutputs(out, {{0, 1, 2}, std::nullopt, "h", false, true, true}).todo.size(), 3u);
     // --resume: the complete frame with this scene's hash is skipped; another hash re-renders it.
@@ -76,8 +76,8 @@ TEST_F(RenderParts, plan_refuses_existing_outputs_unless_resumed_or_overwritten)
     ASSERT_EQ(resumed.todo.size(), 2u);
     EXPECT_EQ(resumed.todo[1].frame, 2);
     std::vector<std::string> notes;
-    const OutputPlan edited =
-        planOutputs(out, {{1}, std::nullopt, "other", true, false, true}, [&](const std::string& n) { notes.push_back(n); });
+    const OutputPlan edited = planOutputs(out, {{1}, std::nullopt, "other", true, false, true},
+                                          [&](const std::string& n) { notes.push_back(n); });
     EXPECT_EQ(edited.todo.size(), 1u);
     ASSERT_EQ(notes.size(), 1u);
     EXPECT_NE(notes[0].find("--resume: frame 1 re-rendered: "), std::string::npos) << notes[0];

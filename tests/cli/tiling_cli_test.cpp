@@ -1,12 +1,12 @@
 // Large images through the binary: a k-buffer frame over render.memory_budget_mb is tiled
 // automatically (instead of refused) and its EXR equals the untiled frame's in every channel;
 // image.samples anti-aliases the colour and keeps one sample's depth and id.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "cli_fixture.h"
 #include "io/image_io.h"

@@ -1,5 +1,6 @@
 // The transparent paths through the tubecast binary: the k-buffer memory budget error, EGL vs
 // OSMesa for a k-buffer render, and render.reference = "depth_peeling" writing quality.csv.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -8,8 +9,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_fixture.h"
 #include "io/image_io.h"
@@ -35,8 +34,8 @@ protected:
   "camera": {"fit": true, "eye": [1.6, -1.2, 1.25], "target": [0.5, 0.5, 0.5], "up": [0, 0, 1], "fov_deg": 30},
   "image": {"width": )"
              << width << R"(, "height": )" << height << R"(},
-  "render": {)" << render
-             << R"(},
+  "render": {)"
+             << render << R"(},
   "output": {"dir": "out", "name": "f.####", "aovs": ["depth", "normal", "id"]})"
              << extra << "\n}\n";
         writeText(dir / "scene.json", text.str());

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <glm/gtc/constants.hpp>
 #include <map>
 #include <string>
 #include <vector>
@@ -24,14 +25,12 @@
 #include "core/compositing.h"
 #include "core/image_metrics.h"
 #include "core/scene.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "golden.h"
 #include "io/image_io.h"
-
-#include <glm/gtc/constants.hpp>
 #include "test_scenes.h"
 
 namespace tc::test {
@@ -154,9 +153,10 @@ TEST_F(GlTest, ao_of_an_isolated_tube_is_about_one_for_radii_of_half_to_two_voxe
                 const FrameImages img = render(aoScene(), lines, cam, 64, 64);
                 ASSERT_EQ(img.ao.size(), img.pixelCount());
                 const AoStats s = coveredAo(img);
-                std::printf("[ measured ] isolated tube r = %.1f voxels, axis shift %.1f voxels, view x %.1f: "
-                            "%zu px, AO min %.4f mean %.4f\n",
-                            radiusVoxels, axisShift / kVoxel, cx, s.pixels, s.min, s.mean);
+                std::printf(
+                    "[ measured ] isolated tube r = %.1f voxels, axis shift %.1f voxels, view x %.1f: "
+                    "%zu px, AO min %.4f mean %.4f\n",
+                    radiusVoxels, axisShift / kVoxel, cx, s.pixels, s.min, s.mean);
                 EXPECT_GT(s.pixels, 100u);
                 EXPECT_GE(s.min, kIsolatedMinAo)
                     << "radius " << radiusVoxels << " voxels, axis shift " << axisShift / kVoxel << ", view x " << cx;
@@ -455,9 +455,10 @@ TEST_F(GlTest, cached_ao_agrees_with_cone_traced_ao_per_pixel) {
         ASSERT_EQ(a.id, e.id) << c.name;
         const AoDifference d = aoDifference(a, e);
         const AoStats s = coveredAo(e);
-        std::printf("[ measured ] cached vs cone traced AO, %s: %zu px (exact AO mean %.4f min %.4f), |diff| mean "
-                    "%.4f max %.4f; per polyline (%zu) |mean diff| mean %.4f max %.4f\n",
-                    c.name, d.pixels, s.mean, s.min, d.mean, d.max, d.polylines, d.polylineMean, d.polylineMax);
+        std::printf(
+            "[ measured ] cached vs cone traced AO, %s: %zu px (exact AO mean %.4f min %.4f), |diff| mean "
+            "%.4f max %.4f; per polyline (%zu) |mean diff| mean %.4f max %.4f\n",
+            c.name, d.pixels, s.mean, s.min, d.mean, d.max, d.polylines, d.polylineMean, d.polylineMax);
         EXPECT_GT(d.pixels, 1000u) << c.name;
         EXPECT_LT(s.mean, 0.9) << c.name << ": the scene must be clearly occluded for the comparison to mean anything";
         EXPECT_LE(d.mean, kCachedMeanAoError) << c.name;

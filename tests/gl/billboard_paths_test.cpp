@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "core/scene.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 

@@ -1,4 +1,6 @@
 // Headless contexts: both backends on this machine, exact readback, context info, error paths.
+#include "gl/context.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -6,7 +8,6 @@
 #include <vector>
 
 #include "core/error.h"
-#include "gl/context.h"
 #include "gl/gl_api.h"
 #include "gl/objects.h"
 #include "gl_fixture.h"
@@ -38,8 +39,7 @@ std::vector<unsigned char> clearAndReadBack(int width, int height) {
     const float clear[4] = {51 / 255.f, 102 / 255.f, 153 / 255.f, 1.f};
     glClearNamedFramebufferfv(fb.id(), GL_COLOR, 0, clear);
     std::vector<unsigned char> pixels(static_cast<size_t>(width * height * 4), 0);
-    glGetTextureImage(color.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(pixels.size()),
-                      pixels.data());
+    glGetTextureImage(color.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(pixels.size()), pixels.data());
     return pixels;
 }
 
@@ -136,7 +136,9 @@ TEST_F(SeparateContextTest, egl_device_zero_is_mesas_software_device_here) {
     expectClearColor(clearAndReadBack(3, 3));
 }
 
-TEST_F(GlTest, shared_context_reads_back_a_clear_color) { expectClearColor(clearAndReadBack(16, 16)); }
+TEST_F(GlTest, shared_context_reads_back_a_clear_color) {
+    expectClearColor(clearAndReadBack(16, 16));
+}
 
 TEST_F(GlTest, context_info_lists_the_pipeline_extensions_llvmpipe_has) {
     const gl::ContextInfo& info = context().info();

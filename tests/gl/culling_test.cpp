@@ -20,11 +20,11 @@
 
 #include "core/frustum.h"
 #include "core/scene.h"
-#include "gl/techniques.h"
+#include "core/technique.h"
 #include "gl/gpu_timer.h"
 #include "gl/hierarchical_culling.h"
 #include "gl/line_geometry.h"
-#include "core/technique.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -191,8 +191,8 @@ std::size_t coveredPixels(const FrameImages& f) {
 TEST_F(GlTest, opaque_culling_gives_the_unculled_image_and_culls_most_of_a_dense_scene) {
     const int w = 96, h = 72;
     const StyledLines lines = denseBall(5, 1000, 1.0f);
-    for (const auto& [cam, label] : {std::pair{lookAt({0.3f, 0.4f, 2.0f}), "far view"},
-                                     std::pair{lookAt({0.1f, 0.1f, 1.2f}), "near view"}}) {
+    for (const auto& [cam, label] :
+         {std::pair{lookAt({0.3f, 0.4f, 2.0f}), "far view"}, std::pair{lookAt({0.1f, 0.1f, 1.2f}), "near view"}}) {
         for (BillboardPath path : {BillboardPath::Compute, BillboardPath::Vertex, BillboardPath::Geometry}) {
             SCOPED_TRACE(std::string(label) + ", billboard path " + std::to_string(int(path)));
             Scene scene = baseScene(w, h);
@@ -236,8 +236,8 @@ TEST_F(GlTest, opaque_culling_resorts_only_after_large_camera_changes) {
     EXPECT_EQ(dolly.description["sorts_performed"].get<int>(), 2);
 }
 
-void expectCulledWithinBound(const Rendered& culled, const Rendered& unculled, const FrameImages* peeled, float threshold,
-                             const std::string& label) {
+void expectCulledWithinBound(const Rendered& culled, const Rendered& unculled, const FrameImages* peeled,
+                             float threshold, const std::string& label) {
     const std::size_t n = culled.images.rgba.size();
     ASSERT_EQ(n, unculled.images.rgba.size());
     const double bound = 1.0 - threshold + 1e-5;  // fp32 accumulation slack

@@ -1,27 +1,27 @@
 // The density volume (gl/density_volume.h) and voxel cone traced AO (shaders/cone_tracing.glsl),
 // on hand-built DensityGrids: the mip pyramid keeps the mean density for any grid size, and AO
 // behaves as the occlusion model predicts on empty, full, slab and shell volumes.
+#include "gl/density_volume.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <glm/glm.hpp>
 #include <numbers>
 #include <random>
 #include <utility>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/voxel_density.h"
-#include "gl/density_volume.h"
-#include "rt/cone_traced_ao.h"
-#include "test_scenes.h"
 #include "gl/gl_api.h"
 #include "gl/objects.h"
 #include "gl/shader_library.h"
 #include "gl_fixture.h"
+#include "rt/cone_traced_ao.h"
+#include "test_scenes.h"
 
 namespace tc::test {
 namespace {
@@ -29,8 +29,8 @@ namespace {
 using gl::DensityVolume;
 
 // A grid whose voxel (x, y, z) holds f(centre of the voxel in world space).
-DensityGrid makeGrid(glm::ivec3 size, const std::function<float(glm::vec3)>& f,
-                     float voxelSize = 1.0f, glm::vec3 origin = glm::vec3(0.0f)) {
+DensityGrid makeGrid(glm::ivec3 size, const std::function<float(glm::vec3)>& f, float voxelSize = 1.0f,
+                     glm::vec3 origin = glm::vec3(0.0f)) {
     DensityGrid grid;
     grid.size = size;
     grid.origin = origin;
@@ -39,8 +39,7 @@ DensityGrid makeGrid(glm::ivec3 size, const std::function<float(glm::vec3)>& f,
     for (int z = 0; z < size.z; ++z)
         for (int y = 0; y < size.y; ++y)
             for (int x = 0; x < size.x; ++x)
-                grid.density[grid.index(x, y, z)] =
-                    f(origin + (glm::vec3(x, y, z) + 0.5f) * voxelSize);
+                grid.density[grid.index(x, y, z)] = f(origin + (glm::vec3(x, y, z) + 0.5f) * voxelSize);
     return grid;
 }
 
@@ -54,8 +53,8 @@ std::vector<float> downloadLevel(const DensityVolume& volume, int level) {
     glm::ivec3 s = volume.levelSize(level);
     std::vector<float> texels(std::size_t(s.x) * s.y * s.z, -1.0f);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTextureImage(volume.texture().id(), level, GL_RED, GL_FLOAT,
-                      GLsizei(texels.size() * sizeof(float)), texels.data());
+    glGetTextureImage(volume.texture().id(), level, GL_RED, GL_FLOAT, GLsizei(texels.size() * sizeof(float)),
+                      texels.data());
     return texels;
 }
 
@@ -87,15 +86,13 @@ class ConeTracer {
 public:
     ConeTracer() : m_program(gl::compileProgram({{GL_COMPUTE_SHADER, "test_cone_tracing.comp"}})) {}
 
-    std::vector<float> run(const DensityVolume& volume, const std::vector<Query>& queries,
-                           const ConeParams& p) {
+    std::vector<float> run(const DensityVolume& volume, const std::vector<Query>& queries, const ConeParams& p) {
         const GLuint id = m_program.id();
         volume.setUniforms(id);
         volume.bind();
         glProgramUniform1ui(id, glGetUniformLocation(id, "uCount"), GLuint(queries.size()));
         glProgramUniform1i(id, glGetUniformLocation(id, "uCones"), p.cones);
-        glProgramUniform1f(id, glGetUniformLocation(id, "uAperture"),
-                           glm::radians(p.apertureDeg));
+        glProgramUniform1f(id, glGetUniformLocation(id, "uAperture"), glm::radians(p.apertureDeg));
         glProgramUniform1f(id, glGetUniformLocation(id, "uMaxDistance"), p.maxDistance);
         glProgramUniform1f(id, glGetUniformLocation(id, "uStrength"), p.strength);
         glProgramUniform1f(id, glGetUniformLocation(id, "uStartOffset"), p.startOffset);
@@ -112,8 +109,7 @@ public:
         return ao;
     }
 
-    float run(const DensityVolume& volume, glm::vec3 position, glm::vec3 normal,
-              const ConeParams& p) {
+    float run(const DensityVolume& volume, glm::vec3 position, glm::vec3 normal, const ConeParams& p) {
         return run(volume, {{glm::vec4(position, 1.0f), glm::vec4(normal, 0.0f)}}, p)[0];
     }
 
@@ -135,16 +131,14 @@ std::vector<Query> randomQueries(std::size_t n, glm::vec3 lo, glm::vec3 hi, unsi
     return queries;
 }
 
-void expectPyramidKeepsMean(const DensityGrid& grid, DensityVolume::Config config,
-                            double relTolerance) {
+void expectPyramidKeepsMean(const DensityGrid& grid, DensityVolume::Config config, double relTolerance) {
     DensityVolume volume = DensityVolume::create(grid, config);
     const double total = grid.total();
     ASSERT_EQ(volume.levels(), DensityVolume::fullLevels(grid.size));
     EXPECT_EQ(volume.levelSize(volume.levels() - 1), glm::ivec3(1));
     for (int level = 0; level < volume.levels(); ++level)
         EXPECT_NEAR(levelTotal(volume, level), total, relTolerance * total)
-            << "size " << grid.size.x << "x" << grid.size.y << "x" << grid.size.z << ", level "
-            << level;
+            << "size " << grid.size.x << "x" << grid.size.y << "x" << grid.size.z << ", level " << level;
 }
 
 TEST_F(GlTest, density_mip_pyramid_keeps_the_mean_density_of_power_of_two_grids) {
@@ -153,8 +147,8 @@ TEST_F(GlTest, density_mip_pyramid_keeps_the_mean_density_of_power_of_two_grids)
 }
 
 TEST_F(GlTest, density_mip_pyramid_keeps_the_mean_density_of_npot_grids) {
-    for (glm::ivec3 size : {glm::ivec3(37, 20, 9), glm::ivec3(5, 3, 1), glm::ivec3(1, 1, 7),
-                            glm::ivec3(65, 33, 17), glm::ivec3(3, 3, 3), glm::ivec3(100, 75, 51)})
+    for (glm::ivec3 size : {glm::ivec3(37, 20, 9), glm::ivec3(5, 3, 1), glm::ivec3(1, 1, 7), glm::ivec3(65, 33, 17),
+                            glm::ivec3(3, 3, 3), glm::ivec3(100, 75, 51)})
         expectPyramidKeepsMean(randomGrid(size, 3, 0.5f), {}, 1e-5);
 }
 
@@ -165,15 +159,13 @@ TEST_F(GlTest, density_mip_pyramid_in_r16f_keeps_the_mean_to_half_precision) {
 // glGenerateMipmap is kept only for the speed comparison: on power-of-two grids it is the same
 // 2x2x2 box; on odd sizes Mesa's filter does not keep the mean (printed, not asserted).
 TEST_F(GlTest, density_generate_mipmap_keeps_the_mean_of_power_of_two_grids_only) {
-    DensityVolume::Config config{DensityVolume::Format::R32F,
-                                 DensityVolume::MipMethod::GenerateMipmap};
+    DensityVolume::Config config{DensityVolume::Format::R32F, DensityVolume::MipMethod::GenerateMipmap};
     expectPyramidKeepsMean(randomGrid({32, 32, 32}, 1), config, 1e-5);
     DensityGrid npot = randomGrid({37, 20, 9}, 3, 0.5f);
     DensityVolume volume = DensityVolume::create(npot, config);
     for (int level = 1; level < volume.levels(); ++level)
         std::printf("glGenerateMipmap 37x20x9 level %d: total %.6g of %.6g (%+.2f %%)\n", level,
-                    levelTotal(volume, level), npot.total(),
-                    100.0 * (levelTotal(volume, level) / npot.total() - 1.0));
+                    levelTotal(volume, level), npot.total(), 100.0 * (levelTotal(volume, level) / npot.total() - 1.0));
 }
 
 TEST_F(GlTest, cone_traced_ao_is_exactly_one_in_an_empty_volume) {
@@ -207,8 +199,8 @@ TEST_F(GlTest, cone_traced_ao_is_zero_inside_a_uniformly_filled_volume) {
 TEST_F(GlTest, cone_traced_ao_is_one_facing_away_from_a_dense_slab_and_low_facing_it) {
     const float voxel = 0.5f;
     const glm::vec3 origin(-8.0f);
-    DensityGrid grid = makeGrid({96, 96, 96}, [](glm::vec3 p) { return p.x < 8.0f ? 1.0f : 0.0f; },
-                                voxel, origin);
+    DensityGrid grid = makeGrid(
+        {96, 96, 96}, [](glm::vec3 p) { return p.x < 8.0f ? 1.0f : 0.0f; }, voxel, origin);
     DensityVolume volume = DensityVolume::create(grid);
     ConeTracer tracer;
     const glm::vec3 point(10.0f, 16.0f, 16.0f);
@@ -220,8 +212,7 @@ TEST_F(GlTest, cone_traced_ao_is_one_facing_away_from_a_dense_slab_and_low_facin
         float away = tracer.run(volume, point, {1, 0, 0}, p);
         float along = tracer.run(volume, point, {0, 1, 0}, p);
         float facing = tracer.run(volume, point, {-1, 0, 0}, p);
-        std::printf("slab, %d cones: AO away %.4f, along %.4f, facing %.4f\n", cones, away, along,
-                    facing);
+        std::printf("slab, %d cones: AO away %.4f, along %.4f, facing %.4f\n", cones, away, along, facing);
         EXPECT_GT(away, 0.98f) << cones << " cones";
         EXPECT_LT(facing, 0.5f * away) << cones << " cones";
         EXPECT_LT(facing, along) << cones << " cones";
@@ -237,12 +228,13 @@ TEST_F(GlTest, cone_traced_ao_decreases_monotonically_with_surrounding_shell_den
     for (int cones : {1, 3, 6}) {
         float previous = 1.0f;
         for (float rho : {0.0f, 0.05f, 0.1f, 0.2f, 0.4f, 0.8f}) {
-            DensityGrid grid = makeGrid({64, 64, 64},
-                                        [&](glm::vec3 p) {
-                                            float r = glm::length(p - centre);
-                                            return r >= 5.0f && r <= 8.0f ? rho : 0.0f;
-                                        },
-                                        0.5f);
+            DensityGrid grid = makeGrid(
+                {64, 64, 64},
+                [&](glm::vec3 p) {
+                    float r = glm::length(p - centre);
+                    return r >= 5.0f && r <= 8.0f ? rho : 0.0f;
+                },
+                0.5f);
             DensityVolume volume = DensityVolume::create(grid);
             ConeParams p;
             p.cones = cones;
@@ -265,8 +257,8 @@ TEST_F(GlTest, cone_traced_ao_decreases_monotonically_with_surrounding_shell_den
 // reaches the zero border.
 TEST_F(GlTest, cone_traced_ao_in_a_uniform_medium_matches_the_analytic_transmittance) {
     const float rho = 0.02f, voxel = 0.5f;
-    DensityVolume volume =
-        DensityVolume::create(makeGrid({128, 128, 128}, [&](glm::vec3) { return rho; }, voxel));
+    DensityVolume volume = DensityVolume::create(makeGrid(
+        {128, 128, 128}, [&](glm::vec3) { return rho; }, voxel));
     ConeTracer tracer;
     for (float strength : {1.0f, 0.5f, 2.0f}) {
         ConeParams p;
@@ -277,8 +269,7 @@ TEST_F(GlTest, cone_traced_ao_in_a_uniform_medium_matches_the_analytic_transmitt
         p.strength = strength;
         const float expected = std::pow(1.0f - rho, strength * (p.maxDistance - p.startOffset) / voxel);
         for (glm::vec3 normal : {glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), glm::vec3(1, 2, 3)})
-            EXPECT_NEAR(tracer.run(volume, glm::vec3(32.0f), normal, p), expected, 1e-4f)
-                << "strength " << strength;
+            EXPECT_NEAR(tracer.run(volume, glm::vec3(32.0f), normal, p), expected, 1e-4f) << "strength " << strength;
     }
 }
 
@@ -309,8 +300,7 @@ TEST_F(GlTest, cone_traced_ao_with_r16f_volume_stays_close_to_r32f) {
     ConeTracer tracer;
     std::vector<Query> queries = randomQueries(4096, glm::vec3(0.0f), glm::vec3(48.0f, 40.0f, 33.0f), 10);
     std::vector<float> full = tracer.run(DensityVolume::create(grid), queries, {});
-    std::vector<float> half =
-        tracer.run(DensityVolume::create(grid, {DensityVolume::Format::R16F}), queries, {});
+    std::vector<float> half = tracer.run(DensityVolume::create(grid, {DensityVolume::Format::R16F}), queries, {});
     float maxDiff = 0.0f;
     for (std::size_t i = 0; i < full.size(); ++i) maxDiff = std::max(maxDiff, std::abs(full[i] - half[i]));
     std::printf("R16F vs R32F: max |AO difference| %.2g over %zu points\n", maxDiff, full.size());
@@ -425,11 +415,12 @@ TEST_F(GlTest, cone_traced_ao_is_one_all_around_an_isolated_tube) {
             const std::pair<std::uint32_t, float> places[] = {{0, 0.5f}, {1, 0.3f}, {1, 1.0f}};
             for (auto [segment, s] : places) {
                 const AroundStats st = traceAround(t, aroundQueries(t, segment, s));
-                std::printf("[ measured ] isolated tube r %.1f voxels, shift %.1f, segment %u at %.1f: AO min %.6f, "
-                            "GPU-CPU max %.2g\n",
-                            radiusVoxels, shift / kTubeVoxel, segment, s, st.min, st.maxCpuDiff);
-                EXPECT_GE(st.min, 0.999f) << "r " << radiusVoxels << ", shift " << shift << ", segment " << segment
-                                          << " at " << s;
+                std::printf(
+                    "[ measured ] isolated tube r %.1f voxels, shift %.1f, segment %u at %.1f: AO min %.6f, "
+                    "GPU-CPU max %.2g\n",
+                    radiusVoxels, shift / kTubeVoxel, segment, s, st.min, st.maxCpuDiff);
+                EXPECT_GE(st.min, 0.999f)
+                    << "r " << radiusVoxels << ", shift " << shift << ", segment " << segment << " at " << s;
                 EXPECT_LE(st.maxCpuDiff, kGpuCpuAoTolerance);
             }
         }
@@ -461,9 +452,10 @@ TEST_F(GlTest, cone_traced_ao_changes_smoothly_around_a_tube_in_a_bundle) {
     const AroundStats out = traceAround(t, aroundQueries(t, 2 * corner, 0.7f));
     const std::pair<const char*, const AroundStats*> tubes[] = {{"centre", &in}, {"corner", &out}};
     for (auto [name, st] : tubes) {
-        std::printf("[ measured ] bundle %s tube: AO min %.4f max %.4f, largest change per 0.5 degree %.4f, "
-                    "GPU-CPU max %.2g\n",
-                    name, st->min, st->max, st->maxStep, st->maxCpuDiff);
+        std::printf(
+            "[ measured ] bundle %s tube: AO min %.4f max %.4f, largest change per 0.5 degree %.4f, "
+            "GPU-CPU max %.2g\n",
+            name, st->min, st->max, st->maxStep, st->maxCpuDiff);
         EXPECT_LE(st->maxStep, kAoStepPerHalfDegree) << name;
         EXPECT_LE(st->maxCpuDiff, kGpuCpuAoTolerance) << name;
     }
@@ -492,8 +484,7 @@ TEST_F(GlTest, DISABLED_density_volume_benchmark) {
     {
         glFinish();
         auto t0 = Clock::now();
-        gl::Program mip = gl::compileProgram({{GL_COMPUTE_SHADER, "density_mip.comp"}},
-                                             {"DENSITY_IMAGE_FORMAT r32f"});
+        gl::Program mip = gl::compileProgram({{GL_COMPUTE_SHADER, "density_mip.comp"}}, {"DENSITY_IMAGE_FORMAT r32f"});
         glFinish();
         auto t1 = Clock::now();
         gl::Texture tex = gl::Texture::create(GL_TEXTURE_3D);
@@ -501,12 +492,10 @@ TEST_F(GlTest, DISABLED_density_volume_benchmark) {
         glTextureSubImage3D(tex.id(), 0, 0, 0, 0, n, n, n, GL_RED, GL_FLOAT, grid.density.data());
         glFinish();
         auto t2 = Clock::now();
-        std::printf("mip program compile %.1f ms, R32F level-0 upload %.1f ms\n", ms(t1 - t0),
-                    ms(t2 - t1));
+        std::printf("mip program compile %.1f ms, R32F level-0 upload %.1f ms\n", ms(t1 - t0), ms(t2 - t1));
     }
     ConeTracer tracer;
-    std::vector<Query> queries =
-        randomQueries(1 << 20, glm::vec3(8.0f), glm::vec3(n - 8.0f), 12);
+    std::vector<Query> queries = randomQueries(1 << 20, glm::vec3(8.0f), glm::vec3(n - 8.0f), 12);
     for (const Variant& v : variants) {
         double best = 1e30;
         for (int rep = 0; rep < 5; ++rep) {
@@ -528,8 +517,8 @@ TEST_F(GlTest, DISABLED_density_volume_benchmark) {
             tracer.run(volume, queries, p);
             trace = std::min(trace, ms(Clock::now() - t0));
         }
-        std::printf("%-24s %d^3: build %.1f ms (upload + mips), 3-cone AO at 2^20 points %.1f ms\n",
-                    v.name, n, best, trace);
+        std::printf("%-24s %d^3: build %.1f ms (upload + mips), 3-cone AO at 2^20 points %.1f ms\n", v.name, n, best,
+                    trace);
     }
 }
 

@@ -1,12 +1,13 @@
 // The frame uniform block: shaders/frame_uniforms.glsl and its C++ twin gl::FrameUniforms
 // (gl/frame_uniforms.h) declare one std140 layout twice; these tests keep the two in step.
+#include "gl/frame_uniforms.h"
+
 #include <cstddef>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "gl/bindings.h"
-#include "gl/frame_uniforms.h"
 #include "gl/gl_api.h"
 #include "gl/objects.h"
 #include "gl/shader_library.h"

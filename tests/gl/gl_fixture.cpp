@@ -24,9 +24,8 @@ public:
             config.debug = true;  // GL errors in tests print where they happen
             m_context.emplace(gl::Context::create(config));
             const gl::ContextInfo& info = m_context->info();
-            std::printf("GL tests: %s%s%s, %s, %s\n", info.backend.c_str(),
-                        info.device.empty() ? "" : " device ", info.device.c_str(),
-                        info.renderer.c_str(), info.version.c_str());
+            std::printf("GL tests: %s%s%s, %s, %s\n", info.backend.c_str(), info.device.empty() ? "" : " device ",
+                        info.device.c_str(), info.renderer.c_str(), info.version.c_str());
         } catch (const Error& e) {
             m_error = e.what();
         }
@@ -67,7 +66,7 @@ int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
     tc::gl::ShaderLibrary::instance().addEmbedded(tc::test::testShaders());
     // gtest owns and deletes registered environments.
-    tc::test::g_environment = static_cast<tc::test::GlEnvironment*>(
-        ::testing::AddGlobalTestEnvironment(new tc::test::GlEnvironment));
+    tc::test::g_environment =
+        static_cast<tc::test::GlEnvironment*>(::testing::AddGlobalTestEnvironment(new tc::test::GlEnvironment));
     return RUN_ALL_TESTS();
 }

@@ -11,9 +11,9 @@
 #include "core/animation.h"
 #include "core/compositing.h"
 #include "core/styling.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "io/dataset.h"
 
 namespace tc::test {
@@ -29,7 +29,8 @@ void writeDiffImage(const RgbaImage& a, const RgbaImage& b, const std::string& p
     for (std::size_t i = 0; i < diff.pixelCount(); ++i) {
         float alphaDiff = std::abs(a.rgba[4 * i + 3] - b.rgba[4 * i + 3]);
         for (int c = 0; c < 3; ++c)
-            diff.rgba[4 * i + c] = std::min(1.0f, 8.0f * std::max(std::abs(a.rgba[4 * i + c] - b.rgba[4 * i + c]), alphaDiff));
+            diff.rgba[4 * i + c] =
+                std::min(1.0f, 8.0f * std::max(std::abs(a.rgba[4 * i + c] - b.rgba[4 * i + c]), alphaDiff));
         diff.rgba[4 * i + 3] = 1.0f;
     }
     writePng(diff, path);
@@ -37,7 +38,9 @@ void writeDiffImage(const RgbaImage& a, const RgbaImage& b, const std::string& p
 
 }  // namespace
 
-std::string sourcePath(const std::string& relative) { return (fs::path(TUBECAST_SOURCE_DIR) / relative).string(); }
+std::string sourcePath(const std::string& relative) {
+    return (fs::path(TUBECAST_SOURCE_DIR) / relative).string();
+}
 
 bool blessing() {
     const char* v = std::getenv("TUBECAST_BLESS");
@@ -83,9 +86,10 @@ void expectMatchesGolden(const FrameImages& images, const std::string& name) {
     // Mean absolute error ourselves: ImageDiff carries RMSE, the mean is the threshold stated above.
     const RgbaImage a = readImageRgba(actual), g = readImageRgba(golden);
     const double mean = meanAbsoluteDifference(a, g);
-    std::printf("[ measured ] golden %s: %zu px, max error %.4f (%.1f/255), pixels over 2/255 %.4f %%, mean %.3g, "
-                "PSNR %.1f dB\n",
-                name.c_str(), d.pixels, d.maxError, d.maxError * 255.0, 100.0 * d.fractionOver, mean, d.psnr);
+    std::printf(
+        "[ measured ] golden %s: %zu px, max error %.4f (%.1f/255), pixels over 2/255 %.4f %%, mean %.3g, "
+        "PSNR %.1f dB\n",
+        name.c_str(), d.pixels, d.maxError, d.maxError * 255.0, 100.0 * d.fractionOver, mean, d.psnr);
 
     const bool ok = d.fractionOver <= kMaxFractionOver && mean <= kMaxMeanError;
     if (!ok) writeDiffImage(a, g, diffPath);

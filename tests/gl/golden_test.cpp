@@ -8,13 +8,14 @@
 // TUBECAST_BLESS=1 writes the rendered images over the goldens instead of comparing
 // (scripts/bless-goldens.sh; tests/golden/README.md says when and how). The thresholds and the
 // comparison are in golden.h / golden.cpp, shared with the other golden tests.
+#include "golden.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "core/scene.h"
 #include "gl_fixture.h"
-#include "golden.h"
 #include "io/json_file.h"
 
 namespace tc::test {

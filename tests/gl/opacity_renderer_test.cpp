@@ -1,7 +1,6 @@
 // Opacity optimization on the GPU (gl/opacity_renderer.cpp): two crossing lines, a short
 // unimportant one in front of a long important one (importance "length"), seen orthographically
 // from +z so the crossing is known in pixels.
-#include "gl/techniques.h"
 #include "gl/opacity_renderer.h"
 
 #include <gtest/gtest.h>
@@ -10,8 +9,9 @@
 #include <cmath>
 
 #include "core/scene.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 

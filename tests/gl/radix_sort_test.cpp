@@ -1,20 +1,20 @@
 // The GPU radix sort is exact: for every input it returns what std::stable_sort by key returns
 // (values follow their keys; stability makes the result unique). The GPU key pass equals the CPU
 // key of core/sort_keys.h bit for bit.
+#include "gl/radix_sort.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <glm/glm.hpp>
 #include <numeric>
 #include <random>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/sort_keys.h"
 #include "gl/gl_api.h"
 #include "gl/objects.h"
-#include "gl/radix_sort.h"
 #include "gl/sort_keys.h"
 #include "gl_fixture.h"
 
@@ -30,8 +30,7 @@ struct Pairs {
 Pairs referenceSort(const Keys& keys, const Keys& values) {
     std::vector<std::uint32_t> order(keys.size());
     std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
     Pairs out;
     out.keys.reserve(keys.size());
     out.values.reserve(keys.size());
@@ -69,16 +68,14 @@ Keys randomKeys(std::size_t n, std::uint32_t seed, std::uint32_t mask = 0xFFFFFF
 }
 
 // Compares the first mismatch only: a 10^6-entry EXPECT_EQ on vectors prints megabytes.
-::testing::AssertionResult sameAsStableSort(gl::RadixSort& sort, const Keys& keys,
-                                            const Keys& values) {
+::testing::AssertionResult sameAsStableSort(gl::RadixSort& sort, const Keys& keys, const Keys& values) {
     Pairs expected = referenceSort(keys, values);
     Pairs actual = gpuSort(sort, keys, values);
     for (std::size_t i = 0; i < keys.size(); ++i)
         if (actual.keys[i] != expected.keys[i] || actual.values[i] != expected.values[i])
             return ::testing::AssertionFailure()
-                   << "n = " << keys.size() << ": first mismatch at " << i << ": got ("
-                   << actual.keys[i] << ", " << actual.values[i] << "), expected ("
-                   << expected.keys[i] << ", " << expected.values[i] << ")";
+                   << "n = " << keys.size() << ": first mismatch at " << i << ": got (" << actual.keys[i] << ", "
+                   << actual.values[i] << "), expected (" << expected.keys[i] << ", " << expected.values[i] << ")";
     return ::testing::AssertionSuccess();
 }
 
@@ -178,8 +175,7 @@ TEST_F(RadixSortTest, ten_million_random_keys_match_stable_sort) {
     auto start = std::chrono::steady_clock::now();
     EXPECT_TRUE(sameAsStableSort(sorter(), randomKeys(n, 15), iota(n)));
     std::printf("10^7 keys: GPU sort + reference + transfers %.0f ms\n",
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                    .count());
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
 
 // 20k random segments around a camera: the GPU key pass equals core's segmentSortKey bit for bit
@@ -218,14 +214,14 @@ TEST_F(RadixSortTest, scene_keys_equal_cpu_keys_bit_for_bit_and_sort_front_to_ba
             glm::vec3 x1 = positions[segmentVertices[2 * s + 1]];
             cpuKeys[s] = segmentSortKey(eye, orthographic, forward, x0, x1);
             if (gpuKeys[s] != cpuKeys[s] && mismatches++ < 5)
-                ADD_FAILURE() << "segment " << s << ": GPU " << floatFromSortKey(gpuKeys[s])
-                              << " CPU " << floatFromSortKey(cpuKeys[s]);
+                ADD_FAILURE() << "segment " << s << ": GPU " << floatFromSortKey(gpuKeys[s]) << " CPU "
+                              << floatFromSortKey(cpuKeys[s]);
         }
         EXPECT_EQ(mismatches, 0u);
         EXPECT_EQ(download(ids, segments), iota(segments));
         if (orthographic) {  // the eye is inside the cloud: some segments are behind it
-            EXPECT_TRUE(std::any_of(cpuKeys.begin(), cpuKeys.end(),
-                                    [](std::uint32_t k) { return floatFromSortKey(k) < 0; }));
+            EXPECT_TRUE(
+                std::any_of(cpuKeys.begin(), cpuKeys.end(), [](std::uint32_t k) { return floatFromSortKey(k) < 0; }));
         }
 
         sorter().sort(keys, ids, segments);

@@ -20,9 +20,9 @@
 #include "core/cpu_reference.h"
 #include "core/rounded_cone.h"
 #include "core/scene.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -77,9 +77,12 @@ Hit visibleHit(const StyledLines& lines, std::size_t s, const Ray& ray, const Ca
     ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
     Hit h;
     if (!iv.hit) return h;
-    if (iv.tIn > 0.0f) h.t = iv.tIn, h.normal = iv.nIn;
-    else if (iv.tOut > 0.0f) h.t = iv.tOut, h.normal = iv.nOut;
-    else return h;
+    if (iv.tIn > 0.0f)
+        h.t = iv.tIn, h.normal = iv.nIn;
+    else if (iv.tOut > 0.0f)
+        h.t = iv.tOut, h.normal = iv.nOut;
+    else
+        return h;
     h.hit = true;
     h.grazing = iv.tOut - iv.tIn < kGrazingChord * 2.0 * std::min(a.w, b.w);
     h.depth = cam.projection == Projection::Orthographic ? h.t : h.t * glm::dot(ray.dir, cam.forward());
@@ -123,7 +126,8 @@ std::vector<char> classifyPixels(const StyledLines& lines, const Camera& cam, in
             if (b.grazing) flags[std::size_t(py) * w + px] |= Grazing;
             for (std::size_t s = 0; s < segments; ++s) {
                 if (s == best || !hits[s].hit || hits[s].t - b.t > kTieRelDistance * b.t) continue;
-                const bool differs = hits[s].id != b.id || angleBetween(hits[s].normal, b.normal) > 0.5 * kNormalAngleTolerance ||
+                const bool differs = hits[s].id != b.id ||
+                                     angleBetween(hits[s].normal, b.normal) > 0.5 * kNormalAngleTolerance ||
                                      glm::length(hits[s].albedo - b.albedo) > 0.25 * kColorTolerance;
                 if (differs) flags[std::size_t(py) * w + px] |= DepthTie;
             }
@@ -134,12 +138,12 @@ std::vector<char> classifyPixels(const StyledLines& lines, const Camera& cam, in
 struct Comparison {
     int width = 0, height = 0;
     std::size_t cpuHits = 0, gpuHits = 0;
-    std::size_t silhouette = 0;           // CPU 3x3 neighbourhood mixes hit and background
-    std::size_t coverageMismatch = 0;     // outside silhouettes: must be 0
-    std::size_t silhouetteMismatch = 0;   // on silhouettes: reported
-    std::size_t cpuHitGpuMiss = 0;        // anywhere, silhouettes included (billboard coverage)
-    std::size_t compared = 0, ties = 0;   // both hit; of those, depth ties
-    std::size_t grazing = 0;              // both hit, grazing incidence (not a tie)
+    std::size_t silhouette = 0;          // CPU 3x3 neighbourhood mixes hit and background
+    std::size_t coverageMismatch = 0;    // outside silhouettes: must be 0
+    std::size_t silhouetteMismatch = 0;  // on silhouettes: reported
+    std::size_t cpuHitGpuMiss = 0;       // anywhere, silhouettes included (billboard coverage)
+    std::size_t compared = 0, ties = 0;  // both hit; of those, depth ties
+    std::size_t grazing = 0;             // both hit, grazing incidence (not a tie)
     std::size_t depthOver = 0, normalOver = 0, idMismatch = 0, colorOver = 0;
     double maxDepthRel = 0, maxGrazingDepthRel = 0, maxNormalAngle = 0, maxColor = 0;
     std::string firstProblems;  // a few pixels that failed, for the failure message
@@ -150,12 +154,13 @@ struct Comparison {
     }
     std::string summary() const {
         char s[512];
-        std::snprintf(s, sizeof s,
-                      "%dx%d: cpu hits %zu, gpu hits %zu, silhouette px %zu (mismatch %zu), coverage mismatch "
-                      "off-silhouette %zu, cpu-hit/gpu-miss %zu; compared %zu (ties %zu, grazing %zu): max depth rel %.3g "
-                      "(grazing %.3g), max normal angle %.3g rad, max colour %.3g, id mismatches %zu",
-                      width, height, cpuHits, gpuHits, silhouette, silhouetteMismatch, coverageMismatch, cpuHitGpuMiss,
-                      compared, ties, grazing, maxDepthRel, maxGrazingDepthRel, maxNormalAngle, maxColor, idMismatch);
+        std::snprintf(
+            s, sizeof s,
+            "%dx%d: cpu hits %zu, gpu hits %zu, silhouette px %zu (mismatch %zu), coverage mismatch "
+            "off-silhouette %zu, cpu-hit/gpu-miss %zu; compared %zu (ties %zu, grazing %zu): max depth rel %.3g "
+            "(grazing %.3g), max normal angle %.3g rad, max colour %.3g, id mismatches %zu",
+            width, height, cpuHits, gpuHits, silhouette, silhouetteMismatch, coverageMismatch, cpuHitGpuMiss, compared,
+            ties, grazing, maxDepthRel, maxGrazingDepthRel, maxNormalAngle, maxColor, idMismatch);
         return s;
     }
 };
@@ -202,7 +207,8 @@ Comparison compareWithReference(const StyledLines& lines, const Camera& cam, int
             c.silhouette += mixed;
             if (ch && !gh) ++c.cpuHitGpuMiss;
             if (ch != gh) {
-                if (mixed) ++c.silhouetteMismatch;
+                if (mixed)
+                    ++c.silhouetteMismatch;
                 else {
                     ++c.coverageMismatch;
                     c.note(px, py, ch ? "CPU hit, GPU background" : "GPU hit, CPU background");
@@ -218,12 +224,15 @@ Comparison compareWithReference(const StyledLines& lines, const Camera& cam, int
             const double dc = cpu.depth[i], dg = gpu.depth[i];
             const bool grazing = flags[i] & Grazing;
             const double rel = std::abs(dg - dc) / std::max(std::abs(dc), grazing ? 0.0 : sceneScale);
-            if (grazing) c.maxGrazingDepthRel = std::max(c.maxGrazingDepthRel, rel);
-            else c.maxDepthRel = std::max(c.maxDepthRel, rel);
+            if (grazing)
+                c.maxGrazingDepthRel = std::max(c.maxGrazingDepthRel, rel);
+            else
+                c.maxDepthRel = std::max(c.maxDepthRel, rel);
             if (!(rel <= (grazing ? kGrazingDepthRelTolerance : kDepthRelTolerance))) {
                 ++c.depthOver;
-                c.note(px, py, std::string(grazing ? "grazing " : "") + "depth cpu " + std::to_string(dc) + " gpu " +
-                                   std::to_string(dg));
+                c.note(px, py,
+                       std::string(grazing ? "grazing " : "") + "depth cpu " + std::to_string(dc) + " gpu " +
+                           std::to_string(dg));
             }
             if (!(dg > 0.0)) {
                 ++c.depthOver;
@@ -250,7 +259,8 @@ Comparison compareWithReference(const StyledLines& lines, const Camera& cam, int
                 c.note(px, py, "normal angle " + std::to_string(angle));
             }
             double colorErr = 0;
-            for (int k = 0; k < 4; ++k) colorErr = std::max(colorErr, double(std::abs(gpu.rgba[4 * i + k] - cpu.rgba[4 * i + k])));
+            for (int k = 0; k < 4; ++k)
+                colorErr = std::max(colorErr, double(std::abs(gpu.rgba[4 * i + k] - cpu.rgba[4 * i + k])));
             c.maxColor = std::max(c.maxColor, colorErr);
             if (!(colorErr <= kColorTolerance)) {
                 ++c.colorOver;
@@ -369,9 +379,11 @@ TEST_F(RoundedConeRendererTest, eye_inside_a_tube_sees_the_inner_wall_with_posit
 TEST_F(RoundedConeRendererTest, eye_inside_a_cap_sphere_sees_the_inner_wall) {
     // Eye behind x0 inside sphere 0 (r0 = 0.5), outside the lateral part; looking away from the
     // segment (only the sphere's inside) and along it.
-    const StyledLines lines = makeStyledLines({{{{0, 0, 0}, 0.5f, {0.7f, 0.7f, 0.2f, 1}}, {{1.5f, 0, 0}, 0.2f, {0.2f, 0.6f, 0.8f, 1}}}});
+    const StyledLines lines =
+        makeStyledLines({{{{0, 0, 0}, 0.5f, {0.7f, 0.7f, 0.2f, 1}}, {{1.5f, 0, 0}, 0.2f, {0.2f, 0.6f, 0.8f, 1}}}});
     const glm::vec3 eye(-0.3f, 0.1f, 0.05f);
-    for (const Camera& cam : {lookAt(eye, {-2.0f, 0.3f, 0.1f}, {0, 1, 0}, 70.0f), lookAt(eye, {1.5f, 0.0f, 0.0f}, {0, 1, 0}, 70.0f)}) {
+    for (const Camera& cam :
+         {lookAt(eye, {-2.0f, 0.3f, 0.1f}, {0, 1, 0}, 70.0f), lookAt(eye, {1.5f, 0.0f, 0.0f}, {0, 1, 0}, 70.0f)}) {
         expectMatchesReference(lines, cam, 96, 72, 96 * 72, "eye inside cap sphere");
     }
 }
@@ -416,11 +428,13 @@ TEST_F(RoundedConeRendererTest, extreme_and_equal_radii_match_cpu_reference) {
         // r0 == r1: a cylinder with two caps
         {{{-1.0f, -0.5f, 0.2f}, 0.15f, {0.2f, 0.2f, 0.9f, 1}}, {{1.2f, -0.6f, -0.3f}, 0.15f, {0.9f, 0.9f, 0.2f, 1}}},
         // one sphere (almost) containing the other: L = 0.3 < r0 - r1 = 0.35, then a normal cone
-        {{{0.9f, 0.9f, -0.4f}, 0.4f, {0.5f, 0.5f, 0.5f, 1}}, {{1.2f, 0.9f, -0.4f}, 0.05f, {0.9f, 0.5f, 0.1f, 1}},
+        {{{0.9f, 0.9f, -0.4f}, 0.4f, {0.5f, 0.5f, 0.5f, 1}},
+         {{1.2f, 0.9f, -0.4f}, 0.05f, {0.9f, 0.5f, 0.1f, 1}},
          {{1.6f, 0.2f, -0.2f}, 0.3f, {0.1f, 0.5f, 0.9f, 1}}},
     });
     expectMatchesReference(lines, lookAt({0.3f, 0.2f, 4.0f}, {0.1f, 0.1f, 0}), 128, 96, 1000, "radii, front");
-    expectMatchesReference(lines, lookAt({3.5f, 1.5f, 1.0f}, {0.1f, 0.1f, 0}, {0, 1, 0}), 128, 96, 1000, "radii, oblique");
+    expectMatchesReference(lines, lookAt({3.5f, 1.5f, 1.0f}, {0.1f, 0.1f, 0}, {0, 1, 0}), 128, 96, 1000,
+                           "radii, oblique");
     expectMatchesReference(lines, orthographic({-1.0f, 3.0f, 2.0f}, {0.1f, 0.1f, 0}, 3.2f), 96, 72, 500,
                            "radii, orthographic");
 }
@@ -436,7 +450,8 @@ TEST_F(RoundedConeRendererTest, billboards_cover_every_pixel_the_reference_hits_
     o.radiusRatio = 10.0f;
     for (std::uint32_t seed : {21u, 22u}) {
         const StyledLines lines = randomLineScene(seed, o);
-        for (const Camera& cam : {lookAt(eyeFromSeed(seed, 4.0f), {0, 0, 0}), orthographic(eyeFromSeed(seed, 4.0f), {0, 0, 0}, 3.0f)}) {
+        for (const Camera& cam :
+             {lookAt(eyeFromSeed(seed, 4.0f), {0, 0, 0}), orthographic(eyeFromSeed(seed, 4.0f), {0, 0, 0}, 3.0f)}) {
             const std::string label = std::string("thin tubes, ") +
                                       (cam.projection == Projection::Orthographic ? "orthographic" : "perspective") +
                                       " seed " + std::to_string(seed);

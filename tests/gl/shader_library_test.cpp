@@ -1,4 +1,6 @@
 // The shader library: include expansion, #line mapping of compile errors, defines, overrides.
+#include "gl/shader_library.h"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +11,6 @@
 #include "gl/gl_api.h"
 #include "gl/gpu_timer.h"
 #include "gl/objects.h"
-#include "gl/shader_library.h"
 #include "gl_fixture.h"
 
 namespace tc::test {
@@ -53,17 +54,13 @@ protected:
         gl::ShaderLibrary::instance().setOverrideDir(m_dir.string());
     }
     void TearDown() override { gl::ShaderLibrary::instance().setOverrideDir(""); }
-    void write(const std::string& name, const std::string& text) {
-        std::ofstream(m_dir / name) << text;
-    }
+    void write(const std::string& name, const std::string& text) { std::ofstream(m_dir / name) << text; }
     std::filesystem::path m_dir;
 };
 
 TEST_F(GlTest, compile_error_in_an_included_chunk_names_the_chunk_and_its_line) {
     const std::string message = compileError({{GL_FRAGMENT_SHADER, "test_broken.frag"}});
-    EXPECT_NE(message.find("compiling fragment shader shaders/test_broken.frag failed"),
-              std::string::npos)
-        << message;
+    EXPECT_NE(message.find("compiling fragment shader shaders/test_broken.frag failed"), std::string::npos) << message;
     // test_broken_chunk.glsl line 6 uses an undeclared identifier.
     EXPECT_NE(message.find("shaders/test_broken_chunk.glsl:6:"), std::string::npos) << message;
     EXPECT_NE(message.find("undeclared_identifier"), std::string::npos) << message;
@@ -94,8 +91,7 @@ TEST(ShaderExpansion, numbers_files_in_inclusion_order_and_includes_each_once) {
     EXPECT_EQ(expanded.text.rfind("#version 450 core\n#define FILL_OFFSET 1\n#define A\n#line 100001 1\n", 0), 0u)
         << expanded.text;
     size_t functions = 0;
-    for (size_t at = 0; (at = expanded.text.find("uint fillValue", at)) != std::string::npos; ++at)
-        ++functions;
+    for (size_t at = 0; (at = expanded.text.find("uint fillValue", at)) != std::string::npos; ++at) ++functions;
     EXPECT_EQ(functions, 1u) << "the second #include must be dropped";
 }
 
@@ -109,24 +105,19 @@ TEST(ShaderExpansion, unknown_file_names_itself) {
         gl::ShaderLibrary::instance().source("no_such_shader.glsl");
         FAIL() << "expected an error";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("'no_such_shader.glsl' is not embedded"), std::string::npos)
-            << e.what();
+        EXPECT_NE(std::string(e.what()).find("'no_such_shader.glsl' is not embedded"), std::string::npos) << e.what();
     }
 }
 
 TEST(ShaderLog, rewrites_mesa_nvidia_and_plain_locations) {
     const std::vector<std::string> files = {"<preamble>", "shaders/a.frag", "shaders/b.glsl"};
     EXPECT_EQ(gl::rewriteShaderLog("0:2(3): error: x\n", files), "<preamble>:2:3: error: x\n");
-    EXPECT_EQ(gl::rewriteShaderLog("2:200005(10): error: y\n", files),
-              "shaders/b.glsl:5:10: error: y\n");
+    EXPECT_EQ(gl::rewriteShaderLog("2:200005(10): error: y\n", files), "shaders/b.glsl:5:10: error: y\n");
     // Mesa reports source string 0 for some errors; the line still says which file.
-    EXPECT_EQ(gl::rewriteShaderLog("0:200005(10): error: y\n", files),
-              "shaders/b.glsl:5:10: error: y\n");
-    EXPECT_EQ(gl::rewriteShaderLog("1(100007) : error C0000: z\n", files),
-              "shaders/a.frag:7: error C0000: z\n");
+    EXPECT_EQ(gl::rewriteShaderLog("0:200005(10): error: y\n", files), "shaders/b.glsl:5:10: error: y\n");
+    EXPECT_EQ(gl::rewriteShaderLog("1(100007) : error C0000: z\n", files), "shaders/a.frag:7: error C0000: z\n");
     EXPECT_EQ(gl::rewriteShaderLog("ERROR: 2:200009: w\n", files), "ERROR: shaders/b.glsl:9: w\n");
-    EXPECT_EQ(gl::rewriteShaderLog("9:1(1): error: v\nplain text\n", files),
-              "9:1:1: error: v\nplain text\n");
+    EXPECT_EQ(gl::rewriteShaderLog("9:1(1): error: v\nplain text\n", files), "9:1:1: error: v\nplain text\n");
 }
 
 TEST_F(ShaderOverrideTest, override_dir_wins_and_errors_after_an_include_keep_the_including_files_line) {

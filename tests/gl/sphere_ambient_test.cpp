@@ -1,6 +1,8 @@
 // GPU voxelization of sphere glyphs for AO and ambient light (gl/sphere_ambient.h): the deposited
 // coverage against the spheres' analytic volume within the 3x3x3 sampling bound, exact
 // containment, and the cone traced AO darkening a sphere among others.
+#include "gl/sphere_ambient.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include "core/scene.h"
 #include "core/styled_particles.h"
 #include "gl/gpu_timer.h"
-#include "gl/sphere_ambient.h"
 #include "gl/sphere_renderer.h"
 #include "gl_fixture.h"
 
@@ -171,7 +172,8 @@ TEST_F(SphereAmbientTest, cached_ambient_cube_matches_per_fragment_tracing) {
         }
     }
     ASSERT_GT(covered, std::size_t(w * h / 4));
-    std::printf("[ info ] cached vs exact: mean %.4f, max %.4f over %zu pixels\n", sum / double(covered), worst, covered);
+    std::printf("[ info ] cached vs exact: mean %.4f, max %.4f over %zu pixels\n", sum / double(covered), worst,
+                covered);
     EXPECT_LT(sum / double(covered), 0.03);
     EXPECT_LT(worst, 0.25);
 }

@@ -4,6 +4,8 @@
 // of one sphere, and the early-z chunks against the unchunked image within the threshold bound;
 // point-sprite billboards against quads (identical images, and the fallback to quads for spheres
 // larger than the largest point).
+#include "gl/sphere_renderer.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +18,6 @@
 #include "core/scene.h"
 #include "core/sphere_glyph.h"
 #include "gl/gpu_timer.h"
-#include "gl/sphere_renderer.h"
 #include "gl_fixture.h"
 
 namespace tc::test {
@@ -158,7 +159,8 @@ TEST_F(SphereRendererTest, transparent_spheres_match_cpu_reference_with_radii_va
                 ++compared;
                 const std::size_t i = std::size_t(y * w + x);
                 covered += ref.rgba[4 * i + 3] > 0;
-                for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(gpu.rgba[4 * i + c] - ref.rgba[4 * i + c]));
+                for (int c = 0; c < 4; ++c)
+                    worst = std::max(worst, std::abs(gpu.rgba[4 * i + c] - ref.rgba[4 * i + c]));
             }
         EXPECT_GT(covered, w * h / 10);
         EXPECT_GT(compared, w * h * 9 / 10);
@@ -212,15 +214,16 @@ TEST_F(SphereRendererTest, opacity_profile_of_one_sphere_matches_closed_form) {
         for (int x = c; x < n; ++x) {
             const float dist = 2.0f * (float(x) + 0.5f) / float(n) - 1.0f;
             const float a = img.rgba[4 * std::size_t(c * n + x) + 3];
-            const float expected = sphereRayOpacity(d, 0.0f, 0.6f, Ray{{dist, 0.0f, 3.0f}, {0, 0, -1}}, glm::vec3(0.0f), 0.9f);
+            const float expected =
+                sphereRayOpacity(d, 0.0f, 0.6f, Ray{{dist, 0.0f, 3.0f}, {0, 0, -1}}, glm::vec3(0.0f), 0.9f);
             EXPECT_NEAR(a, expected, 1e-5f) << x;
             if (a > best) best = a, bestD = dist;
         }
         if (d == SphereDensity::Constant) {
             EXPECT_NEAR(img.rgba[4 * std::size_t(c * n + c) + 3], 0.6f, 1e-5f);  // Theta_max at the centre
         } else {
-            EXPECT_NEAR(best, 0.6f, 1e-3f);                            // the peak is Theta_max ...
-            EXPECT_NEAR(bestD, 0.9f / std::sqrt(2.0f), 2.0f / n);      // ... at r / sqrt(2), to a pixel
+            EXPECT_NEAR(best, 0.6f, 1e-3f);                        // the peak is Theta_max ...
+            EXPECT_NEAR(bestD, 0.9f / std::sqrt(2.0f), 2.0f / n);  // ... at r / sqrt(2), to a pixel
         }
     }
     // A far perspective camera (orthographic-like) sees Theta_max at the projected centre too.

@@ -2,12 +2,13 @@
 // registered technique renders a small scene of every data kind it takes, its declared per-pixel
 // bytes bound what it allocates, combinations it does not take are exit-2 errors naming the key,
 // and "auto" is the documented rule over the descriptors.
+#include "core/technique_registry.h"
+
 #include <gtest/gtest.h>
 
 #include "core/animation.h"
 #include "core/error.h"
 #include "core/particle_generators.h"
-#include "core/technique_registry.h"
 #include "gl/gpu_timer.h"
 #include "gl/objects.h"
 #include "gl/techniques.h"
@@ -131,11 +132,12 @@ TEST_F(GlTest, declared_bytes_per_pixel_bound_what_each_technique_allocates_per_
                 Scene large = sceneFor(d, t, 128, 96);
                 small.render.culling.enabled = large.render.culling.enabled = d.name == "rasterized";
                 const double extraPixels = 128.0 * 96.0 - 64.0 * 48.0;
-                const double measured =
-                    (double(renderOnce(d, large, data, kind).allocated) - double(renderOnce(d, small, data, kind).allocated)) /
-                    extraPixels;
+                const double measured = (double(renderOnce(d, large, data, kind).allocated) -
+                                         double(renderOnce(d, small, data, kind).allocated)) /
+                                        extraPixels;
                 const PixelBuffers declared = d.pixelBuffersFor(small, kind);
-                EXPECT_LE(measured, double(declared.bytes)) << "declared " << declared.bytes << " (" << declared.what << ")";
+                EXPECT_LE(measured, double(declared.bytes))
+                    << "declared " << declared.bytes << " (" << declared.what << ")";
                 if (d.backend == TechniqueBackend::Cpu) {
                     EXPECT_EQ(declared.bytes, 0u);
                 }
@@ -176,8 +178,9 @@ TEST(TechniqueRegistry, combinations_a_technique_does_not_take_name_the_key) {
     s.file = "scene.json";
     s.render.technique = RenderTechnique::Spheres;
     s.render.transparency = Transparency::KBuffer;
-    EXPECT_EQ(errorOf([&] { registry().validate(s, DataKind::Particles); }),
-              "scene.json: render.transparency: technique \"spheres\" takes \"opaque\" or \"object_order\", got \"kbuffer\"");
+    EXPECT_EQ(
+        errorOf([&] { registry().validate(s, DataKind::Particles); }),
+        "scene.json: render.transparency: technique \"spheres\" takes \"opaque\" or \"object_order\", got \"kbuffer\"");
     s.render.technique = RenderTechnique::Rasterized;
     s.render.transparency = Transparency::Opaque;
     EXPECT_EQ(errorOf([&] { registry().validate(s, DataKind::Particles); }),
@@ -193,9 +196,10 @@ TEST(TechniqueRegistry, combinations_a_technique_does_not_take_name_the_key) {
               "scene.json: render.ao: not available with render.transparency \"opacity_optimization\"");
     s.render.technique = RenderTechnique::Raytraced;
     s.render.ao.enabled = false;
-    EXPECT_EQ(errorOf([&] { registry().validateWithoutData(s); }),
-              "scene.json: render.transparency: technique \"raytraced\" takes \"opaque\", \"object_order\", \"kbuffer\" "
-              "or \"depth_peeling\", got \"opacity_optimization\"");
+    EXPECT_EQ(
+        errorOf([&] { registry().validateWithoutData(s); }),
+        "scene.json: render.transparency: technique \"raytraced\" takes \"opaque\", \"object_order\", \"kbuffer\" "
+        "or \"depth_peeling\", got \"opacity_optimization\"");
 }
 
 TEST(TechniqueRegistry, auto_prefers_the_cpu_on_a_software_rasterizer_and_says_why) {

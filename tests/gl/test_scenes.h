@@ -4,9 +4,8 @@
 // radius and colour. Deterministic across compilers: only std::mt19937's raw output is used (the
 // standard fixes it; std::uniform_*_distribution is implementation-defined).
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/styled_lines.h"
 
@@ -26,7 +25,7 @@ StyledLines makeStyledLines(const std::vector<TestPolyline>& polylines);
 struct RandomSceneOptions {
     int polylines = 4;
     int minSegments = 1, maxSegments = 10;  // per polyline, uniform
-    float radiusMin = 0.02f;                 // per-vertex radius = radiusMin * radiusRatio^u, u in [0,1)
+    float radiusMin = 0.02f;                // per-vertex radius = radiusMin * radiusRatio^u, u in [0,1)
     float radiusRatio = 10.0f;
     float stepMin = 0.15f, stepMax = 0.45f;  // segment length
     float maxBendDeg = 80.0f;                // angle between consecutive segment directions

@@ -8,6 +8,8 @@
 //   tests/unit/tiling_test.cpp (0.13 per pixel, 0.04 mean);
 // - depth, normal and id of an anti-aliased frame are those of its sample nearest the centre:
 //   exactly a single-sample frame at that sub-pixel position, never a blend of surfaces.
+#include "core/tiling.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,11 +18,10 @@
 #include <string>
 
 #include "core/scene.h"
-#include "core/tiling.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
 #include "core/tiled_technique.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -47,8 +48,8 @@ struct Rendered {
 // sample: the technique itself, the untiled path).
 Rendered render(const Scene& scene, const StyledLines& lines, const Camera& cam, int nx, int ny, int samples) {
     const int w = scene.image.width, h = scene.image.height;
-    auto technique = wrapInTiles(gl::createTechnique(scene, lines), planTiles(w, h, nx, ny, 0, 0, ""), samples,
-                                     KeptAovs{});
+    auto technique =
+        wrapInTiles(gl::createTechnique(scene, lines), planTiles(w, h, nx, ny, 0, 0, ""), samples, KeptAovs{});
     Rendered r;
     gl::StageTimer timer;
     technique->render(tc::FrameSetup{0, cam, w, h}, r.images, timer);
@@ -147,7 +148,8 @@ TEST_F(GlTest, tiled_depth_peeling_and_object_order_equal_untiled) {
     Scene peel = smallScene(RenderTechnique::Rasterized, Transparency::DepthPeeling);
     peel.render.culling.enabled = false;
     expectTiledEqualsUntiled(peel, denseTubes(0.5f), false);
-    expectTiledEqualsUntiled(smallScene(RenderTechnique::Rasterized, Transparency::ObjectOrder), denseTubes(0.7f), true);
+    expectTiledEqualsUntiled(smallScene(RenderTechnique::Rasterized, Transparency::ObjectOrder), denseTubes(0.7f),
+                             true);
 }
 
 TEST_F(GlTest, tiled_spheres_and_voxel_raycast_equal_untiled) {
@@ -236,8 +238,8 @@ TEST_F(GlTest, sixteen_samples_give_tilted_edge_pixels_their_analytic_coverage) 
             // Alpha is a whole number of 16ths: the fraction of samples that hit.
             EXPECT_EQ(alpha * 16.0f, std::round(alpha * 16.0f));
         }
-    std::printf("[ measured ] 16 samples on %zu edge pixels: max |alpha - coverage| %.4f, mean %.4f\n", partial,
-                worst, partial ? sum / double(partial) : 0.0);
+    std::printf("[ measured ] 16 samples on %zu edge pixels: max |alpha - coverage| %.4f, mean %.4f\n", partial, worst,
+                partial ? sum / double(partial) : 0.0);
     EXPECT_GE(partial, 100u);  // two edges across 64 columns
     EXPECT_LE(sum / double(partial), 0.045);
     EXPECT_EQ(partialOne, 0u);  // one sample per pixel: no intermediate coverage at all

@@ -21,10 +21,10 @@
 #include "core/image_metrics.h"
 #include "core/rounded_cone.h"
 #include "core/scene.h"
-#include "core/transparent_reference.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
+#include "core/transparent_reference.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl/transparent_renderer.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
@@ -100,19 +100,25 @@ GpuFrame renderGpu(const StyledLines& lines, const Camera& cam, int w, int h, co
     return f;
 }
 
-TransparentSettings peeling(bool capClipping = true) { return {Transparency::DepthPeeling, 8, capClipping}; }
-TransparentSettings kbuffer(int k, bool capClipping = true) { return {Transparency::KBuffer, k, capClipping}; }
-TransparentSettings objectOrder(bool capClipping = true) { return {Transparency::ObjectOrder, 8, capClipping}; }
+TransparentSettings peeling(bool capClipping = true) {
+    return {Transparency::DepthPeeling, 8, capClipping};
+}
+TransparentSettings kbuffer(int k, bool capClipping = true) {
+    return {Transparency::KBuffer, k, capClipping};
+}
+TransparentSettings objectOrder(bool capClipping = true) {
+    return {Transparency::ObjectOrder, 8, capClipping};
+}
 
 // --- CPU side: the reference image and what each pixel's fragment list says -------------------
 
 struct CpuFrame {
     int width = 0, height = 0;
-    FrameImages images;             // renderReferenceTransparent
-    std::vector<int> count;         // fragments per pixel (depth complexity)
+    FrameImages images;                      // renderReferenceTransparent
+    std::vector<int> count;                  // fragments per pixel (depth complexity)
     std::vector<std::uint64_t> segmentSet;   // hash of the pixel's sorted segment ids
     std::vector<std::uint64_t> polylineSet;  // hash of the pixel's sorted polyline ids (multiset)
-    std::vector<char> colorTie;     // a depth tie whose order changes the colour
+    std::vector<char> colorTie;              // a depth tie whose order changes the colour
     // Analytic bounds of |k-buffer - exact| for this pixel's fragments when each straight channel
     // is rounded to 8 bits (see kbufferBounds).
     std::vector<double> quantColorBound, quantAlphaBound;
@@ -333,7 +339,8 @@ CpuGpuComparison compareWithCpu(const FrameImages& gpu, const CpuFrame& cpu, con
             c.maxColor = std::max(c.maxColor, dc);
             if (!(dc <= kCpuColorTolerance)) {
                 ++c.colorOver;
-                c.note(x, y, "colour error " + std::to_string(dc) + " (" + std::to_string(cpu.count[i]) + " fragments)");
+                c.note(x, y,
+                       "colour error " + std::to_string(dc) + " (" + std::to_string(cpu.count[i]) + " fragments)");
             }
         }
     return c;
@@ -356,7 +363,7 @@ void expectMatchesCpu(const FrameImages& gpu, const CpuFrame& cpu, const std::st
 }
 
 struct PairStats {
-    double maxColorOver = 0;   // max over pixels of |a - b| / bound (colour); <= 1 passes
+    double maxColorOver = 0;  // max over pixels of |a - b| / bound (colour); <= 1 passes
     double maxAlphaOver = 0;
     double maxColor = 0, maxAlpha = 0;
     std::size_t compared = 0, ties = 0;
@@ -398,7 +405,9 @@ PairStats compareGpuPair(const FrameImages& a, const FrameImages& b, const CpuFr
     return s;
 }
 
-double rmse(const FrameImages& a, const FrameImages& b) { return compareRgba(a.rgba, b.rgba).rmse; }
+double rmse(const FrameImages& a, const FrameImages& b) {
+    return compareRgba(a.rgba, b.rgba).rmse;
+}
 
 // --- Tests -----------------------------------------------------------------------------------
 
@@ -411,8 +420,7 @@ TEST_F(TransparencyTest, depth_peeling_matches_cpu_reference_on_random_scenes) {
         const Camera cam = seed == 3 ? orthographic(eyeFromSeed(seed, 3.0f), {0, 0, 0}, 1.8f)
                                      : lookAt(eyeFromSeed(seed, 2.5f), {0, 0, 0});
         for (bool clip : {true, false}) {
-            const std::string label =
-                "seed " + std::to_string(seed) + (clip ? ", cap clipping" : ", no cap clipping");
+            const std::string label = "seed " + std::to_string(seed) + (clip ? ", cap clipping" : ", no cap clipping");
             SCOPED_TRACE(label);
             const CpuFrame cpu = cpuReference(lines, cam, w, h, clip);
             const GpuFrame gpu = renderGpu(lines, cam, w, h, peeling(clip));
@@ -447,14 +455,14 @@ TEST_F(TransparencyTest, kbuffer_matches_depth_peeling_when_k_exceeds_depth_comp
                 kb.images, peel.images, cpu,
                 [&](int x, int y) { return cpu.neighbourhoodMax(cpu.quantColorBound, x, y) + kFloatSlack; },
                 [&](int x, int y) { return cpu.neighbourhoodMax(cpu.quantAlphaBound, x, y) + kFloatSlack; }, label);
-            std::printf("[ measured ] kbuffer vs peel, %s: max colour %.3g (%.2f of bound), max alpha %.3g (%.2f of "
-                        "bound), colour ties %zu\n",
-                        label.c_str(), s.maxColor, s.maxColorOver, s.maxAlpha, s.maxAlphaOver, s.ties);
+            std::printf(
+                "[ measured ] kbuffer vs peel, %s: max colour %.3g (%.2f of bound), max alpha %.3g (%.2f of "
+                "bound), colour ties %zu\n",
+                label.c_str(), s.maxColor, s.maxColorOver, s.maxAlpha, s.maxAlphaOver, s.ties);
         }
     }
     EXPECT_GE(tested, 4) << "the scenes are too deep for k <= 16";
 }
-
 
 // Measured on the dense scenes: the error of each k against depth peeling, object order last.
 struct DenseErrors {
@@ -467,7 +475,8 @@ struct DenseErrors {
 
 constexpr int kDenseKs[] = {1, 2, 4, 8, 16};
 
-DenseErrors denseErrors(const StyledLines& lines, const Camera& cam, int w, int h, bool clip, const std::string& label) {
+DenseErrors denseErrors(const StyledLines& lines, const Camera& cam, int w, int h, bool clip,
+                        const std::string& label) {
     DenseErrors e;
     e.cpu = cpuReference(lines, cam, w, h, clip);
     e.maxDepthComplexity = e.cpu.maxCount;
@@ -570,8 +579,9 @@ TEST_F(TransparencyTest, alpha_is_order_independent_across_techniques) {
         const CpuFrame cpu = cpuReference(c.lines, c.cam, w, h, c.clip);
         const FrameImages peel = renderGpu(c.lines, c.cam, w, h, peeling(c.clip)).images;
         const auto noColor = [](int, int) { return 1e30; };
-        const PairStats oo = compareGpuPair(renderGpu(c.lines, c.cam, w, h, objectOrder(c.clip)).images, peel, cpu, noColor,
-                                            [](int, int) { return kFloatSlack; }, c.label + ", object order");
+        const PairStats oo = compareGpuPair(
+            renderGpu(c.lines, c.cam, w, h, objectOrder(c.clip)).images, peel, cpu, noColor,
+            [](int, int) { return kFloatSlack; }, c.label + ", object order");
         std::printf("[ measured ] alpha, %s (max depth complexity %d): object order vs peel %.3g", c.label.c_str(),
                     cpu.maxCount, oo.maxAlpha);
         for (int k : {1, 3, 16}) {
@@ -677,7 +687,8 @@ TEST_F(TransparencyTest, transparent_modes_write_first_surface_aovs_only_when_re
         const FrameImages without = renderGpu(lines, cam, w, h, s).images;
         EXPECT_EQ(without.rgba, with.rgba) << int(mode) << ": the G-buffer pass changed the colour";
         EXPECT_TRUE(std::all_of(without.depth.begin(), without.depth.end(), [](float d) { return std::isinf(d); }));
-        EXPECT_TRUE(std::all_of(without.id.begin(), without.id.end(), [](std::uint32_t id) { return id == kBackgroundId; }));
+        EXPECT_TRUE(
+            std::all_of(without.id.begin(), without.id.end(), [](std::uint32_t id) { return id == kBackgroundId; }));
     }
 }
 
@@ -696,8 +707,8 @@ TEST_F(TransparencyTest, coincident_fragments_of_duplicated_tubes_are_all_blende
         const CpuFrame cpu = cpuReference(lines, cam, w, h, clip);
         for (const TransparentSettings& s : {peeling(clip), kbuffer(4, clip), objectOrder(clip)}) {
             const std::string label = std::string(s.mode == Transparency::DepthPeeling ? "depth peeling"
-                                                  : s.mode == Transparency::KBuffer   ? "k-buffer"
-                                                                                      : "object order") +
+                                                  : s.mode == Transparency::KBuffer    ? "k-buffer"
+                                                                                       : "object order") +
                                       (clip ? ", cap clipping" : ", no cap clipping");
             const GpuFrame frame = renderGpu(lines, cam, w, h, s);
             const FrameImages& gpu = frame.images;
@@ -753,8 +764,10 @@ TEST_F(TransparencyTest, cap_clipped_straight_polyline_has_the_alpha_of_one_long
     const StyledLines single = straightTube(0, r), cut = straightTube(12, r);
     ASSERT_EQ(cut.segmentCount(), 13u);
     const int w = 160, h = 56;
-    for (const Camera& cam : {orthographic({0, 0, 3}, {0, 0, 0}, 0.8f), lookAt({0.15f, 0.6f, 2.2f}, {0, 0, 0}, {0, 1, 0}, 30.0f)}) {
-        const std::string view = cam.projection == Projection::Orthographic ? "orthographic side view" : "perspective, oblique";
+    for (const Camera& cam :
+         {orthographic({0, 0, 3}, {0, 0, 0}, 0.8f), lookAt({0.15f, 0.6f, 2.2f}, {0, 0, 0}, {0, 1, 0}, 30.0f)}) {
+        const std::string view =
+            cam.projection == Projection::Orthographic ? "orthographic side view" : "perspective, oblique";
         SCOPED_TRACE(view);
         const FrameImages one = renderGpu(single, cam, w, h, peeling(true)).images;
         const FrameImages clipped = renderGpu(cut, cam, w, h, peeling(true)).images;
@@ -792,9 +805,10 @@ TEST_F(TransparencyTest, cap_clipped_straight_polyline_has_the_alpha_of_one_long
                 beads += bead > 0.1;
             }
         }
-        std::printf("[ measured ] straight tube, %s: %zu px compared (%zu rim px skipped): clipped vs single max |dA| "
-                    "%.3g; unclipped: %zu bead px, max +%.3f\n",
-                    view.c_str(), compared, rims, maxDiff, beads, maxBead);
+        std::printf(
+            "[ measured ] straight tube, %s: %zu px compared (%zu rim px skipped): clipped vs single max |dA| "
+            "%.3g; unclipped: %zu bead px, max +%.3f\n",
+            view.c_str(), compared, rims, maxDiff, beads, maxBead);
         EXPECT_GT(compared, 500u);
         EXPECT_EQ(mismatched, 0u) << "cap-clipped joints differ from one long segment";
         EXPECT_EQ(notA, 0u) << "the cap-clipped tube is not a single layer of alpha " << kTubeAlpha;
@@ -878,10 +892,11 @@ TEST_F(TransparencyTest, cap_clipped_bent_polylines_match_cpu_reference_and_show
                     jointNotA += std::abs(gpuOn.rgba[4 * i + 3] - kTubeAlpha) > 1e-6f;
                 }
             }
-        std::printf("[ measured ] bent polylines, %s: cap clipping: %s, joint px compared %zu of %zu; no cap "
-                    "clipping: %s; joint px single layer %zu (not alpha 0.4: %zu); bead px cpu %zu gpu %zu\n",
-                    label.c_str(), on.summary().c_str(), on.markedCompared, jointTotal, off.summary().c_str(),
-                    jointSingle, jointNotA, beadsCpu, beadsGpu);
+        std::printf(
+            "[ measured ] bent polylines, %s: cap clipping: %s, joint px compared %zu of %zu; no cap "
+            "clipping: %s; joint px single layer %zu (not alpha 0.4: %zu); bead px cpu %zu gpu %zu\n",
+            label.c_str(), on.summary().c_str(), on.markedCompared, jointTotal, off.summary().c_str(), jointSingle,
+            jointNotA, beadsCpu, beadsGpu);
         for (const CpuGpuComparison* c : {&on, &off}) {
             EXPECT_EQ(c->coverageOffEdge, 0u) << c->summary() << "\n" << c->problems;
             EXPECT_EQ(c->alphaOver, 0u) << c->summary() << "\n" << c->problems;

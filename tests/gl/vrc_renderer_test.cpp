@@ -9,6 +9,8 @@
 //     per-ray order of the tubes is the same in both).
 // Pixels on silhouettes (3x3 neighbourhood with a different coverage / fragment set) are excluded:
 // one ray more or less through a rim is float noise, not method.
+#include "gl/vrc_renderer.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,11 +24,10 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/scene.h"
-#include "core/vrc_model.h"
-#include "gl/techniques.h"
-#include "gl/gpu_timer.h"
 #include "core/technique.h"
-#include "gl/vrc_renderer.h"
+#include "core/vrc_model.h"
+#include "gl/gpu_timer.h"
+#include "gl/techniques.h"
 #include "gl_fixture.h"
 #include "test_scenes.h"
 
@@ -127,47 +128,47 @@ TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_
     // Neighbour tests at render time, or copies into the neighbours at build time (the default):
     // both test every piece whose tube reaches into the voxel.
     for (bool neighbors : {true, false}) {
-    SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-    const FrameImages vrc = render(vrcScene(w, h, false, 0, neighbors), lines, cam);
-    ASSERT_EQ(vrc.depth.size(), ref.depth.size());
-    auto refId = [&](int x, int y) { return ref.id[std::size_t(y) * w + x]; };
-    std::size_t compared = 0, coverageOff = 0, idOff = 0, depthOff = 0, colorOff = 0;
-    double worstDepth = 0, worstColor = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (onEdge(w, h, x, y, refId)) continue;
-            const std::size_t i = std::size_t(y) * w + x;
-            const bool rh = ref.id[i] != kBackgroundId, vh = vrc.id[i] != kBackgroundId;
-            if (rh != vh) {
-                ++coverageOff;
-                continue;
+        SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+        const FrameImages vrc = render(vrcScene(w, h, false, 0, neighbors), lines, cam);
+        ASSERT_EQ(vrc.depth.size(), ref.depth.size());
+        auto refId = [&](int x, int y) { return ref.id[std::size_t(y) * w + x]; };
+        std::size_t compared = 0, coverageOff = 0, idOff = 0, depthOff = 0, colorOff = 0;
+        double worstDepth = 0, worstColor = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (onEdge(w, h, x, y, refId)) continue;
+                const std::size_t i = std::size_t(y) * w + x;
+                const bool rh = ref.id[i] != kBackgroundId, vh = vrc.id[i] != kBackgroundId;
+                if (rh != vh) {
+                    ++coverageOff;
+                    continue;
+                }
+                if (!rh) {
+                    EXPECT_TRUE(std::isinf(vrc.depth[i]));
+                    continue;
+                }
+                ++compared;
+                idOff += ref.id[i] != vrc.id[i];
+                // Same intersector on collinear sub-cones: float noise of t0 only (see
+                // rounded_cone_renderer_test.cpp, 1e-5 there); 1e-4 relative still catches a wrong
+                // piece or surface (>= 1e-2 here).
+                const double dd = std::abs(double(ref.depth[i]) - vrc.depth[i]) / ref.depth[i];
+                worstDepth = std::max(worstDepth, dd);
+                depthOff += dd > 1e-4;
+                // The rasterized G-buffer stores albedo in RGBA16F (<= 4.9e-4 relative).
+                for (int c = 0; c < 4; ++c) {
+                    const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                    worstColor = std::max(worstColor, dc);
+                    colorOff += dc > 2e-3;
+                }
             }
-            if (!rh) {
-                EXPECT_TRUE(std::isinf(vrc.depth[i]));
-                continue;
-            }
-            ++compared;
-            idOff += ref.id[i] != vrc.id[i];
-            // Same intersector on collinear sub-cones: float noise of t0 only (see
-            // rounded_cone_renderer_test.cpp, 1e-5 there); 1e-4 relative still catches a wrong
-            // piece or surface (>= 1e-2 here).
-            const double dd = std::abs(double(ref.depth[i]) - vrc.depth[i]) / ref.depth[i];
-            worstDepth = std::max(worstDepth, dd);
-            depthOff += dd > 1e-4;
-            // The rasterized G-buffer stores albedo in RGBA16F (<= 4.9e-4 relative).
-            for (int c = 0; c < 4; ++c) {
-                const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
-                worstColor = std::max(worstColor, dc);
-                colorOff += dc > 2e-3;
-            }
-        }
-    std::printf("vrc opaque vs rasterized: %zu px compared, worst depth rel %.3g, worst colour %.3g\n", compared,
-                worstDepth, worstColor);
-    EXPECT_GT(compared, std::size_t(w * h / 10));
-    EXPECT_EQ(coverageOff, 0u);
-    EXPECT_EQ(idOff, 0u);
-    EXPECT_EQ(depthOff, 0u) << "worst " << worstDepth;
-    EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+        std::printf("vrc opaque vs rasterized: %zu px compared, worst depth rel %.3g, worst colour %.3g\n", compared,
+                    worstDepth, worstColor);
+        EXPECT_GT(compared, std::size_t(w * h / 10));
+        EXPECT_EQ(coverageOff, 0u);
+        EXPECT_EQ(idOff, 0u);
+        EXPECT_EQ(depthOff, 0u) << "worst " << worstDepth;
+        EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
     }
 }
 
@@ -206,41 +207,42 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
     peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
     const FrameImages ref = render(peel, lines, cam);
     for (bool neighbors : {true, false}) {
-    SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-    const FrameImages vrc = render(vrcScene(w, h, true, 0, neighbors), lines, cam);
-    ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
-    // Alpha is piecewise constant (1 - 0.6^layers): an edge is where it changes.
-    auto layers = [&](int x, int y) { return int(std::lround(ref.rgba[4 * (std::size_t(y) * w + x) + 3] * 1000)); };
-    std::size_t compared = 0, multi = 0, alphaOff = 0, colorOff = 0;
-    double worstAlpha = 0, worstColor = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (onEdge(w, h, x, y, layers)) continue;
-            const std::size_t i = std::size_t(y) * w + x;
-            ++compared;
-            multi += ref.rgba[4 * i + 3] > 0.5f;  // two or more tubes
-            // Alpha: 1 - prod(1 - a) over the same fragments in fp32 (1e-5: a few ulps).
-            const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
-            worstAlpha = std::max(worstAlpha, da);
-            alphaOff += da > 1e-5;
-            // Colour: same intersector, shading and clamp, same order; differences are float noise
-            // of the hit point on a different (collinear) piece, amplified by the specular power
-            // (measured worst 4.4e-5). 2e-4 still catches a hit on the wrong surface (a joint cap
-            // inside the tube instead of the tangent cone: 2e-3..7e-3 on the tapered tube).
-            for (int c = 0; c < 3; ++c) {
-                const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
-                worstColor = std::max(worstColor, dc);
-                if (dc > 2e-4 && colorOff++ < 4)
-                    std::printf("  (%d,%d) c%d peel %.5f vrc %.5f alpha %.3f\n", x, y, c, ref.rgba[4 * i + c],
-                                vrc.rgba[4 * i + c], ref.rgba[4 * i + 3]);
+        SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+        const FrameImages vrc = render(vrcScene(w, h, true, 0, neighbors), lines, cam);
+        ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
+        // Alpha is piecewise constant (1 - 0.6^layers): an edge is where it changes.
+        auto layers = [&](int x, int y) { return int(std::lround(ref.rgba[4 * (std::size_t(y) * w + x) + 3] * 1000)); };
+        std::size_t compared = 0, multi = 0, alphaOff = 0, colorOff = 0;
+        double worstAlpha = 0, worstColor = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (onEdge(w, h, x, y, layers)) continue;
+                const std::size_t i = std::size_t(y) * w + x;
+                ++compared;
+                multi += ref.rgba[4 * i + 3] > 0.5f;  // two or more tubes
+                // Alpha: 1 - prod(1 - a) over the same fragments in fp32 (1e-5: a few ulps).
+                const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
+                worstAlpha = std::max(worstAlpha, da);
+                alphaOff += da > 1e-5;
+                // Colour: same intersector, shading and clamp, same order; differences are float noise
+                // of the hit point on a different (collinear) piece, amplified by the specular power
+                // (measured worst 4.4e-5). 2e-4 still catches a hit on the wrong surface (a joint cap
+                // inside the tube instead of the tangent cone: 2e-3..7e-3 on the tapered tube).
+                for (int c = 0; c < 3; ++c) {
+                    const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                    worstColor = std::max(worstColor, dc);
+                    if (dc > 2e-4 && colorOff++ < 4)
+                        std::printf("  (%d,%d) c%d peel %.5f vrc %.5f alpha %.3f\n", x, y, c, ref.rgba[4 * i + c],
+                                    vrc.rgba[4 * i + c], ref.rgba[4 * i + 3]);
+                }
             }
-        }
-    std::printf("vrc transparent vs depth peeling: %zu px compared (%zu with 2+ tubes), worst alpha %.3g, worst "
-                "colour %.3g\n",
-                compared, multi, worstAlpha, worstColor);
-    EXPECT_GT(multi, 20u);
-    EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
-    EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+        std::printf(
+            "vrc transparent vs depth peeling: %zu px compared (%zu with 2+ tubes), worst alpha %.3g, worst "
+            "colour %.3g\n",
+            compared, multi, worstAlpha, worstColor);
+        EXPECT_GT(multi, 20u);
+        EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
+        EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
     }
 }
 
@@ -265,56 +267,57 @@ TEST_F(GlTest, vrc_path_length_opacity_follows_the_chord_through_a_tube_seen_sid
     cam.orthoHeight = 0.26f;  // 4 mm pixels: 40 pixels across the tube
     const float pixel = cam.orthoHeight / float(h);
     for (bool neighbors : {true, false}) {
-    SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-    Scene scene = vrcScene(w, h, true, 0, neighbors);
-    scene.render.vrc.resolution = 12;
-    const FrameImages styleAlpha = render(scene, lines, cam);
-    scene.render.vrc.pathLengthOpacity = true;
-    const std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
-    EXPECT_EQ(t->describe().value("path_length_opacity", false), true);
-    const FrameImages pathAlpha = render(*t, scene, cam);
-    ASSERT_EQ(pathAlpha.rgba.size(), styleAlpha.rgba.size());
-    std::size_t covered = 0, checked = 0, offProfile = 0, offStyle = 0, offColour = 0;
-    double worst = 0, centre = -1;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            const Ray ray = pixelRay(cam, w, h, float(x), float(y));
-            // The axis is the x axis and the rays are parallel to z.
-            const double d = std::abs(double(ray.origin.y));
-            const float on = pathAlpha.rgba[4 * i + 3], off = styleAlpha.rgba[4 * i + 3];
-            EXPECT_EQ(on > 0.0f, off > 0.0f) << "coverage differs at " << x << "," << y;
-            if (d < r - 0.5 * pixel) {
-                EXPECT_GT(off, 0.0f) << x << "," << y;
+        SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+        Scene scene = vrcScene(w, h, true, 0, neighbors);
+        scene.render.vrc.resolution = 12;
+        const FrameImages styleAlpha = render(scene, lines, cam);
+        scene.render.vrc.pathLengthOpacity = true;
+        const std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
+        EXPECT_EQ(t->describe().value("path_length_opacity", false), true);
+        const FrameImages pathAlpha = render(*t, scene, cam);
+        ASSERT_EQ(pathAlpha.rgba.size(), styleAlpha.rgba.size());
+        std::size_t covered = 0, checked = 0, offProfile = 0, offStyle = 0, offColour = 0;
+        double worst = 0, centre = -1;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                const Ray ray = pixelRay(cam, w, h, float(x), float(y));
+                // The axis is the x axis and the rays are parallel to z.
+                const double d = std::abs(double(ray.origin.y));
+                const float on = pathAlpha.rgba[4 * i + 3], off = styleAlpha.rgba[4 * i + 3];
+                EXPECT_EQ(on > 0.0f, off > 0.0f) << "coverage differs at " << x << "," << y;
+                if (d < r - 0.5 * pixel) {
+                    EXPECT_GT(off, 0.0f) << x << "," << y;
+                }
+                if (off <= 0.0f) continue;
+                ++covered;
+                offStyle += std::abs(off - a) > 1e-6f;  // key false: every covered pixel has the style alpha
+                // Premultiplied colour: the same shaded colour, scaled by the alpha it was blended with.
+                for (int c = 0; c < 3; ++c)
+                    offColour += std::abs(pathAlpha.rgba[4 * i + c] - styleAlpha.rgba[4 * i + c] * (on / off)) > 1e-5f;
+                EXPECT_LE(on, a + 1e-6f) << x << "," << y;
+                // Pixel-edge margin: half a pixel from the silhouette the chord's slope in d is
+                // unbounded and the intersector's float error is magnified; those rims are only bounded.
+                if (d > r - 0.5 * pixel) continue;
+                const double chord = 2.0 * std::sqrt(double(r) * r - d * d);
+                const double expected = 1.0 - std::pow(1.0 - a, chord / (2.0 * r));
+                const double err = std::abs(on - expected);
+                worst = std::max(worst, err);
+                // Float noise of the intersector's t is ~1e-6 of alpha (measured worst 7.5e-7); a chord
+                // 1 % off moves alpha by ~3e-3 at d = 0.7 r.
+                offProfile += err > 1e-4;
+                ++checked;
+                if (y == h / 2 && x == w / 2) centre = on;
             }
-            if (off <= 0.0f) continue;
-            ++covered;
-            offStyle += std::abs(off - a) > 1e-6f;  // key false: every covered pixel has the style alpha
-            // Premultiplied colour: the same shaded colour, scaled by the alpha it was blended with.
-            for (int c = 0; c < 3; ++c)
-                offColour += std::abs(pathAlpha.rgba[4 * i + c] - styleAlpha.rgba[4 * i + c] * (on / off)) > 1e-5f;
-            EXPECT_LE(on, a + 1e-6f) << x << "," << y;
-            // Pixel-edge margin: half a pixel from the silhouette the chord's slope in d is
-            // unbounded and the intersector's float error is magnified; those rims are only bounded.
-            if (d > r - 0.5 * pixel) continue;
-            const double chord = 2.0 * std::sqrt(double(r) * r - d * d);
-            const double expected = 1.0 - std::pow(1.0 - a, chord / (2.0 * r));
-            const double err = std::abs(on - expected);
-            worst = std::max(worst, err);
-            // Float noise of the intersector's t is ~1e-6 of alpha (measured worst 7.5e-7); a chord
-            // 1 % off moves alpha by ~3e-3 at d = 0.7 r.
-            offProfile += err > 1e-4;
-            ++checked;
-            if (y == h / 2 && x == w / 2) centre = on;
-        }
-    std::printf("vrc path-length opacity: %zu px covered, %zu on the profile, worst |alpha - analytic| %.3g, "
-                "centre alpha %.6f\n",
-                covered, checked, worst, centre);
-    EXPECT_GT(checked, std::size_t(w * 36));  // ~39 rows of the tube's 40
-    EXPECT_EQ(offProfile, 0u) << "worst " << worst;
-    EXPECT_NEAR(centre, a, 1e-5);
-    EXPECT_EQ(offStyle, 0u);
-    EXPECT_EQ(offColour, 0u);
+        std::printf(
+            "vrc path-length opacity: %zu px covered, %zu on the profile, worst |alpha - analytic| %.3g, "
+            "centre alpha %.6f\n",
+            covered, checked, worst, centre);
+        EXPECT_GT(checked, std::size_t(w * 36));  // ~39 rows of the tube's 40
+        EXPECT_EQ(offProfile, 0u) << "worst " << worst;
+        EXPECT_NEAR(centre, a, 1e-5);
+        EXPECT_EQ(offStyle, 0u);
+        EXPECT_EQ(offColour, 0u);
     }
 }
 
@@ -363,14 +366,16 @@ TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_
     // lies in the right one's shadow; the right one has nothing toward the light.
     const int w = 96, h = 64;
     const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
-    const StyledLines lines = makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
-                                               {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
+    const StyledLines lines =
+        makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
+                         {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
     Camera cam;
     cam.eye = {0.0f, 0.0f, 2.0f};
     cam.projection = Projection::Orthographic;
     cam.orthoHeight = 1.0f;
     Scene scene = vrcScene(w, h, false, 32, true);
-    scene.lighting.direction = {1.0f, 0.0f, 0.0f};  // horizontal: cones from the visible upper halves cross the other tube
+    scene.lighting.direction = {1.0f, 0.0f,
+                                0.0f};  // horizontal: cones from the visible upper halves cross the other tube
     scene.render.ao.resolution = 48;
     scene.render.ao.distance = 0.5f;
     const FrameImages lit = render(scene, lines, cam);
@@ -398,8 +403,9 @@ TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind
     // and specular light; the right tube has nothing toward the light.
     const int w = 96, h = 64;
     const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
-    const StyledLines lines = makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
-                                               {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
+    const StyledLines lines =
+        makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
+                         {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
     Camera cam;
     cam.eye = {0.0f, 0.0f, 2.0f};
     cam.projection = Projection::Orthographic;
@@ -444,8 +450,8 @@ TEST_F(GlTest, vrc_piece_array_split_over_several_storage_blocks_renders_the_sin
             const std::unique_ptr<gl::VrcRenderer> one = gl::VrcRenderer::create(scene, lines, model);
             // The smallest power-of-two block that fits the model in kMaxPieceBlocks blocks: 5..8
             // blocks, the last one partly filled.
-            const std::size_t perBlock = std::size_t(1)
-                                         << int(std::ceil(std::log2(double(model.pieceCount()) / gl::VrcRenderer::kMaxPieceBlocks)));
+            const std::size_t perBlock = std::size_t(1) << int(std::ceil(
+                                             std::log2(double(model.pieceCount()) / gl::VrcRenderer::kMaxPieceBlocks)));
             ASSERT_GE(perBlock, 16u);
             const std::unique_ptr<gl::VrcRenderer> split =
                 gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece());
@@ -503,7 +509,8 @@ TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
             EXPECT_EQ(gpu.pieceVoxel, cpu.pieceVoxel) << "q=" << q;
             std::size_t headerDiffs = 0, pieceDiffs = 0;
             for (std::size_t v = 0; v < cpu.voxels.size(); ++v)
-                headerDiffs += gpu.voxels[v].offset != cpu.voxels[v].offset || gpu.voxels[v].count != cpu.voxels[v].count;
+                headerDiffs +=
+                    gpu.voxels[v].offset != cpu.voxels[v].offset || gpu.voxels[v].count != cpu.voxels[v].count;
             for (std::size_t i = 0; i < cpu.pieceCount(); ++i) {
                 const bool same = q > 0 ? std::memcmp(&gpu.compact[i], &cpu.compact[i], sizeof(VrcCompactPiece)) == 0
                                         : std::memcmp(&gpu.exact[i], &cpu.exact[i], sizeof(VrcExactPiece)) == 0;

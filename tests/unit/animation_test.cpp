@@ -1,13 +1,14 @@
 // Cameras per frame (core/animation.h, core/camera.h): --frames lists, orbits, keyframe paths,
 // fitting to the data, and the camera basis and rays the GPU shaders mirror.
+#include "core/animation.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
+#include <glm/gtc/constants.hpp>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <glm/gtc/constants.hpp>
-
-#include "core/animation.h"
 #include "core/camera.h"
 #include "core/error.h"
 

@@ -1,5 +1,7 @@
 // Billboards must contain every projected surface point of their rounded cone, be tight, and
 // degrade to a valid (full-screen or containing) quad without NaN in degenerate views.
+#include "core/billboard.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,19 +9,23 @@
 #include <random>
 #include <vector>
 
-#include "core/billboard.h"
-
 namespace tc {
 namespace {
 
 constexpr float kAspect = 1.5f;
 
-glm::mat4 viewProjOf(const Camera& cam) { return projectionMatrix(cam, kAspect, 0.01f, 100.0f) * cam.worldToCamera(); }
+glm::mat4 viewProjOf(const Camera& cam) {
+    return projectionMatrix(cam, kAspect, 0.01f, 100.0f) * cam.worldToCamera();
+}
 
-float cross2(glm::vec2 a, glm::vec2 b) { return a.x * b.y - a.y * b.x; }
+float cross2(glm::vec2 a, glm::vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
 
 // Strip order 0,1,2,3 is polygon order 0,1,3,2.
-std::array<glm::vec2, 4> polygon(const Billboard& b) { return {b.ndc[0], b.ndc[1], b.ndc[3], b.ndc[2]}; }
+std::array<glm::vec2, 4> polygon(const Billboard& b) {
+    return {b.ndc[0], b.ndc[1], b.ndc[3], b.ndc[2]};
+}
 
 float polygonArea(const std::vector<glm::vec2>& p) {
     float a = 0;
@@ -121,9 +127,8 @@ void checkContainment(const RoundedCone& c, const Camera& cam, std::mt19937& rng
         glm::vec4 clip = vp * glm::vec4(p, 1.0f);
         glm::vec2 ndc = glm::vec2(clip) / clip.w;
         projected.push_back(ndc);
-        ASSERT_TRUE(insideQuad(b, ndc, eps)) << "sample " << ndc.x << "," << ndc.y << " outside quad ("
-                                              << b.ndc[0].x << "," << b.ndc[0].y << ") (" << b.ndc[3].x << ","
-                                              << b.ndc[3].y << ")";
+        ASSERT_TRUE(insideQuad(b, ndc, eps)) << "sample " << ndc.x << "," << ndc.y << " outside quad (" << b.ndc[0].x
+                                             << "," << b.ndc[0].y << ") (" << b.ndc[3].x << "," << b.ndc[3].y << ")";
     }
     ++st.quads;
     auto corners = polygon(b);
@@ -171,7 +176,8 @@ TEST(Billboard, contains_all_projected_surface_points_perspective) {
     std::mt19937 rng(1);
     Stats st;
     for (int i = 0; i < 500; ++i) checkContainment(randomCone(rng), randomCamera(rng, false), rng, st, true);
-    std::printf("perspective: %d quads, mean area ratio %.3f, max %.3f\n", st.quads, st.ratioSum / st.quads, st.ratioMax);
+    std::printf("perspective: %d quads, mean area ratio %.3f, max %.3f\n", st.quads, st.ratioSum / st.quads,
+                st.ratioMax);
     EXPECT_EQ(st.quads, 500);
     EXPECT_LT(st.ratioSum / st.quads, kMeanRatioBound);
     EXPECT_LT(st.ratioMax, kMaxRatioBound);
@@ -181,7 +187,8 @@ TEST(Billboard, contains_all_projected_surface_points_orthographic) {
     std::mt19937 rng(2);
     Stats st;
     for (int i = 0; i < 500; ++i) checkContainment(randomCone(rng), randomCamera(rng, true), rng, st, true);
-    std::printf("orthographic: %d quads, mean area ratio %.3f, max %.3f\n", st.quads, st.ratioSum / st.quads, st.ratioMax);
+    std::printf("orthographic: %d quads, mean area ratio %.3f, max %.3f\n", st.quads, st.ratioSum / st.quads,
+                st.ratioMax);
     EXPECT_EQ(st.quads, 500);
     EXPECT_LT(st.ratioSum / st.quads, kMeanRatioBound);
     EXPECT_LT(st.ratioMax, kMaxRatioBound);

@@ -3,13 +3,14 @@
 // (merged exact intervals), and a straight polyline cut into many segments must composite exactly
 // like one long segment. Every test also runs with clipping off and checks that the joints then DO
 // show doubled entries, so none can pass vacuously.
+#include "core/cap_clipping.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "core/cap_clipping.h"
 #include "core/rounded_cone.h"
 #include "core/transparent_reference.h"
 
@@ -94,8 +95,8 @@ int unionEntries(const StyledLines& lines, const Ray& ray) {
 }
 
 struct CountComparison {
-    int covered = 0;    // pixels whose ray enters the union
-    int mismatch = 0;   // fragment count != union entries
+    int covered = 0;   // pixels whose ray enters the union
+    int mismatch = 0;  // fragment count != union entries
     int maxCount = 0;
 };
 
@@ -139,7 +140,7 @@ TEST(CapClipping, joint_plane_is_the_bisector_and_neighbours_share_it_with_oppos
     EXPECT_FALSE(before.clip0);  // first vertex: full cap
     EXPECT_TRUE(before.clip1);
     EXPECT_TRUE(after.clip0);
-    EXPECT_FALSE(after.clip1);   // last vertex: full cap
+    EXPECT_FALSE(after.clip1);  // last vertex: full cap
     glm::vec3 n = glm::normalize(glm::vec3(1, 1, 0));
     EXPECT_LT(glm::length(glm::vec3(after.p0) - n), 1e-6f);
     EXPECT_EQ(before.p1, -after.p0);  // bit-exact complement: no point is owned twice
@@ -202,7 +203,8 @@ TEST(CapClipping, straight_polyline_of_many_segments_has_the_alpha_of_one_long_s
         float maxDiff = 0.0f;
         for (std::size_t i = 0; i < ref.pixelCount(); ++i) {
             covered += ref.rgba[4 * i + 3] > 0.0f;
-            for (int c = 0; c < 4; ++c) maxDiff = std::max(maxDiff, std::abs(clipped.rgba[4 * i + c] - ref.rgba[4 * i + c]));
+            for (int c = 0; c < 4; ++c)
+                maxDiff = std::max(maxDiff, std::abs(clipped.rgba[4 * i + c] - ref.rgba[4 * i + c]));
             differ += std::abs(unclipped.rgba[4 * i + 3] - ref.rgba[4 * i + 3]) > 0.1f;
             doubled += countCutOff[i] >= 2;
             if (ref.rgba[4 * i + 3] > 0.0f) {

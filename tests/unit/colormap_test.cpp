@@ -1,14 +1,15 @@
 // Colormaps (core/colormap.h) against their published values, colour space interpolation against
 // VTK 9.1's vtkColorTransferFunction, and ParaView preset import/export (io/paraview_preset.h).
+#include "core/colormap.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <string>
 
-#include <gtest/gtest.h>
-
-#include "core/colormap.h"
 #include "core/error.h"
 #include "io/paraview_preset.h"
 #include "test_tmp.h"
@@ -98,9 +99,12 @@ TEST(Colormap, ColourSpacesMatchVtkColorTransferFunction) {
     expectNear(interpolateSrgb(ColorSpace::Lab, a, b, 0.25f), {0.466813f, 0.253075f, 0.595160f}, 2e-5f);
     expectNear(interpolateSrgb(ColorSpace::Lab, a, b, 0.5f), {0.580663f, 0.202499f, 0.443043f}, 2e-5f);
     expectNear(interpolateSrgb(ColorSpace::Lab, a, b, 0.75f), {0.653884f, 0.138599f, 0.296020f}, 2e-5f);
-    expectNear(interpolateSrgb(ColorSpace::Diverging, a, b, 0.25f), glm::vec3(141.096f, 175.602f, 253.773f) / 255.0f, 2e-5f);
-    expectNear(interpolateSrgb(ColorSpace::Diverging, a, b, 0.5f), glm::vec3(220.676f, 220.680f, 220.676f) / 255.0f, 2e-5f);
-    expectNear(interpolateSrgb(ColorSpace::Diverging, a, b, 0.75f), glm::vec3(244.396f, 153.795f, 122.830f) / 255.0f, 2e-5f);
+    expectNear(interpolateSrgb(ColorSpace::Diverging, a, b, 0.25f), glm::vec3(141.096f, 175.602f, 253.773f) / 255.0f,
+               2e-5f);
+    expectNear(interpolateSrgb(ColorSpace::Diverging, a, b, 0.5f), glm::vec3(220.676f, 220.680f, 220.676f) / 255.0f,
+               2e-5f);
+    expectNear(interpolateSrgb(ColorSpace::Diverging, a, b, 0.75f), glm::vec3(244.396f, 153.795f, 122.830f) / 255.0f,
+               2e-5f);
     expectNear(interpolateSrgb(ColorSpace::Hsv, a, b, 0.25f), {0.376427f, 0.174936f, 0.741176f}, 2e-5f);
     expectNear(interpolateSrgb(ColorSpace::Hsv, a, b, 0.5f), {0.631629f, 0.120176f, 0.729412f}, 2e-5f);
     expectNear(interpolateSrgb(ColorSpace::Hsv, a, b, 0.75f), {0.717647f, 0.067093f, 0.507415f}, 2e-5f);
@@ -207,8 +211,7 @@ TEST(ParaViewPreset, WriteThenReadGivesTheSameColormap) {
 }
 
 TEST(ParaViewPreset, LabPresetInterpolatesInLab) {
-    nlohmann::json preset = {{"Name", "lab"}, {"ColorSpace", "Lab"},
-                             {"RGBPoints", {0, 0, 0, 1, 10, 1, 1, 0}}};
+    nlohmann::json preset = {{"Name", "lab"}, {"ColorSpace", "Lab"}, {"RGBPoints", {0, 0, 0, 1, 10, 1, 1, 0}}};
     Colormap m = colormapFromParaViewPreset(preset, "lab.json");
     expectNear(m.sampleSrgb(0.5f), interpolateSrgb(ColorSpace::Lab, {0, 0, 1}, {1, 1, 0}, 0.5f), 0);
     EXPECT_GT(glm::length(m.sampleSrgb(0.5f) - glm::vec3(0.5f)), 0.1f);
@@ -250,7 +253,8 @@ TEST(ParaViewPreset, SyntaxErrorsGiveLineAndColumn) {
     std::ofstream(d / "bad.json") << "[\n  {\"RGBPoints\": [0, 0, 0, 0 1, 1, 1, 1]}\n]\n";
     std::string e = errorOf([&] { readParaViewPreset((d / "bad.json").string()); });
     EXPECT_NE(e.find("bad.json:2:29: invalid JSON"), std::string::npos) << e;
-    EXPECT_EQ(errorOf([&] { readParaViewPreset((d / "none.json").string()); }), (d / "none.json").string() + ": no such file");
+    EXPECT_EQ(errorOf([&] { readParaViewPreset((d / "none.json").string()); }),
+              (d / "none.json").string() + ": no such file");
 }
 
 TEST(ParaViewPreset, StylePresetsAreLoadedAndErrorsNameTheSceneKey) {

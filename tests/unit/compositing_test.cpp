@@ -1,8 +1,9 @@
 // Compositing (core/compositing.h): the background goes under the premultiplied image.
+#include "core/compositing.h"
+
 #include <gtest/gtest.h>
 
 #include "core/color.h"
-#include "core/compositing.h"
 
 namespace tc {
 namespace {

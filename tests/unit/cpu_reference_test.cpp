@@ -1,17 +1,19 @@
 // The CPU reference against analytic images: depth profile and normals of a cylinder seen
 // orthographically, ids, background, nearest-wins and tie order.
+#include "core/cpu_reference.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/cpu_reference.h"
 #include "core/shading.h"
 
 namespace tc {
 namespace {
 
-StyledLines makeLines(const std::vector<std::pair<glm::vec4, glm::vec4>>& segments, const std::vector<std::uint32_t>& ids,
-                      glm::vec4 color0 = {0.8f, 0.4f, 0.2f, 1.0f}, glm::vec4 color1 = {0.8f, 0.4f, 0.2f, 1.0f}) {
+StyledLines makeLines(const std::vector<std::pair<glm::vec4, glm::vec4>>& segments,
+                      const std::vector<std::uint32_t>& ids, glm::vec4 color0 = {0.8f, 0.4f, 0.2f, 1.0f},
+                      glm::vec4 color1 = {0.8f, 0.4f, 0.2f, 1.0f}) {
     StyledLines l;
     for (std::size_t s = 0; s < segments.size(); ++s) {
         l.positionRadius.push_back(segments[s].first);
@@ -66,7 +68,8 @@ TEST(CpuReference, orthographic_cylinder_has_analytic_depth_profile_and_normals)
             EXPECT_LT(glm::length(n - expected), 1e-3f) << px << "," << py;
             EXPECT_EQ(img.id[i], 7u);
             EXPECT_EQ(img.rgba[4 * i + 3], 1.0f);
-            glm::vec3 shaded = shadeBlinnPhong({0.8f, 0.4f, 0.2f}, expected, {0, 0, -1}, lightDirectionWorld(light, cam), light);
+            glm::vec3 shaded =
+                shadeBlinnPhong({0.8f, 0.4f, 0.2f}, expected, {0, 0, -1}, lightDirectionWorld(light, cam), light);
             EXPECT_NEAR(img.rgba[4 * i + 0], shaded.x, 2e-3f);
             EXPECT_NEAR(img.rgba[4 * i + 1], shaded.y, 2e-3f);
             EXPECT_NEAR(img.rgba[4 * i + 2], shaded.z, 2e-3f);

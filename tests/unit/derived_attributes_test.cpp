@@ -1,12 +1,13 @@
 // Derived attributes (core/derived_attributes.h) against analytic values.
+#include "core/derived_attributes.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "core/derived_attributes.h"
 #include "core/error.h"
 
 namespace tc {
@@ -104,7 +105,8 @@ TEST(DerivedAttributes, LocalDensityCountsDistinctLinesPerVoxel) {
         for (int i = 0; i <= 10; ++i) p.push_back(glm::mix(from, to, float(i) / 10.0f));
         return p;
     };
-    for (int k = 0; k < 5; ++k) addPolyline(lines, straight({0.01f, 0.19f + 1e-3f * k, 0}, {0.99f, 0.19f + 1e-3f * k, 0}));
+    for (int k = 0; k < 5; ++k)
+        addPolyline(lines, straight({0.01f, 0.19f + 1e-3f * k, 0}, {0.99f, 0.19f + 1e-3f * k, 0}));
     addPolyline(lines, straight({0.01f, 0.8f, 0}, {0.99f, 0.8f, 0}));
     addPolyline(lines, straight({0.5f, 0.0f, 0}, {0.5f, 1.0f, 0}));  // sets the bounds to [0, 1] in y
     // A zigzag inside one voxel near the corner counts once there.
@@ -116,11 +118,11 @@ TEST(DerivedAttributes, LocalDensityCountsDistinctLinesPerVoxel) {
         EXPECT_EQ(at(p, 0), 5.0f) << "bundle line " << p;
         EXPECT_EQ(at(p, 3), 5.0f) << "bundle line " << p;
     }
-    EXPECT_EQ(at(5, 0), 1.0f);   // the lone line
-    EXPECT_EQ(at(6, 0), 1.0f);   // the crossing line, away from the others
-    EXPECT_EQ(at(6, 2), 6.0f);   // (0.5, 0.2): the bundle's voxel plus itself
-    EXPECT_EQ(at(6, 8), 2.0f);   // (0.5, 0.8): the lone line's voxel plus itself
-    EXPECT_EQ(at(7, 2), 1.0f);   // the zigzag
+    EXPECT_EQ(at(5, 0), 1.0f);  // the lone line
+    EXPECT_EQ(at(6, 0), 1.0f);  // the crossing line, away from the others
+    EXPECT_EQ(at(6, 2), 6.0f);  // (0.5, 0.2): the bundle's voxel plus itself
+    EXPECT_EQ(at(6, 8), 2.0f);  // (0.5, 0.8): the lone line's voxel plus itself
+    EXPECT_EQ(at(7, 2), 1.0f);  // the zigzag
 }
 
 TEST(DerivedAttributes, SpeedComesFromVelocityComponents) {

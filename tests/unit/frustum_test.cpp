@@ -1,13 +1,14 @@
 // core/frustum.h: a sphere the view frustum excludes is met by no pixel ray of the image (pixel
 // centres and the corners of every pixel, i.e. any jitter), for perspective and orthographic
 // cameras; and the test is not vacuous: most spheres scattered around the camera are excluded.
+#include "core/frustum.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "core/camera.h"
-#include "core/frustum.h"
 
 namespace tc::test {
 namespace {

@@ -1,16 +1,16 @@
 // Built-in generators (core/generators.h): the tornado streamlines are deterministic, in the
 // unit cube and evenly spaced; the benchmark stand-ins (propeller, brain, convection, turbulence)
 // are deterministic, have the documented sizes, stay in their domains and follow their fields.
+#include "core/generators.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 
-#include <tbb/global_control.h>
-
-#include <gtest/gtest.h>
-
-#include "core/generators.h"
 #include "core/scene.h"
 
 namespace tc {
@@ -258,7 +258,8 @@ TEST(Generators, StandInsStayInTheirDocumentedDomains) {
     {
         LineSet set = generateTurbulence(300, 200, 1);
         for (const glm::vec3& p : set.positions)
-            ASSERT_TRUE(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1 && p.z >= 0 && p.z <= 1) << p.x << ", " << p.y << ", " << p.z;
+            ASSERT_TRUE(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1 && p.z >= 0 && p.z <= 1)
+                << p.x << ", " << p.y << ", " << p.z;
     }
 }
 
@@ -281,14 +282,18 @@ void expectFollows(const LineSet& set, const std::function<glm::vec3(std::size_t
 
 TEST(Generators, StandInStreamlinesFollowTheirFields) {
     LineSet propeller = generatePropeller(200, 300, 1);
-    expectFollows(propeller, [&](std::size_t v) { return propellerVelocity(propeller.positions[v]); }, "propeller");
+    expectFollows(
+        propeller, [&](std::size_t v) { return propellerVelocity(propeller.positions[v]); }, "propeller");
     LineSet convection = generateConvection(200, 300, 1);
-    expectFollows(convection, [&](std::size_t v) { return convectionVelocity(convection.positions[v]); }, "convection");
+    expectFollows(
+        convection, [&](std::size_t v) { return convectionVelocity(convection.positions[v]); }, "convection");
     LineSet turbulence = generateTurbulence(200, 300, 1);
-    expectFollows(turbulence, [&](std::size_t v) { return turbulenceVelocity(turbulence.positions[v]); }, "turbulence");
+    expectFollows(
+        turbulence, [&](std::size_t v) { return turbulenceVelocity(turbulence.positions[v]); }, "turbulence");
     LineSet brain = generateBrain(500, 30, 1);
     const Attribute& bundle = *brain.attribute("bundle");
-    expectFollows(brain, [&](std::size_t v) { return brainBundleDirection(int(bundle.values[v]), brain.positions[v]); }, "brain");
+    expectFollows(
+        brain, [&](std::size_t v) { return brainBundleDirection(int(bundle.values[v]), brain.positions[v]); }, "brain");
 }
 
 TEST(Generators, ConvectionRollsAreDivergenceFreeAndTangentToTheWalls) {

@@ -2,10 +2,12 @@
 // properties, vox_to_ras), .tck (LE, BE, Float64) with .tsf, .obj as LineVis writes it, .tcb
 // round trips; and malformed variants of each, which must throw InputError naming the file and
 // the byte offset or line. Uses no VTK, so the sanitizer build (tests/fuzz/) runs it too.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <bit>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,8 +15,6 @@
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "core/line_set.h"
@@ -55,7 +55,8 @@ struct Writer {
 };
 
 void writeFile(const std::string& path, const Bytes& bytes) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
 }
 
 // Runs `f`, expects an InputError and returns its message.
@@ -99,9 +100,12 @@ Bytes makeTrk(bool big, int version, const std::vector<TrkTrack>& tracks, int nC
     w.putAt<std::int16_t>(8, 10);
     w.putAt<std::int16_t>(10, 10);
     for (int i = 0; i < 3; ++i) w.putAt<float>(12 + 4 * i, 2.0f);  // voxel size
-    w.putAt<std::int16_t>(36, 4);                                    // n_scalars
+    w.putAt<std::int16_t>(36, 4);                                  // n_scalars
     std::memcpy(w.bytes.data() + 38, "fa", 2);
-    std::memcpy(w.bytes.data() + 58, "rgb\0" "3", 5);
+    std::memcpy(w.bytes.data() + 58,
+                "rgb\0"
+                "3",
+                5);
     w.putAt<std::int16_t>(238, 2);  // n_properties
     std::memcpy(w.bytes.data() + 240, "len", 3);
     // vox_to_ras: scale 2, translation (10, 20, 30).
@@ -290,7 +294,10 @@ TEST(TrkReader, VersionThreeIsReadAsVersionTwoAsInNibabel) {
 TEST(TrkReader, NameValueCountsNibabelToleratesAreWarnings) {
     // "rgb" claims 9 values where 3 are left (n_scalars 4, "fa" took one): it names those 3.
     Writer w{makeTrk(false, 2, sampleTracks())};
-    std::memcpy(w.bytes.data() + 58, "rgb\0" "9", 5);
+    std::memcpy(w.bytes.data() + 58,
+                "rgb\0"
+                "9",
+                5);
     MemorySource over("a.trk", w.bytes.data(), w.bytes.size());
     expectSampleTrk(readTrk(over), true);
     EXPECT_EQ(over.warnings(),
@@ -300,7 +307,10 @@ TEST(TrkReader, NameValueCountsNibabelToleratesAreWarnings) {
     // A name of 0 values is skipped (nibabel's TrkFile.load does the same); its values go to the
     // next name or to scalar_i.
     w = Writer{makeTrk(false, 2, sampleTracks())};
-    std::memcpy(w.bytes.data() + 58, "rgb\0" "0", 5);
+    std::memcpy(w.bytes.data() + 58,
+                "rgb\0"
+                "0",
+                5);
     MemorySource zero("a.trk", w.bytes.data(), w.bytes.size());
     const LineSet lines = readTrk(zero);
     std::vector<std::string> names;
@@ -574,7 +584,7 @@ TEST(ObjReader, LineVisStyleAttributesAndNames) {
         "vt 10 0.5\nvt 11 0.6\nvt 12 0.7\nvt 13 0.8\nvt 14 0.9\n"
         "g line0\n"
         "l 1 2 3\n"
-        "l -1 -2\n"   // relative: vertices 5, 4
+        "l -1 -2\n"    // relative: vertices 5, 4
         "f 1 2 3\n");  // faces are ignored
     EXPECT_EQ(lines.offsets, (std::vector<std::uint32_t>{0, 3, 5}));
     EXPECT_EQ(lines.positions[3], glm::vec3(0, 2, 0));
@@ -671,7 +681,8 @@ TEST(TcbFormat, MalformedFilesNameTheByteOffset) {
         w.putAt(offset, value);
         return errorOf(tcb, w.bytes, "a.tcb");
     };
-    EXPECT_CONTAINS(errorOf(tcb, Bytes(good.begin(), good.begin() + 20), "a.tcb"), "a.tcb: byte 20: truncated .tcb header");
+    EXPECT_CONTAINS(errorOf(tcb, Bytes(good.begin(), good.begin() + 20), "a.tcb"),
+                    "a.tcb: byte 20: truncated .tcb header");
     EXPECT_CONTAINS(with(0, std::uint8_t('X')), "a.tcb: byte 0: not a .tcb file");
     EXPECT_CONTAINS(with(8, std::uint32_t(2)), "byte 8: unsupported .tcb version 2");
     EXPECT_CONTAINS(with(12, std::uint32_t(1u << 20)), "byte 12: attribute count 1048576");

@@ -1,12 +1,11 @@
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-
-#include <gtest/gtest.h>
-#include <OpenImageIO/imageio.h>
 
 #include "core/color.h"
 #include "core/error.h"
@@ -122,8 +121,8 @@ TEST(AtomicFile, temp_name_sits_next_to_the_final_file_and_keeps_the_extension) 
     AtomicFile file("out/frame.0001.png");
     char host[256] = {};
     gethostname(host, sizeof host - 1);
-    EXPECT_EQ(file.tempPath(), "out/.frame.0001.png.tmp-" + std::string(host) + "-" +
-                                   std::to_string(getpid()) + ".png");
+    EXPECT_EQ(file.tempPath(),
+              "out/.frame.0001.png.tmp-" + std::string(host) + "-" + std::to_string(getpid()) + ".png");
 }
 
 TEST(AtomicFile, throwing_before_commit_keeps_the_previous_file_and_removes_the_temp) {
@@ -166,8 +165,7 @@ TEST(EnsureWritableDir, a_file_in_the_way_is_reported) {
         ensureWritableDir(dir);
         FAIL() << "no OutputError";
     } catch (const OutputError& e) {
-        EXPECT_EQ(std::string(e.what()).rfind(dir + ": cannot create output directory: ", 0), 0u)
-            << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind(dir + ": cannot create output directory: ", 0), 0u) << e.what();
     }
 }
 
@@ -220,8 +218,7 @@ TEST(WriteExr, round_trip_of_all_channels) {
     for (std::size_t i = 0; i < f.rgba.size(); ++i)
         EXPECT_NEAR(back.rgba[i], f.rgba[i], std::abs(f.rgba[i]) * 0x1p-11f + 1e-7f) << i;
     ASSERT_EQ(back.ao.size(), f.ao.size());
-    for (std::size_t i = 0; i < f.ao.size(); ++i)
-        EXPECT_NEAR(back.ao[i], f.ao[i], f.ao[i] * 0x1p-11f);
+    for (std::size_t i = 0; i < f.ao.size(); ++i) EXPECT_NEAR(back.ao[i], f.ao[i], f.ao[i] * 0x1p-11f);
     // Z and N are FLOAT: exact, including +inf on the background.
     EXPECT_EQ(back.depth, f.depth);
     EXPECT_TRUE(std::isinf(back.depth[0]) && back.depth[0] > 0);

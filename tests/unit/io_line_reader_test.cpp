@@ -1,3 +1,5 @@
+#include <gtest/gtest.h>
+
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -7,8 +9,6 @@
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "core/particle_generators.h"
@@ -76,8 +76,7 @@ TEST(ReadLineSet, legacy_ascii_polydata_with_scalars_and_vectors) {
     LineSet lines = readLineSet(path, &report);
     EXPECT_FALSE(report.any());
     EXPECT_EQ(lines.offsets, (std::vector<std::uint32_t>{0, 3, 5}));
-    EXPECT_EQ(lines.positions,
-              (std::vector<glm::vec3>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 1, 0}}));
+    EXPECT_EQ(lines.positions, (std::vector<glm::vec3>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 1, 0}}));
     ASSERT_EQ(lines.attributes.size(), 5u);
     auto values = [&](const char* name) {
         const Attribute* a = lines.attribute(name);
@@ -105,10 +104,8 @@ void putBigEndian(std::string& out, T value) {
 
 TEST(ReadLineSet, legacy_binary_with_a_nan_coordinate_reports_one_non_finite_vertex) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    std::string text =
-        "# vtk DataFile Version 3.0\nnan\nBINARY\nDATASET POLYDATA\nPOINTS 5 float\n";
-    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 2.f, nan, 0.f, 3.f, 0.f, 0.f, 4.f, 0.f, 0.f})
-        putBigEndian(text, v);
+    std::string text = "# vtk DataFile Version 3.0\nnan\nBINARY\nDATASET POLYDATA\nPOINTS 5 float\n";
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 2.f, nan, 0.f, 3.f, 0.f, 0.f, 4.f, 0.f, 0.f}) putBigEndian(text, v);
     text += "\nLINES 1 6\n";
     for (std::int32_t v : {5, 0, 1, 2, 3, 4}) putBigEndian(text, v);
     text += "\n";
@@ -166,9 +163,7 @@ TEST(ReadLineSet, vtp_round_trip_keeps_positions_offsets_and_attributes) {
     EXPECT_NE(file.find("format=\"appended\""), std::string::npos);
     EXPECT_NE(file.find("<AppendedData encoding=\"raw\">"), std::string::npos);
     // No temp file left next to it.
-    EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(path).parent_path()),
-                            fs::directory_iterator{}),
-              1);
+    EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(path).parent_path()), fs::directory_iterator{}), 1);
 }
 
 TEST(ReadLineSet, nan_written_to_vtp_is_reported_on_read) {
@@ -195,10 +190,8 @@ TEST(ReadLineSet, unknown_extension_lists_supported_ones) {
 }
 
 TEST(ReadLineSet, garbage_legacy_file_names_the_file) {
-    std::string path =
-        writeText(testDir() + "/garbage.vtk", "this is not a VTK file\n\x01\x02\x03");
-    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
-              path + ": VTK: Unrecognized file type: this is not a VTK file");
+    std::string path = writeText(testDir() + "/garbage.vtk", "this is not a VTK file\n\x01\x02\x03");
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }), path + ": VTK: Unrecognized file type: this is not a VTK file");
 }
 
 TEST(ReadLineSet, garbage_xml_file_names_the_file) {
@@ -211,9 +204,8 @@ TEST(ReadLineSet, garbage_xml_file_names_the_file) {
 TEST(ReadLineSet, truncated_legacy_file_names_the_file) {
     std::string text = kLegacyAscii;
     std::string path = writeText(testDir() + "/cut.vtk", text.substr(0, text.find("2 0 0")));
-    EXPECT_EQ(
-        inputErrorOf([&] { readLineSet(path); }),
-        path + ": VTK: Error reading ascii data. Possible mismatch of datasize with declaration.");
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
+              path + ": VTK: Error reading ascii data. Possible mismatch of datasize with declaration.");
 }
 
 TEST(ReadLineSet, truncated_vtp_file_names_the_file) {
@@ -242,8 +234,7 @@ POINTS 3 float
 VERTICES 1 4
 3 0 1 2
 )");
-    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }),
-              path + ": no polylines (3 points, 1 cells of other types)");
+    EXPECT_EQ(inputErrorOf([&] { readLineSet(path); }), path + ": no polylines (3 points, 1 cells of other types)");
 }
 
 TEST(ReadLineSet, point_id_out_of_range_names_the_cell) {
@@ -390,7 +381,8 @@ TEST(ReadVtkFile, files_with_line_cells_are_lines_and_bad_radii_name_the_point) 
     std::string bad = kPointCloud;
     bad.replace(bad.find("0.5 0.25 2"), 10, "0.5 -1 2");
     const std::string path = writeText(testDir() + "/bad.vtk", bad);
-    EXPECT_EQ(inputErrorOf([&] { readVtkFile(path); }), path + ": point 1: Radius -1.000000 (expected a positive radius)");
+    EXPECT_EQ(inputErrorOf([&] { readVtkFile(path); }),
+              path + ": point 1: Radius -1.000000 (expected a positive radius)");
 }
 
 TEST(ReadVtkFile, particles_written_as_vtp_read_back_exactly) {

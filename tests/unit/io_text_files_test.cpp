@@ -1,7 +1,7 @@
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "io/json_file.h"
@@ -31,9 +31,7 @@ TEST(TimingsCsv, header_rows_three_decimals_and_empty_unknown_gpu_time) {
         TimingsCsv csv(path, false);
         csv.write({{0, "geometry", 1.23456, 0.5, 1200}, {0, "resolve", -1.0, 2.0, 0}});
         // Flushed per write: a killed run keeps this frame.
-        EXPECT_EQ(
-            readText(path),
-            "frame,stage,gpu_ms,cpu_ms,items\n0,geometry,1.235,0.500,1200\n0,resolve,,2.000,0\n");
+        EXPECT_EQ(readText(path), "frame,stage,gpu_ms,cpu_ms,items\n0,geometry,1.235,0.500,1200\n0,resolve,,2.000,0\n");
         csv.write({{1, "a,b", 0.0, 0.0, 18446744073709551615ull}});
     }
     EXPECT_EQ(readText(path),
@@ -45,8 +43,7 @@ TEST(TimingsCsv, append_keeps_rows_and_writes_no_second_header) {
     std::string path = testDir() + "/timings.csv";
     TimingsCsv(path, true).write({{0, "s", 1, 1, 1}});
     TimingsCsv(path, true).write({{1, "s", 2, 2, 2}});
-    EXPECT_EQ(readText(path),
-              "frame,stage,gpu_ms,cpu_ms,items\n0,s,1.000,1.000,1\n1,s,2.000,2.000,2\n");
+    EXPECT_EQ(readText(path), "frame,stage,gpu_ms,cpu_ms,items\n0,s,1.000,1.000,1\n1,s,2.000,2.000,2\n");
     TimingsCsv(path, false).write({{5, "s", 0, 0, 0}});  // not appending: truncated
     EXPECT_EQ(readText(path), "frame,stage,gpu_ms,cpu_ms,items\n5,s,0.000,0.000,0\n");
 }

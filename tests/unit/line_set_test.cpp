@@ -1,9 +1,9 @@
-#include <cmath>
-#include <limits>
+#include "core/line_set.h"
 
 #include <gtest/gtest.h>
 
-#include "core/line_set.h"
+#include <cmath>
+#include <limits>
 
 namespace tc {
 namespace {

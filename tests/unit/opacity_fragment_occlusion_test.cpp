@@ -33,7 +33,8 @@ FragmentLists randomLists(int width, int height, int lines, int m, int maxDepth,
             const std::uint32_t global = std::uint32_t(line(rng) * m) + part;
             const float depth = u(rng);
             lists.fragments.push_back({depth, global, frac});
-            if (k % 4 == 0) lists.fragments.push_back({depth + 1e-3f, global, std::min(frac + 0.05f, frac > 0 ? 0.99f : 0.0f)});
+            if (k % 4 == 0)
+                lists.fragments.push_back({depth + 1e-3f, global, std::min(frac + 0.05f, frac > 0 ? 0.99f : 0.0f)});
         }
         lists.offsets.push_back(lists.fragments.size());
     }

@@ -1,17 +1,17 @@
 // Particle readers (io/particle_reader.h): known-content fixtures written by the tests, frames,
 // element radii and colours, and malformed inputs -> InputError naming the line or byte.
+#include "io/particle_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <string>
 
-#include <cmath>
-
-#include <gtest/gtest.h>
-
 #include "core/error.h"
 #include "io/dataset.h"
-#include "io/particle_reader.h"
 #include "io/particle_reader_elements.h"
 #include "test_tmp.h"
 
@@ -45,9 +45,10 @@ TEST(ParticleReader, xyz_plain_and_extended_with_frames) {
     EXPECT_EQ(d.dataFrameFor(5), 1u);
     EXPECT_EQ(d.dataFrameFor(5, 0), 0u);
 
-    auto ext = write("b.extxyz",
-                     "2\nLattice=\"1 0 0 0 1 0 0 0 1\" Properties=species:S:1:pos:R:3:radius:R:1:vel:R:3:energy:R:1 t=0\n"
-                     "C 1 2 3 0.5 1 0 0 -2.5\nN 4 5 6 0.25 0 1 0 -1.5\n");
+    auto ext =
+        write("b.extxyz",
+              "2\nLattice=\"1 0 0 0 1 0 0 0 1\" Properties=species:S:1:pos:R:3:radius:R:1:vel:R:3:energy:R:1 t=0\n"
+              "C 1 2 3 0.5 1 0 0 -2.5\nN 4 5 6 0.25 0 1 0 -1.5\n");
     d = readParticles(ext);
     ASSERT_EQ(d.frames[0].size(), 2u);
     EXPECT_EQ(d.frames[0].positions[1], glm::vec3(4, 5, 6));
@@ -66,7 +67,8 @@ TEST(ParticleReader, pdb_models_are_frames_with_element_radii_and_cpk_colours) {
     const std::string atom1 = "ATOM      1  N   ALA A   1      11.104   6.134  -6.504  1.00 10.00           N\n";
     const std::string atom2 = "ATOM      2  CA  ALA A   1      11.639   6.071  -5.147  1.00 12.50           C\n";
     const std::string het = "HETATM    3 FE   HEM A   2       1.000   2.000   3.000  0.50  5.00\n";
-    auto path = write("p.pdb", "MODEL        1\n" + atom1 + atom2 + het + "ENDMDL\nMODEL        2\n" + atom1 + "ENDMDL\nEND\n");
+    auto path =
+        write("p.pdb", "MODEL        1\n" + atom1 + atom2 + het + "ENDMDL\nMODEL        2\n" + atom1 + "ENDMDL\nEND\n");
     ParticleData d = readParticles(path);
     ASSERT_EQ(d.frameCount(), 2u);
     ASSERT_EQ(d.frames[0].size(), 3u);
@@ -83,29 +85,33 @@ TEST(ParticleReader, pdb_models_are_frames_with_element_radii_and_cpk_colours) {
 
 TEST(ParticleReader, mmcif_atom_site_models_are_frames_like_pdb) {
     // Two models; a quoted atom name with a prime, a row split over two lines, '?' values.
-    const std::string header = "data_TEST\n#\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n"
-                               "_atom_site.label_atom_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n"
-                               "_atom_site.occupancy\n_atom_site.B_iso_or_equiv\n_atom_site.auth_seq_id\n"
-                               "_atom_site.pdbx_PDB_model_num\n";
-    const std::string rows = "ATOM 1 N N 11.104 6.134 -6.504 1.00 10.00 1 1\n"
-                             "ATOM 2 C \"C5'\" 11.639 6.071\n  -5.147 1.00 12.50 1 1\n"
-                             "HETATM 3 ? FE 1.0 2.0 3.0 0.5 ? . 1\n"
-                             "ATOM 1 N N 1 2 3 1 10 1 2\n#\n";
+    const std::string header =
+        "data_TEST\n#\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n"
+        "_atom_site.label_atom_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n"
+        "_atom_site.occupancy\n_atom_site.B_iso_or_equiv\n_atom_site.auth_seq_id\n"
+        "_atom_site.pdbx_PDB_model_num\n";
+    const std::string rows =
+        "ATOM 1 N N 11.104 6.134 -6.504 1.00 10.00 1 1\n"
+        "ATOM 2 C \"C5'\" 11.639 6.071\n  -5.147 1.00 12.50 1 1\n"
+        "HETATM 3 ? FE 1.0 2.0 3.0 0.5 ? . 1\n"
+        "ATOM 1 N N 1 2 3 1 10 1 2\n#\n";
     auto path = write("m.cif", header + rows);
     ParticleData d = readParticles(path);
     ASSERT_EQ(d.frameCount(), 2u);
     ASSERT_EQ(d.frames[0].size(), 3u);
     EXPECT_EQ(d.frames[1].size(), 1u);
     EXPECT_FLOAT_EQ(d.frames[0].positions[1].z, -5.147f);
-    EXPECT_FLOAT_EQ(d.frames[0].radii[0], 1.55f);  // N
-    EXPECT_FLOAT_EQ(d.frames[0].radii[1], 1.70f);  // C (type_symbol)
-    EXPECT_FLOAT_EQ(d.frames[0].radii[2], 2.04f);  // FE from the HETATM atom name ('?' symbol)
+    EXPECT_FLOAT_EQ(d.frames[0].radii[0], 1.55f);                         // N
+    EXPECT_FLOAT_EQ(d.frames[0].radii[1], 1.70f);                         // C (type_symbol)
+    EXPECT_FLOAT_EQ(d.frames[0].radii[2], 2.04f);                         // FE from the HETATM atom name ('?' symbol)
     EXPECT_FLOAT_EQ(d.frames[0].attribute("b_factor")->values[2], 0.0f);  // '?' = missing
     EXPECT_TRUE(std::isnan(d.frames[0].attribute("residue")->values[2]));
     EXPECT_FLOAT_EQ(d.frames[1].positions[0].y, 2.0f);
 
-    expectError(write("bad.cif", header + "ATOM 1 N N 11.1 6.x -6.5 1 1 1 1\n"), "bad.cif:15: expected a number for Cartn_y");
-    expectError(write("short.cif", header + "ATOM 1 N N 11.1 6.1\n"), "short.cif:15: _atom_site loop ends inside a row (6 of 11 values)");
+    expectError(write("bad.cif", header + "ATOM 1 N N 11.1 6.x -6.5 1 1 1 1\n"),
+                "bad.cif:15: expected a number for Cartn_y");
+    expectError(write("short.cif", header + "ATOM 1 N N 11.1 6.1\n"),
+                "short.cif:15: _atom_site loop ends inside a row (6 of 11 values)");
     expectError(write("none.cif", "data_X\n_cell.length_a 1\n"), "none.cif: no _atom_site loop");
 }
 
@@ -123,14 +129,17 @@ TEST(ParticleReader, lammps_dump_scaled_and_unscaled_timesteps) {
     EXPECT_FLOAT_EQ(d.frames[0].attribute("type")->values[1], 2.0f);
     EXPECT_EQ(d.frames[1].positions[0], glm::vec3(1.5f, 2.5f, 3.5f));
     EXPECT_FLOAT_EQ(d.frames[1].radii[0], 0.3f);
-    expectError(write("e.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n99999\nITEM: ATOMS x y z\n1 2 3\n"), "e.dump:");
-    expectError(write("f.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x y\n1 2 3\n"), "f.dump:5: ITEM: ATOMS has no x y z");
+    expectError(write("e.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n99999\nITEM: ATOMS x y z\n1 2 3\n"),
+                "e.dump:");
+    expectError(write("f.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x y\n1 2 3\n"),
+                "f.dump:5: ITEM: ATOMS has no x y z");
 }
 
 TEST(ParticleReader, gro_in_nm_becomes_angstrom_with_frames) {
-    const std::string frame = "water\n    3\n    1SOL     OW    1   0.126   1.624   1.679\n"
-                              "    1SOL    HW1    2   0.190   1.661   1.747\n    1SOL    HW2    3   0.177   1.568   1.613\n"
-                              "   1.86206   1.86206   1.86206\n";
+    const std::string frame =
+        "water\n    3\n    1SOL     OW    1   0.126   1.624   1.679\n"
+        "    1SOL    HW1    2   0.190   1.661   1.747\n    1SOL    HW2    3   0.177   1.568   1.613\n"
+        "   1.86206   1.86206   1.86206\n";
     ParticleData d = readParticles(write("w.gro", frame + frame));
     ASSERT_EQ(d.frameCount(), 2u);
     ASSERT_EQ(d.frames[0].size(), 3u);
@@ -144,7 +153,9 @@ TEST(ParticleReader, gro_in_nm_becomes_angstrom_with_frames) {
 struct Mmpld {
     std::string bytes;
     template <class T>
-    void put(T v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof(T)); }
+    void put(T v) {
+        bytes.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    }
 };
 
 std::string mmpldFile(std::uint16_t version, const std::vector<std::string>& frames) {
@@ -173,20 +184,38 @@ TEST(ParticleReader, mmpld_versions_vertex_and_colour_types) {
         f.put(std::uint8_t(2));
         f.put(0.25f);
         f.put(std::uint64_t(2));
-        if (version == 103) for (int i = 0; i < 6; ++i) f.put(0.0f);
+        if (version == 103)
+            for (int i = 0; i < 6; ++i) f.put(0.0f);
         for (int i = 0; i < 2; ++i) {
-            f.put(float(i)); f.put(2.0f); f.put(3.0f);
-            f.put(std::uint8_t(255)); f.put(std::uint8_t(0)); f.put(std::uint8_t(0)); f.put(std::uint8_t(255));
+            f.put(float(i));
+            f.put(2.0f);
+            f.put(3.0f);
+            f.put(std::uint8_t(255));
+            f.put(std::uint8_t(0));
+            f.put(std::uint8_t(0));
+            f.put(std::uint8_t(255));
         }
-        if (version == 101) { f.put(std::uint32_t(0)); f.put(std::uint64_t(0)); }
+        if (version == 101) {
+            f.put(std::uint32_t(0));
+            f.put(std::uint64_t(0));
+        }
         // List 1: float xyzr, float intensity with its range.
         f.put(std::uint8_t(2));
         f.put(std::uint8_t(3));
-        f.put(0.0f); f.put(1.0f);
+        f.put(0.0f);
+        f.put(1.0f);
         f.put(std::uint64_t(1));
-        if (version == 103) for (int i = 0; i < 6; ++i) f.put(0.0f);
-        f.put(7.0f); f.put(8.0f); f.put(9.0f); f.put(0.75f); f.put(0.4f);
-        if (version == 101) { f.put(std::uint32_t(0)); f.put(std::uint64_t(0)); }
+        if (version == 103)
+            for (int i = 0; i < 6; ++i) f.put(0.0f);
+        f.put(7.0f);
+        f.put(8.0f);
+        f.put(9.0f);
+        f.put(0.75f);
+        f.put(0.4f);
+        if (version == 101) {
+            f.put(std::uint32_t(0));
+            f.put(std::uint64_t(0));
+        }
         std::string file = mmpldFile(version, {f.bytes, f.bytes});
         auto path = write("v" + std::to_string(version) + ".mmpld", file);
         ParticleData d = readParticles(path);
@@ -205,7 +234,9 @@ TEST(ParticleReader, mmpld_versions_vertex_and_colour_types) {
     // A particle count far beyond the file: refused before allocating.
     Mmpld huge;
     huge.put(std::int32_t(1));
-    huge.put(std::uint8_t(1)); huge.put(std::uint8_t(0)); huge.put(0.1f);
+    huge.put(std::uint8_t(1));
+    huge.put(std::uint8_t(0));
+    huge.put(0.1f);
     for (int i = 0; i < 4; ++i) huge.put(std::uint8_t(255));
     huge.put(std::uint64_t(1) << 60);
     expectError(write("h.mmpld", mmpldFile(100, {huge.bytes})), "exceed");

@@ -1,11 +1,11 @@
 // Particles (Staib, Grottel & Gumhold 2015): density-model opacity against closed forms, the
 // power-distance sort key, projected sphere bounds, the droplets generator, particle styling, the
 // CPU reference compositor and the render.spheres scene keys.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "core/particle_generators.h"
@@ -19,7 +19,9 @@ namespace tc {
 namespace {
 
 // An orthographic ray along -z at distance d from the centre of a sphere at the origin.
-Ray rayAtDistance(float d) { return Ray{{d, 0.0f, 10.0f}, {0.0f, 0.0f, -1.0f}}; }
+Ray rayAtDistance(float d) {
+    return Ray{{d, 0.0f, 10.0f}, {0.0f, 0.0f, -1.0f}};
+}
 
 float opacityAt(SphereDensity model, float k, float theta, float d, float r) {
     return sphereRayOpacity(model, k, theta, rayAtDistance(d), glm::vec3(0.0f), r);
@@ -33,7 +35,8 @@ TEST(SphereOpacity, constant_model_reaches_theta_max_at_the_centre_and_follows_e
         const float lambda = -std::log(1.0f - theta) / (2.0f * r);
         for (float d : {0.1f, 0.35f, 0.6f, 0.69f}) {
             const float chord = 2.0f * std::sqrt(r * r - d * d);
-            EXPECT_NEAR(opacityAt(SphereDensity::Constant, 0, theta, d, r), 1.0f - std::exp(-lambda * chord), 2e-6f) << d;
+            EXPECT_NEAR(opacityAt(SphereDensity::Constant, 0, theta, d, r), 1.0f - std::exp(-lambda * chord), 2e-6f)
+                << d;
         }
     }
     EXPECT_EQ(opacityAt(SphereDensity::Constant, 0, 0.5f, 0.71f, r), 0.0f);  // a miss
@@ -54,7 +57,7 @@ TEST(SphereOpacity, l2_model_peaks_at_r_over_sqrt2_with_theta_max_and_matches_eq
         if (a > best) best = a, bestD = d;
     }
     EXPECT_NEAR(best, theta, 1e-5f);
-    EXPECT_NEAR(bestD, r / std::sqrt(2.0f), 2e-3f * r);  // sampling step r/2000, flat peak
+    EXPECT_NEAR(bestD, r / std::sqrt(2.0f), 2e-3f * r);                         // sampling step r/2000, flat peak
     EXPECT_LT(opacityAt(SphereDensity::L2, 0, theta, 0.0f, r), theta - 0.02f);  // not at the centre
 }
 
@@ -81,7 +84,10 @@ TEST(SphereOpacity, hollow_models_peak_at_theta_max_and_are_empty_inside) {
 TEST(SphereSortKey, power_distance_key_preserves_order_with_negative_values_inside) {
     const glm::vec3 eye(0.0f), fwd(0.0f, 0.0f, -1.0f);
     // Eye inside the first sphere (negative power distance), then spheres with growing power.
-    struct S { glm::vec3 c; float r; };
+    struct S {
+        glm::vec3 c;
+        float r;
+    };
     std::vector<S> spheres = {{{0, 0, -0.5f}, 2.0f}, {{0, 0, -0.1f}, 0.3f}, {{0, 0, -1.0f}, 0.1f},
                               {{0, 0, -5.0f}, 3.0f}, {{0, 0, -5.0f}, 0.5f}, {{0, 0, -100.0f}, 1.0f}};
     std::vector<float> power;
@@ -126,15 +132,24 @@ TEST(SphereBounds, perspective_bounds_contain_the_silhouette_and_touch_it) {
                 ASSERT_LE(sx, rect.z + 1e-5f);
                 ASSERT_GE(sy, rect.y - 1e-5f);
                 ASSERT_LE(sy, rect.w + 1e-5f);
-                hitRect = {std::min(hitRect.x, sx), std::min(hitRect.y, sy), std::max(hitRect.z, sx), std::max(hitRect.w, sy)};
+                hitRect = {std::min(hitRect.x, sx), std::min(hitRect.y, sy), std::max(hitRect.z, sx),
+                           std::max(hitRect.w, sy)};
             }
         if (hitRect.x > hitRect.z) continue;  // off screen
         // Tight up to one pixel (2/W, 2/H in NDC) where the silhouette is on screen; 5 % slack for
         // grazing rays whose float intersection test misses by an ulp.
-        if (rect.x > -1) { EXPECT_LT(hitRect.x - rect.x, 1.05f * 2.0f / W); }
-        if (rect.z < 1) { EXPECT_LT(rect.z - hitRect.z, 1.05f * 2.0f / W); }
-        if (rect.y > -1) { EXPECT_LT(hitRect.y - rect.y, 1.05f * 2.0f / H); }
-        if (rect.w < 1) { EXPECT_LT(rect.w - hitRect.w, 1.05f * 2.0f / H); }
+        if (rect.x > -1) {
+            EXPECT_LT(hitRect.x - rect.x, 1.05f * 2.0f / W);
+        }
+        if (rect.z < 1) {
+            EXPECT_LT(rect.z - hitRect.z, 1.05f * 2.0f / W);
+        }
+        if (rect.y > -1) {
+            EXPECT_LT(hitRect.y - rect.y, 1.05f * 2.0f / H);
+        }
+        if (rect.w < 1) {
+            EXPECT_LT(rect.w - hitRect.w, 1.05f * 2.0f / H);
+        }
     }
     glm::vec4 rect;
     EXPECT_FALSE(projectedSphereBounds(cam, aspect, cam.eye + 5.0f * (cam.eye - cam.target), 1.0f, 0.0f, rect));
@@ -231,8 +246,10 @@ TEST(ParticleReference, orthographic_single_sphere_profile_matches_closed_form) 
 
 TEST(SceneSpheres, keys_are_validated) {
     nlohmann::json doc = {{"dataset", {{"generate", "droplets"}, {"particles", 1000}}},
-                          {"render", {{"technique", "spheres"}, {"transparency", "object_order"},
-                                      {"spheres", {{"density", "hollow_l2"}, {"inner_radius", 0.6}, {"chunks", 4}}}}}};
+                          {"render",
+                           {{"technique", "spheres"},
+                            {"transparency", "object_order"},
+                            {"spheres", {{"density", "hollow_l2"}, {"inner_radius", 0.6}, {"chunks", 4}}}}}};
     Scene s = parseScene(doc, "s.json");
     EXPECT_EQ(s.dataset.generate, "droplets");
     EXPECT_EQ(s.dataset.particles, 1000);

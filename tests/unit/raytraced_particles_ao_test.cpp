@@ -3,13 +3,12 @@
 // answer is known: an isolated sphere is unoccluded, the centre of a dense cluster is darker than
 // its surface, and images do not depend on the thread count. (The agreement with the GL spheres
 // technique's AO is tests/cli/raytraced_cli_test.cpp.)
+#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <vector>
-
-#include <embree3/rtcore.h>
-#include <tbb/global_control.h>
 
 #include "rt/particle_ambient.h"
 #include "rt/raytraced_particles.h"

@@ -1,18 +1,18 @@
 // Particles in the Embree ray tracer (rt/raytraced_particles.h) against the CPU particle reference
 // (core/particle_reference.h): opaque first hit, the emission-absorption interior of every
 // density model, the multi-pass continuation, the eye inside a sphere, and thread independence.
+#include "rt/raytraced_particles.h"
+
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include <tbb/global_control.h>
-
 #include "core/error.h"
 #include "core/particle_reference.h"
-#include "rt/raytraced_particles.h"
 
 namespace tc {
 namespace {
@@ -93,7 +93,8 @@ Diff compare(const FrameImages& rt, const FrameImages& ref) {
             continue;
         }
         for (int c = 0; c < 4; ++c)
-            d.maxRgba = std::max(d.maxRgba, std::abs(rt.rgba[4 * i + std::size_t(c)] - ref.rgba[4 * i + std::size_t(c)]));
+            d.maxRgba =
+                std::max(d.maxRgba, std::abs(rt.rgba[4 * i + std::size_t(c)] - ref.rgba[4 * i + std::size_t(c)]));
         if (ref.id[i] == kBackgroundId) continue;
         EXPECT_NEAR(rt.depth[i], ref.depth[i], 1e-5f * std::max(1.0f, ref.depth[i])) << i;
         glm::vec3 n1(rt.normal[3 * i], rt.normal[3 * i + 1], rt.normal[3 * i + 2]);
@@ -112,8 +113,8 @@ TEST(RaytracedParticles, opaque_and_every_density_model_equal_the_cpu_particle_r
     for (Projection projection : {Projection::Perspective, Projection::Orthographic}) {
         Camera cam = cameraAt({0.5f, 0.7f, 2.6f}, projection);
         std::vector<Scene> scenes = {particleScene(Transparency::Opaque, SphereDensity::Constant)};
-        for (SphereDensity d : {SphereDensity::Constant, SphereDensity::L2, SphereDensity::HollowConstant,
-                                SphereDensity::HollowL2})
+        for (SphereDensity d :
+             {SphereDensity::Constant, SphereDensity::L2, SphereDensity::HollowConstant, SphereDensity::HollowL2})
             scenes.push_back(particleScene(Transparency::ObjectOrder, d));
         for (const Scene& scene : scenes) {
             Diff d = compare(raytrace(scene, p, cam, w, h), reference(scene, p, cam, w, h));
@@ -155,7 +156,8 @@ TEST(RaytracedParticles, exact_compositing_continues_past_one_traversal_and_the_
     FrameImages cut = raytrace(particleScene(Transparency::ObjectOrder, SphereDensity::Constant, cutoff), p, cam, w, h);
     for (std::size_t i = 0; i < ref.pixelCount(); ++i)
         for (int c = 0; c < 4; ++c)
-            EXPECT_LE(std::abs(cut.rgba[4 * i + std::size_t(c)] - ref.rgba[4 * i + std::size_t(c)]), 1.0f - cutoff + 1e-5f);
+            EXPECT_LE(std::abs(cut.rgba[4 * i + std::size_t(c)] - ref.rgba[4 * i + std::size_t(c)]),
+                      1.0f - cutoff + 1e-5f);
     EXPECT_LT(cut.rgba[4 * centre + 3], ref.rgba[4 * centre + 3]);  // it did stop
     EXPECT_GE(cut.rgba[4 * centre + 3], cutoff);
 }

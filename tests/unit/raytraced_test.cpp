@@ -2,13 +2,12 @@
 // renderReferenceOpaque, exact transparent == renderReferenceTransparent (with and without cap
 // clipping), determinism across thread counts, the alpha cutoff bound, and the CPU AO ports.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
-
-#include <tbb/global_control.h>
 
 #include "core/cpu_reference.h"
 #include "core/transparent_reference.h"
@@ -52,8 +51,8 @@ StyledLines makeLines(const std::vector<PolylineSpec>& polylines) {
 // constantRadius: one radius per polyline (the case cap clipping tiles exactly).
 std::vector<PolylineSpec> randomPolylines(unsigned seed, int count, bool constantRadius, float alphaLo, float alphaHi) {
     std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> pos(-0.7f, 0.7f), rad(0.04f, 0.14f), col(0.05f, 1.0f), alpha(alphaLo, alphaHi),
-        step(0.25f, 0.5f), turn(-1.2f, 1.2f);
+    std::uniform_real_distribution<float> pos(-0.7f, 0.7f), rad(0.04f, 0.14f), col(0.05f, 1.0f),
+        alpha(alphaLo, alphaHi), step(0.25f, 0.5f), turn(-1.2f, 1.2f);
     std::uniform_int_distribution<int> verts(3, 6);
     std::vector<PolylineSpec> out;
     for (int i = 0; i < count; ++i) {
@@ -165,7 +164,9 @@ TEST(Raytraced, opaque_eye_inside_a_tube_sees_its_inner_wall_like_the_reference)
     const int w = 48, h = 48;
     // A thick bent polyline around the eye and a thin one crossing in front.
     std::vector<PolylineSpec> pls = {
-        {{{-1.0f, 0.0f, 2.0f, 0.5f}, {0.0f, 0.1f, 3.0f, 0.6f}, {1.0f, 0.3f, 2.2f, 0.4f}}, {0.8f, 0.3f, 0.2f, 1}, {0.2f, 0.3f, 0.9f, 1}},
+        {{{-1.0f, 0.0f, 2.0f, 0.5f}, {0.0f, 0.1f, 3.0f, 0.6f}, {1.0f, 0.3f, 2.2f, 0.4f}},
+         {0.8f, 0.3f, 0.2f, 1},
+         {0.2f, 0.3f, 0.9f, 1}},
         {{{-0.5f, -0.5f, 0.0f, 0.1f}, {0.5f, 0.5f, 0.0f, 0.1f}}, {0.1f, 0.9f, 0.2f, 1}, {0.1f, 0.9f, 0.2f, 1}},
     };
     StyledLines lines = makeLines(pls);
@@ -346,12 +347,13 @@ TEST(Raytraced, alpha_cutoff_changes_each_pixel_by_at_most_what_the_cutoff_leave
             stopped += exact.rgba[4 * i + 3] != ac;
         }
     }
-    EXPECT_GT(stopped, 50);          // the cutoff really stopped rays early...
-    EXPECT_LT(hitsCut, hitsExact);   // ...and saved work
+    EXPECT_GT(stopped, 50);         // the cutoff really stopped rays early...
+    EXPECT_LT(hitsCut, hitsExact);  // ...and saved work
 }
 
 TEST(Raytraced, density_pyramid_levels_keep_the_mean_and_an_isolated_tube_has_no_ambient_occlusion) {
-    StyledLines lines = makeLines({{{{-0.8f, 0.0f, 0.0f, 0.04f}, {0.8f, 0.05f, 0.02f, 0.04f}}, {1, 1, 1, 1}, {1, 1, 1, 1}}});
+    StyledLines lines =
+        makeLines({{{{-0.8f, 0.0f, 0.0f, 0.04f}, {0.8f, 0.05f, 0.02f, 0.04f}}, {1, 1, 1, 1}, {1, 1, 1, 1}}});
     AoSpec spec;
     spec.enabled = true;
     spec.resolution = 48;
@@ -364,8 +366,7 @@ TEST(Raytraced, density_pyramid_levels_keep_the_mean_and_an_isolated_tube_has_no
         double sum = 0;
         for (int z = 0; z < s.z; ++z)
             for (int y = 0; y < s.y; ++y)
-                for (int x = 0; x < s.x; ++x)
-                    sum += v.sampleLevel((glm::vec3(x, y, z) + 0.5f) / glm::vec3(s), level);
+                for (int x = 0; x < s.x; ++x) sum += v.sampleLevel((glm::vec3(x, y, z) + 0.5f) / glm::vec3(s), level);
         return sum * std::pow(2.0, 3.0 * level);  // texel volume in level-0 voxels (even sizes)
     };
     const double total0 = levelMean(0);
@@ -391,7 +392,8 @@ TEST(Raytraced, ambient_occlusion_darkens_a_bundle_with_both_methods_and_is_dete
     std::vector<PolylineSpec> pls;
     for (int i = -2; i <= 2; ++i)
         for (int j = -2; j <= 2; ++j)
-            pls.push_back({{{-0.6f, 0.1f * i, 0.1f * j, 0.04f}, {0.6f, 0.1f * i, 0.1f * j, 0.04f}}, {1, 1, 1, 1}, {1, 1, 1, 1}});
+            pls.push_back(
+                {{{-0.6f, 0.1f * i, 0.1f * j, 0.04f}, {0.6f, 0.1f * i, 0.1f * j, 0.04f}}, {1, 1, 1, 1}, {1, 1, 1, 1}});
     pls.push_back({{{-0.6f, 2.0f, 0.0f, 0.04f}, {0.6f, 2.0f, 0.0f, 0.04f}}, {1, 1, 1, 1}, {1, 1, 1, 1}});
     StyledLines lines = makeLines(pls);
     for (AoSpec::Method method : {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced}) {

@@ -85,7 +85,8 @@ TEST(PixelBlockMisses, an_empty_scene_misses_everywhere_and_a_box_around_the_eye
     EXPECT_TRUE(rt::pixelBlockMisses(rays, ImageWindow{}, 0, 0, 8, 8, empty));
     rt::SceneBounds around{cam.eye - glm::vec3(0.1f), cam.eye + glm::vec3(0.1f)};
     for (int y0 = 0; y0 < 32; y0 += 8)
-        for (int x0 = 0; x0 < 32; x0 += 8) EXPECT_FALSE(rt::pixelBlockMisses(rays, ImageWindow{}, x0, y0, 8, 8, around));
+        for (int x0 = 0; x0 < 32; x0 += 8)
+            EXPECT_FALSE(rt::pixelBlockMisses(rays, ImageWindow{}, x0, y0, 8, 8, around));
 }
 
 }  // namespace

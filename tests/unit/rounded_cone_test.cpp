@@ -1,12 +1,12 @@
 // intersectRoundedCone against an independent double-precision ground truth: sphere tracing and
 // bisection on sdRoundedCone along the ray.
+#include "core/rounded_cone.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include "core/rounded_cone.h"
 
 namespace tc {
 namespace {
@@ -36,7 +36,10 @@ MarchResult march(const RayD& ray, const RoundedConeD& c) {
     for (int i = 0; i < 2000000 && t <= tB; ++i) {
         double d = sd(t);
         r.minDistance = std::min(r.minDistance, d);
-        if (d < eps) { found = true; break; }
+        if (d < eps) {
+            found = true;
+            break;
+        }
         t += d;
     }
     if (!found) return r;
@@ -84,12 +87,23 @@ Case randomCase(std::mt19937& rng, ConeKind kind, RayKind rayKind) {
     glm::vec3 axis = unit();
     c.r1 = logUniform(0.01f, 0.4f);
     switch (kind) {
-        case ConeKind::General: break;
-        case ConeKind::BigSmall: c.r1 = c.r0 * logUniform(0.005f, 0.05f); break;
-        case ConeKind::Cylinder: c.r1 = c.r0; break;
-        case ConeKind::NearlyContained: len = std::abs(c.r0 - c.r1) * (1.0f + logUniform(1e-4f, 1e-1f)); break;
-        case ConeKind::Contained: len = std::abs(c.r0 - c.r1) * u01(rng); break;
-        case ConeKind::ZeroLength: len = 0.0f; break;
+        case ConeKind::General:
+            break;
+        case ConeKind::BigSmall:
+            c.r1 = c.r0 * logUniform(0.005f, 0.05f);
+            break;
+        case ConeKind::Cylinder:
+            c.r1 = c.r0;
+            break;
+        case ConeKind::NearlyContained:
+            len = std::abs(c.r0 - c.r1) * (1.0f + logUniform(1e-4f, 1e-1f));
+            break;
+        case ConeKind::Contained:
+            len = std::abs(c.r0 - c.r1) * u01(rng);
+            break;
+        case ConeKind::ZeroLength:
+            len = 0.0f;
+            break;
     }
     c.x1 = c.x0 + len * axis;
     if (u01(rng) < 0.5f) std::swap(c.x0, c.x1), std::swap(c.r0, c.r1);
@@ -110,20 +124,27 @@ Case randomCase(std::mt19937& rng, ConeKind kind, RayKind rayKind) {
         glm::vec3 side = glm::normalize(glm::cross(a, unit()));
         ray.origin = c.x0 - a * (R + 1.0f) + side * (1.2f * std::max(c.r0, c.r1) * u01(rng));
         ray.dir = u01(rng) < 0.5f ? a : -a;
-        if (u01(rng) < 0.5f) ray.origin = c.x1 + a * (R + 1.0f) + side * (1.2f * std::max(c.r0, c.r1) * u01(rng)), ray.dir = -a;
+        if (u01(rng) < 0.5f)
+            ray.origin = c.x1 + a * (R + 1.0f) + side * (1.2f * std::max(c.r0, c.r1) * u01(rng)), ray.dir = -a;
     }
     return {c, ray};
 }
 
-RoundedConeD toDouble(const RoundedCone& c) { return {dvec3(c.x0), double(c.r0), dvec3(c.x1), double(c.r1)}; }
-RayD toDouble(const Ray& r) { return {dvec3(r.origin), glm::normalize(dvec3(r.dir))}; }
+RoundedConeD toDouble(const RoundedCone& c) {
+    return {dvec3(c.x0), double(c.r0), dvec3(c.x1), double(c.r1)};
+}
+RayD toDouble(const Ray& r) {
+    return {dvec3(r.origin), glm::normalize(dvec3(r.dir))};
+}
 
 bool finite(const ConeInterval& i) {
     return std::isfinite(i.tIn) && std::isfinite(i.tOut) && std::isfinite(i.nIn.x) && std::isfinite(i.nIn.y) &&
            std::isfinite(i.nIn.z) && std::isfinite(i.nOut.x) && std::isfinite(i.nOut.y) && std::isfinite(i.nOut.z);
 }
 
-double angle(dvec3 a, dvec3 b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
+double angle(dvec3 a, dvec3 b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
 
 // Tolerances. Inputs are float, so a point of the ray is known to ~6e-8 * (its distance from the
 // origin plus the coordinates' magnitude); shallow incidence amplifies that error along the ray
@@ -147,7 +168,10 @@ void checkAgainstMarch(ConeKind kind, RayKind rayKind, unsigned seed) {
         MarchResult ref = march(ray, c);
         double rmin = std::min(c.r0, c.r1);
         bool isGrazing = ref.hit ? ref.midDistance > -kGrazing * rmin : ref.minDistance < kGrazing * rmin;
-        if (isGrazing) { ++grazing; continue; }
+        if (isGrazing) {
+            ++grazing;
+            continue;
+        }
         ++checked;
         ASSERT_EQ(got.hit, ref.hit) << "case " << i << " kind " << int(kind);
         if (!ref.hit) continue;
@@ -168,8 +192,8 @@ void checkAgainstMarch(ConeKind kind, RayKind rayKind, unsigned seed) {
     // Enough of the cases must be real checks, not grazing or trivial misses.
     EXPECT_GT(checked, 2500);
     EXPECT_GT(hits, 300);
-    std::printf("kind %d ray %d: checked %d hits %d grazing %d worst |dt|/scale %.3g worst normal %.3g rad\n", int(kind),
-                int(rayKind), checked, hits, grazing, worstT, worstN);
+    std::printf("kind %d ray %d: checked %d hits %d grazing %d worst |dt|/scale %.3g worst normal %.3g rad\n",
+                int(kind), int(rayKind), checked, hits, grazing, worstT, worstN);
 }
 
 TEST(RoundedCone, intersection_matches_double_march_general_cones) {
@@ -215,8 +239,10 @@ TEST(RoundedCone, grazing_and_degenerate_rays_never_produce_nan) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     // Rays exactly tangent to spheres and cylinders, exactly along the axis through the centre,
     // zero-length segments and equal spheres.
-    std::vector<RoundedCone> cones = {{{0, 0, 0}, 0.1f, {1, 0, 0}, 0.1f}, {{0, 0, 0}, 0.1f, {0, 0, 0}, 0.1f},
-                                      {{0, 0, 0}, 0.3f, {0.1f, 0, 0}, 0.1f}, {{0, 0, 0}, 0.1f, {0.2f, 0, 0}, 0.1f}};
+    std::vector<RoundedCone> cones = {{{0, 0, 0}, 0.1f, {1, 0, 0}, 0.1f},
+                                      {{0, 0, 0}, 0.1f, {0, 0, 0}, 0.1f},
+                                      {{0, 0, 0}, 0.3f, {0.1f, 0, 0}, 0.1f},
+                                      {{0, 0, 0}, 0.1f, {0.2f, 0, 0}, 0.1f}};
     for (const RoundedCone& c : cones) {
         for (Ray r : {Ray{{-2, 0, 0}, {1, 0, 0}}, Ray{{-2, 0.1f, 0}, {1, 0, 0}}, Ray{{0, 0.1f, -3}, {0, 0, 1}},
                       Ray{{0.5f, 0.1f, -3}, {0, 0, 1}}, Ray{{3, 0, 0}, {-1, 0, 0}}, Ray{{0, 0, 0}, {1, 0, 0}}}) {

@@ -1,15 +1,16 @@
 // Scene spec v1 (core/scene.h): defaults, every validation error with its text and location,
 // --set overrides, relative paths, file loading and frame file names.
+#include "core/scene.h"
+
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include "core/error.h"
-#include "core/scene.h"
 
 namespace tc {
 namespace {
@@ -25,7 +26,9 @@ json with(const json& patch) {
     doc.merge_patch(patch);
     return doc;
 }
-json with(const char* patch) { return with(json::parse(patch)); }
+json with(const char* patch) {
+    return with(json::parse(patch));
+}
 
 // The InputError message parseScene throws, or a marker that makes the comparison fail readably.
 std::string errorOf(const json& doc, const std::vector<std::string>& overrides = {}) {
@@ -191,7 +194,8 @@ TEST(Scene, DatasetWithBothPathAndGenerateIsAnError) {
 
 TEST(Scene, UnknownGeneratorListsTheValidOnes) {
     EXPECT_EQ(errorOf(json::parse(R"({"dataset": {"generate": "hurricane"}})")),
-              "scene.json: dataset.generate: expected one of \"tornado\", \"propeller\", \"brain\", \"convection\", \"turbulence\", \"droplets\", got \"hurricane\"");
+              "scene.json: dataset.generate: expected one of \"tornado\", \"propeller\", \"brain\", \"convection\", "
+              "\"turbulence\", \"droplets\", got \"hurricane\"");
 }
 
 TEST(Scene, GeneratorParametersAreCheckedAndLimited) {
@@ -246,8 +250,7 @@ TEST(Scene, FractionalIntegerIsAnErrorButAWholeFloatIsAccepted) {
 }
 
 TEST(Scene, OutOfRangeValuesAreErrors) {
-    EXPECT_EQ(errorOf(with(R"({"image": {"width": 0}})")),
-              "scene.json: image.width: expected integer 1..65536, got 0");
+    EXPECT_EQ(errorOf(with(R"({"image": {"width": 0}})")), "scene.json: image.width: expected integer 1..65536, got 0");
     EXPECT_EQ(errorOf(with(R"({"camera": {"fov_deg": 0}})")),
               "scene.json: camera.fov_deg: expected a number in [1, 170], got 0");
     EXPECT_EQ(errorOf(with(R"({"style": {"opacity": 1.5}})")),
@@ -276,8 +279,7 @@ TEST(Scene, WrongTypesForBooleansVectorsAndObjectsAreErrors) {
 }
 
 TEST(Scene, ZeroVectorsAreErrors) {
-    EXPECT_EQ(errorOf(with(R"({"camera": {"up": [0, 0, 0]}})")),
-              "scene.json: camera.up: expected a non-zero vector");
+    EXPECT_EQ(errorOf(with(R"({"camera": {"up": [0, 0, 0]}})")), "scene.json: camera.up: expected a non-zero vector");
     EXPECT_EQ(errorOf(with(R"({"lighting": {"direction": [0, 0, 0]}})")),
               "scene.json: lighting.direction: expected a non-zero vector");
     EXPECT_EQ(errorOf(with(R"({"animation": {"type": "orbit", "axis": [0, 0, 0]}})")),
@@ -301,12 +303,15 @@ TEST(Scene, UnknownNestedKeyIsAnErrorThatSuggestsTheClosestKey) {
 
 TEST(Scene, UnknownKeyFarFromAnyKnownKeyListsTheKnownKeys) {
     EXPECT_EQ(errorOf(with(R"({"image": {"quality": 9}})")),
-              "scene.json: image.quality: unknown key (known keys: \"background\", \"height\", \"samples\", \"tiles\", \"width\")");
+              "scene.json: image.quality: unknown key (known keys: \"background\", \"height\", \"samples\", \"tiles\", "
+              "\"width\")");
 }
 
 TEST(Scene, UnknownKeyInsideAKeyframeIsAnError) {
-    EXPECT_EQ(errorOf(with(R"({"animation": {"type": "keyframes", "keys": [{"frame": 0, "eye": [0, 0, 1], "trget": [0, 0, 0]}]}})")),
-              "scene.json: animation.keys[0].trget: unknown key (did you mean \"target\"?)");
+    EXPECT_EQ(
+        errorOf(with(
+            R"({"animation": {"type": "keyframes", "keys": [{"frame": 0, "eye": [0, 0, 1], "trget": [0, 0, 0]}]}})")),
+        "scene.json: animation.keys[0].trget: unknown key (did you mean \"target\"?)");
 }
 
 TEST(Scene, AnimationKeysWithoutTypeKeyframesAreUnknown) {
@@ -340,7 +345,8 @@ TEST(Scene, StyleColourWithAlphaIsAnErrorPointingToOpacity) {
 
 TEST(Scene, BadEnumValuesListTheValidOnes) {
     EXPECT_EQ(errorOf(with(R"({"render": {"transparency": "weighted"}})")),
-              "scene.json: render.transparency: expected one of \"auto\", \"opaque\", \"kbuffer\", \"depth_peeling\", \"object_order\", "
+              "scene.json: render.transparency: expected one of \"auto\", \"opaque\", \"kbuffer\", \"depth_peeling\", "
+              "\"object_order\", "
               "\"opacity_optimization\", got \"weighted\"");
     EXPECT_EQ(errorOf(with(R"({"camera": {"projection": "fisheye"}})")),
               "scene.json: camera.projection: expected one of \"perspective\", \"orthographic\", got \"fisheye\"");
@@ -359,7 +365,8 @@ TEST(Scene, BadEnumValuesListTheValidOnes) {
 
 TEST(Scene, AoCacheDefaultsToPrecomputedAndTakesNone) {
     EXPECT_EQ(parseScene(with(R"({"render": {"ao": {}}})"), "scene.json").render.ao.cache, AoSpec::Cache::Precomputed);
-    EXPECT_EQ(parseScene(with(R"({"render": {"ao": {"cache": "none"}}})"), "scene.json").render.ao.cache, AoSpec::Cache::None);
+    EXPECT_EQ(parseScene(with(R"({"render": {"ao": {"cache": "none"}}})"), "scene.json").render.ao.cache,
+              AoSpec::Cache::None);
     EXPECT_EQ(errorOf(with(R"({"render": {"ao": {"cache": "vertex"}}})")),
               "scene.json: render.ao.cache: expected one of \"precomputed\", \"none\", got \"vertex\"");
 }
@@ -377,13 +384,16 @@ TEST(Scene, AttributeMappingsRequireTheAttribute) {
 
 TEST(Scene, BadRangesAndRadiusRangesAreErrors) {
     EXPECT_EQ(errorOf(with(R"({"style": {"color": {"attribute": "speed", "range": [1, 0]}}})")),
-              "scene.json: style.color.range: expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, "
+              "scene.json: style.color.range: expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, "
+              "p_hi]}, "
               "got [1,0]");
     EXPECT_EQ(errorOf(with(R"({"style": {"radius": {"attribute": "speed", "range": "automatic"}}})")),
-              "scene.json: style.radius.range: expected \"auto\", [min, max] with min < max or {\"percentiles\": [p_lo, p_hi]}, "
+              "scene.json: style.radius.range: expected \"auto\", [min, max] with min < max or {\"percentiles\": "
+              "[p_lo, p_hi]}, "
               "got \"automatic\"");
-    EXPECT_EQ(errorOf(with(R"({"style": {"radius": {"attribute": "speed", "range": {"percentiles": [5, 101]}}}})")),
-              "scene.json: style.radius.range: percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100, got [5,101]");
+    EXPECT_EQ(
+        errorOf(with(R"({"style": {"radius": {"attribute": "speed", "range": {"percentiles": [5, 101]}}}})")),
+        "scene.json: style.radius.range: percentiles: expected [p_lo, p_hi] with 0 <= p_lo < p_hi <= 100, got [5,101]");
     RangeSpec p = parseScene(with(R"({"style": {"color": {"attribute": "speed", "range": {"percentiles": [2, 98]}}}})"),
                              "scene.json")
                       .style.color.range;
@@ -401,15 +411,20 @@ TEST(Scene, BadOpacityTransferFunctionPointsAreErrors) {
     auto points = [](const char* p) {
         return with(json::parse(std::string(R"({"style": {"opacity": {"attribute": "speed", "points": )") + p + "}}}"));
     };
-    EXPECT_EQ(errorOf(points("[[0, 1]]")), prefix + "[[0,1]]");                  // one point
+    EXPECT_EQ(errorOf(points("[[0, 1]]")), prefix + "[[0,1]]");  // one point
     // A bad element is named by its index.
-    EXPECT_EQ(errorOf(points("[[0.5, 1], [0.2, 0]]")), "scene.json: style.opacity.points[1]: t must not decrease: 0.2 after 0.5");
-    EXPECT_EQ(errorOf(points("[[0, 1], [1.5, 0]]")), "scene.json: style.opacity.points[1]: t must be in [0, 1], got 1.5");
-    EXPECT_EQ(errorOf(points("[[0, 1], [1, 2]]")), "scene.json: style.opacity.points[1]: opacity must be in [0, 1], got 2");
+    EXPECT_EQ(errorOf(points("[[0.5, 1], [0.2, 0]]")),
+              "scene.json: style.opacity.points[1]: t must not decrease: 0.2 after 0.5");
+    EXPECT_EQ(errorOf(points("[[0, 1], [1.5, 0]]")),
+              "scene.json: style.opacity.points[1]: t must be in [0, 1], got 1.5");
+    EXPECT_EQ(errorOf(points("[[0, 1], [1, 2]]")),
+              "scene.json: style.opacity.points[1]: opacity must be in [0, 1], got 2");
     EXPECT_EQ(errorOf(points("[[0, 1], [1]]")), "scene.json: style.opacity.points[1]: expected [t, opacity], got [1]");
-    EXPECT_EQ(errorOf(points("[[0, 1], \"x\"]")), "scene.json: style.opacity.points[1]: expected [t, opacity], got \"x\"");
+    EXPECT_EQ(errorOf(points("[[0, 1], \"x\"]")),
+              "scene.json: style.opacity.points[1]: expected [t, opacity], got \"x\"");
     EXPECT_EQ(errorOf(points("\"preset\"")),
-              "scene.json: style.opacity.points: expected [[t, opacity], ...] or \"colormap\" (the preset's opacity points), got \"preset\"");
+              "scene.json: style.opacity.points: expected [[t, opacity], ...] or \"colormap\" (the preset's opacity "
+              "points), got \"preset\"");
     // Equal t makes a step.
     Scene s = parseScene(points("[[0, 0], [0.5, 0], [0.5, 1], [1, 1]]"), "scene.json");
     EXPECT_EQ(s.style.opacity.points.size(), 4u);
@@ -503,8 +518,7 @@ TEST(Scene, SetCreatesNestedObjects) {
 
 TEST(Scene, SetTypeErrorsNameTheKeyAsSet) {
     EXPECT_EQ(errorOf(kMinimal, {"image.width=wide"}), "--set image.width: expected integer 1..65536, got \"wide\"");
-    EXPECT_EQ(errorOf(kMinimal, {"camera.eye=[1,2"}),
-              "--set camera.eye: expected an array of 3 numbers, got \"[1,2\"");
+    EXPECT_EQ(errorOf(kMinimal, {"camera.eye=[1,2"}), "--set camera.eye: expected an array of 3 numbers, got \"[1,2\"");
     EXPECT_EQ(errorOf(kMinimal, {"camera.fov_degs=40"}),
               "--set camera.fov_degs: unknown key (did you mean \"fov_deg\"?)");
     EXPECT_EQ(errorOf(kMinimal, {"output.formats=[\"gif\"]"}),
@@ -573,7 +587,8 @@ TEST(Scene, LoadSceneReportsValidationErrorsWithTheFileName) {
         loadScene((dir / "scene.json").string());
         FAIL() << "no error";
     } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()), (dir / "scene.json").string() + ": image.width: expected integer 1..65536, got 0");
+        EXPECT_EQ(std::string(e.what()),
+                  (dir / "scene.json").string() + ": image.width: expected integer 1..65536, got 0");
     }
 }
 
@@ -643,7 +658,7 @@ TEST(Scene, DemoConfigIsTheDocumentedBuiltInDemo) {
 TEST(Scene, FrameFileNameReplacesARunOfHashes) {
     EXPECT_EQ(frameFileName("frame.####", 7), "frame.0007");
     EXPECT_EQ(frameFileName("frame.####", 0), "frame.0000");
-    EXPECT_EQ(frameFileName("f#_x", 42), "f42_x");       // the number is never truncated
+    EXPECT_EQ(frameFileName("f#_x", 42), "f42_x");  // the number is never truncated
     EXPECT_EQ(frameFileName("a.##.b", 12345), "a.12345.b");
 }
 
@@ -654,7 +669,9 @@ TEST(Scene, FrameFileNameReplacesBraceTokens) {
     EXPECT_EQ(frameFileName("{frame:02}", 123), "123");
 }
 
-TEST(Scene, FrameFileNameWithoutATokenIsUnchanged) { EXPECT_EQ(frameFileName("still", 3), "still"); }
+TEST(Scene, FrameFileNameWithoutATokenIsUnchanged) {
+    EXPECT_EQ(frameFileName("still", 3), "still");
+}
 
 TEST(Scene, HasFrameTokenRecognisesExactlyTheTokensFrameFileNameReplaces) {
     EXPECT_TRUE(hasFrameToken("frame.####"));

@@ -1,5 +1,7 @@
 // Visibility-sort keys: the float -> uint32 map preserves order for every sign and magnitude and
 // inverts exactly; the segment distances match their analytic values.
+#include "core/sort_keys.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -7,8 +9,6 @@
 #include <limits>
 #include <random>
 #include <vector>
-
-#include "core/sort_keys.h"
 
 namespace tc {
 namespace {
@@ -18,9 +18,8 @@ TEST(SortKeys, key_order_equals_float_order_across_signs_zeros_denormals_and_inf
     constexpr float maxF = std::numeric_limits<float>::max();
     constexpr float minNormal = std::numeric_limits<float>::min();
     constexpr float denorm = std::numeric_limits<float>::denorm_min();
-    const std::vector<float> ascending = {-inf,   -maxF, -1e10f, -1.0f,     -minNormal, -denorm,
-                                          -0.0f,  0.0f,  denorm, minNormal, 1e-30f,     0.5f,
-                                          1.0f,   1.0f + 1e-7f,  3.0f,      1e30f,      maxF, inf};
+    const std::vector<float> ascending = {-inf,      -maxF,  -1e10f, -1.0f, -minNormal,   -denorm, -0.0f, 0.0f, denorm,
+                                          minNormal, 1e-30f, 0.5f,   1.0f,  1.0f + 1e-7f, 3.0f,    1e30f, maxF, inf};
     for (std::size_t i = 1; i < ascending.size(); ++i)
         EXPECT_LT(sortKeyFromFloat(ascending[i - 1]), sortKeyFromFloat(ascending[i]))
             << ascending[i - 1] << " vs " << ascending[i];
@@ -56,11 +55,11 @@ TEST(SortKeys, float_from_sort_key_inverts_every_bit_pattern) {
 
 TEST(SortKeys, segment_distance_is_the_distance_to_the_closest_point_of_the_segment) {
     const glm::vec3 a(-1, 0, 0), b(1, 0, 0);
-    EXPECT_FLOAT_EQ(segmentDistance({0, 2, 0}, a, b), 2.0f);       // interior
-    EXPECT_FLOAT_EQ(segmentDistance({0.5f, 0, -3}, a, b), 3.0f);   // interior, other side
-    EXPECT_FLOAT_EQ(segmentDistance({4, 4, 0}, a, b), 5.0f);       // clamped to b (3-4-5)
-    EXPECT_FLOAT_EQ(segmentDistance({-4, 0, 4}, a, b), 5.0f);      // clamped to a
-    EXPECT_FLOAT_EQ(segmentDistance({0.25f, 0, 0}, a, b), 0.0f);   // on the segment
+    EXPECT_FLOAT_EQ(segmentDistance({0, 2, 0}, a, b), 2.0f);                     // interior
+    EXPECT_FLOAT_EQ(segmentDistance({0.5f, 0, -3}, a, b), 3.0f);                 // interior, other side
+    EXPECT_FLOAT_EQ(segmentDistance({4, 4, 0}, a, b), 5.0f);                     // clamped to b (3-4-5)
+    EXPECT_FLOAT_EQ(segmentDistance({-4, 0, 4}, a, b), 5.0f);                    // clamped to a
+    EXPECT_FLOAT_EQ(segmentDistance({0.25f, 0, 0}, a, b), 0.0f);                 // on the segment
     EXPECT_FLOAT_EQ(segmentDistance({0, 3, 4}, b, b), std::sqrt(1.0f + 25.0f));  // degenerate
     EXPECT_EQ(segmentDistance({0, 2, 0}, a, b), segmentDistance({0, 2, 0}, b, a));
 }

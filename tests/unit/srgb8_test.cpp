@@ -1,12 +1,12 @@
 // core/srgb8.h: the table encoding equals the formula it replaces (lround(255 * linearToSrgb(v))).
+#include "core/srgb8.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
-
-#include "core/srgb8.h"
 
 namespace tc {
 namespace {

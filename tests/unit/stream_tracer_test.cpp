@@ -1,4 +1,8 @@
 // dataset.trace (io/stream_tracer.h): streamlines of analytic fields written as VTK grids.
+#include "io/stream_tracer.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -7,10 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "core/error.h"
-#include "io/stream_tracer.h"
 #include "test_tmp.h"
 
 namespace tc {
@@ -42,9 +43,12 @@ std::string writeRotationVti(const fs::path& dir) {
       <PointData Vectors="velocity">
         <DataArray type="Float64" Name="velocity" NumberOfComponents="3" format="ascii">)"
         << vec.str() << R"(</DataArray>
-        <DataArray type="Float64" Name="vx" format="ascii">)" << vx.str() << R"(</DataArray>
-        <DataArray type="Float64" Name="vy" format="ascii">)" << vy.str() << R"(</DataArray>
-        <DataArray type="Float64" Name="vz" format="ascii">)" << vz.str() << R"(</DataArray>
+        <DataArray type="Float64" Name="vx" format="ascii">)"
+        << vx.str() << R"(</DataArray>
+        <DataArray type="Float64" Name="vy" format="ascii">)"
+        << vy.str() << R"(</DataArray>
+        <DataArray type="Float64" Name="vz" format="ascii">)"
+        << vz.str() << R"(</DataArray>
       </PointData>
       <CellData></CellData>
     </Piece>
@@ -158,7 +162,9 @@ TEST(StreamTracer, ErrorsNameTheFileAndTheArray) {
     TraceSpec spec = lineSeeds();
     spec.vector = "wind";
     EXPECT_EQ(errorOf([&] { traceStreamlines(vti, spec); }),
-              vti + ": dataset.trace.vector: no point array \"wind\" (available, with components: velocity (3), vx (1), vy (1), vz (1))");
+              vti +
+                  ": dataset.trace.vector: no point array \"wind\" (available, with components: velocity (3), vx (1), "
+                  "vy (1), vz (1))");
     spec.vector = "vx";
     EXPECT_EQ(errorOf([&] { traceStreamlines(vti, spec); }),
               vti + ": dataset.trace.vector: point array \"vx\" has 1 components, expected 3");
@@ -169,8 +175,9 @@ TEST(StreamTracer, ErrorsNameTheFileAndTheArray) {
     spec = lineSeeds();
     spec.lineFrom = {5, 5, 5};
     spec.lineTo = {6, 6, 6};
-    EXPECT_EQ(errorOf([&] { traceStreamlines(vti, spec); }),
-              vti + ": dataset.trace: no streamlines (4 seeds; seeds outside the grid or in zero velocity trace nothing)");
+    EXPECT_EQ(
+        errorOf([&] { traceStreamlines(vti, spec); }),
+        vti + ": dataset.trace: no streamlines (4 seeds; seeds outside the grid or in zero velocity trace nothing)");
 }
 
 }  // namespace

@@ -1,16 +1,17 @@
 // Styling (core/styling.h): attributes -> per-vertex radius and linear RGBA, the segment index
 // buffer, flags and bounds.
+#include "core/styling.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "core/color.h"
 #include "core/colormap.h"
 #include "core/error.h"
-#include "core/styling.h"
 
 namespace tc {
 namespace {
@@ -157,9 +158,9 @@ TEST(Styling, OpacityFollowsTheTransferFunction) {
     style.opacity.points = {{0.0f, 0.0f}, {0.5f, 0.2f}, {1.0f, 1.0f}};
     StyledLines s = styleLines(threeLines(), style, "scene.json");
     EXPECT_NEAR(s.color[0].w, 0.0f, 1e-6f);
-    EXPECT_NEAR(s.color[2].w, 0.1f, 1e-6f);   // t = 0.25
-    EXPECT_NEAR(s.color[4].w, 0.2f, 1e-6f);   // t = 0.5
-    EXPECT_NEAR(s.color[6].w, 0.6f, 1e-6f);   // t = 0.75
+    EXPECT_NEAR(s.color[2].w, 0.1f, 1e-6f);  // t = 0.25
+    EXPECT_NEAR(s.color[4].w, 0.2f, 1e-6f);  // t = 0.5
+    EXPECT_NEAR(s.color[6].w, 0.6f, 1e-6f);  // t = 0.75
     EXPECT_NEAR(s.color[8].w, 1.0f, 1e-6f);
 }
 
@@ -181,7 +182,7 @@ TEST(Styling, TransferFunctionIsHeldOutsideItsPoints) {
 }
 
 TEST(Styling, TransferFunctionEdgeCases) {
-    EXPECT_FLOAT_EQ(evaluateTransferFunction({}, 0.3f), 1.0f);               // no points: opaque
+    EXPECT_FLOAT_EQ(evaluateTransferFunction({}, 0.3f), 1.0f);                // no points: opaque
     EXPECT_FLOAT_EQ(evaluateTransferFunction({{0.5f, 0.25f}}, 0.0f), 0.25f);  // one point: constant
     EXPECT_FLOAT_EQ(evaluateTransferFunction({{0.5f, 0.25f}}, 1.0f), 0.25f);
     // Two points at the same t make a step; exactly at the step the lower value is taken, just
@@ -278,7 +279,8 @@ TEST(Styling, UnloadedPresetIsAnErrorNamingTheKey) {
     StyleSpec style;
     style.color.attribute = "a";
     style.color.colormap = "maps/blue.json";
-    EXPECT_EQ(styleError(threeLines(), style), "scene.json: style.color.colormap: preset \"maps/blue.json\" was not loaded");
+    EXPECT_EQ(styleError(threeLines(), style),
+              "scene.json: style.color.colormap: preset \"maps/blue.json\" was not loaded");
 }
 
 TEST(Styling, PercentileRangeIgnoresOutliers) {

@@ -1,9 +1,9 @@
 #pragma once
 // A fresh directory per test under the build tree: TUBECAST_TEST_TMP/<suite>.<test>, emptied.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 namespace tc::test {
 

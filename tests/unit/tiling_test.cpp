@@ -2,22 +2,25 @@
 // edges, a tile's rays are bit-for-bit the full image's, the NDC map puts full-image geometry on
 // the target's pixels, the budget planner picks the fewest tiles that fit (and fails with the key
 // when none does), the R2 samples estimate pixel coverage, and image.tiles / image.samples parse.
+#include "core/tiling.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/error.h"
 #include "core/scene.h"
-#include "core/tiling.h"
 
 namespace tc {
 namespace {
 
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool sameBits(float a, float b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 void expectGridCoversOnce(int w, int h, int nx, int ny) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + " in " + std::to_string(nx) + "x" + std::to_string(ny));
@@ -196,7 +199,8 @@ TEST(Tiling, sixteen_samples_estimate_edge_coverage_within_an_eighth) {
             const int g = 512;
             long exact = 0;
             for (int y = 0; y < g; ++y)
-                for (int x = 0; x < g; ++x) exact += glm::dot(n, glm::dvec2((x + 0.5) / g - 0.5, (y + 0.5) / g - 0.5)) < c;
+                for (int x = 0; x < g; ++x)
+                    exact += glm::dot(n, glm::dvec2((x + 0.5) / g - 0.5, (y + 0.5) / g - 0.5)) < c;
             const double err = std::abs(inside / 16.0 - double(exact) / (g * g));
             worst = std::max(worst, err);
             sum += err;
@@ -241,7 +245,9 @@ TEST(Tiling, image_tiles_and_samples_parse_and_validate) {
         parseScene(doc, "scene.json");
         ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()).rfind("scene.json: image.samples: render.transparency \"opacity_optimization\"", 0), 0u)
+        EXPECT_EQ(
+            std::string(e.what()).rfind("scene.json: image.samples: render.transparency \"opacity_optimization\"", 0),
+            0u)
             << e.what();
     }
 }

@@ -2,6 +2,8 @@
 // over back" colour of two crossing tubes, order-independent alpha 1 - prod(1 - a_i), and the
 // opaque limit (alpha 1) reproducing renderReferenceOpaque (colour clamped to [0, 1], as every
 // transparent path blends it).
+#include "core/transparent_reference.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,14 +13,13 @@
 
 #include "core/cpu_reference.h"
 #include "core/rounded_cone.h"
-#include "core/transparent_reference.h"
 
 namespace tc {
 namespace {
 
 struct Tube {
-    glm::vec4 a, b;    // xyz, radius
-    glm::vec4 color;   // rgb, alpha (both vertices)
+    glm::vec4 a, b;   // xyz, radius
+    glm::vec4 color;  // rgb, alpha (both vertices)
 };
 
 // One single-segment polyline per tube, in the given order.
@@ -50,7 +51,9 @@ Camera frontCamera(Projection projection) {
 }
 
 // The opaque reference's colour as the transparent paths blend it: clamped to [0, 1].
-float clamped(const FrameImages& img, std::size_t i, int c) { return std::clamp(img.rgba[4 * i + c], 0.0f, 1.0f); }
+float clamped(const FrameImages& img, std::size_t i, int c) {
+    return std::clamp(img.rgba[4 * i + c], 0.0f, 1.0f);
+}
 
 glm::vec4 pixel(const FrameImages& img, std::size_t i) {
     return {img.rgba[4 * i], img.rgba[4 * i + 1], img.rgba[4 * i + 2], img.rgba[4 * i + 3]};
@@ -125,8 +128,7 @@ TEST(TransparentReference, two_crossing_tubes_composite_front_over_back_whatever
 // Random crossing tubes with random alphas; constant colour per tube.
 std::vector<Tube> randomTubes(unsigned seed, int n, float alphaLo, float alphaHi) {
     std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> pos(-0.8f, 0.8f), rad(0.05f, 0.2f), col(0.0f, 1.0f),
-        alpha(alphaLo, alphaHi);
+    std::uniform_real_distribution<float> pos(-0.8f, 0.8f), rad(0.05f, 0.2f), col(0.0f, 1.0f), alpha(alphaLo, alphaHi);
     std::vector<Tube> tubes;
     for (int i = 0; i < n; ++i)
         tubes.push_back({{pos(rng), pos(rng), pos(rng), rad(rng)},

@@ -1,18 +1,19 @@
 // Density voxelization for line ambient occlusion (core/voxel_density.h): analytic volumes,
 // clamping, face/edge tie-breaking, grid sizing, trilinear sampling, thread-count independence.
+#include "core/voxel_density.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
 
-#include <gtest/gtest.h>
-#include <tbb/global_control.h>
-
 #include "core/error.h"
 #include "core/generators.h"
 #include "core/scene.h"
 #include "core/styling.h"
-#include "core/voxel_density.h"
 
 using namespace tc;
 
@@ -86,13 +87,11 @@ bool clipToGrid(const Segment& s, const DensityGrid& grid, double& s0, double& s
 // pi L * integral_{s0}^{s1} r(s)^2 a(s) ds / voxelSize^3 through the expanded cubic's
 // antiderivative (the implementation uses Simpson's rule, so this is an independent formula).
 double analyticDensity(const Segment& s, double s0, double s1, double voxelSize) {
-    const double ra = s.ra, dr = double(s.rb) - s.ra, oa = s.alphaA,
-                 dO = double(s.alphaB) - s.alphaA;
-    const double c[4] = {ra * ra * oa, ra * ra * dO + 2.0 * ra * dr * oa,
-                         2.0 * ra * dr * dO + dr * dr * oa, dr * dr * dO};
+    const double ra = s.ra, dr = double(s.rb) - s.ra, oa = s.alphaA, dO = double(s.alphaB) - s.alphaA;
+    const double c[4] = {ra * ra * oa, ra * ra * dO + 2.0 * ra * dr * oa, 2.0 * ra * dr * dO + dr * dr * oa,
+                         dr * dr * dO};
     double integral = 0.0;
-    for (int i = 0; i < 4; ++i)
-        integral += c[i] * (std::pow(s1, i + 1) - std::pow(s0, i + 1)) / (i + 1);
+    for (int i = 0; i < 4; ++i) integral += c[i] * (std::pow(s1, i + 1) - std::pow(s0, i + 1)) / (i + 1);
     const double length = glm::length(glm::dvec3(s.b) - glm::dvec3(s.a));
     return kPi * length * integral / (voxelSize * voxelSize * voxelSize);
 }
@@ -103,8 +102,7 @@ glm::vec3 gridPoint(const DensityGrid& grid, const glm::vec3& g) {
 }
 
 std::size_t nonZeroVoxels(const DensityGrid& grid) {
-    return std::size_t(
-        std::count_if(grid.density.begin(), grid.density.end(), [](float d) { return d != 0.0f; }));
+    return std::size_t(std::count_if(grid.density.begin(), grid.density.end(), [](float d) { return d != 0.0f; }));
 }
 
 }  // namespace
@@ -152,17 +150,14 @@ TEST(VoxelDensity, FlatAndPointBoundsGiveAValidGrid) {
     EXPECT_THROW(makeDensityGrid(flat, 1), Error);
 }
 
-TEST(VoxelDensity,
-     TotalEqualsAnalyticConeVolumeTimesOpacityForRandomSegmentsIncludingFacesEdgesAndClamped) {
+TEST(VoxelDensity, TotalEqualsAnalyticConeVolumeTimesOpacityForRandomSegmentsIncludingFacesEdgesAndClamped) {
     DensityGrid grid = makeDensityGrid(testBounds(), kTestResolution);
     std::mt19937 rng(20200504);
-    std::uniform_real_distribution<float> inside(0.0f, 1.0f), outside(-0.6f, 1.6f),
-        radius(0.002f, 0.05f), alpha(0.0f, 1.0f);
+    std::uniform_real_distribution<float> inside(0.0f, 1.0f), outside(-0.6f, 1.6f), radius(0.002f, 0.05f),
+        alpha(0.0f, 1.0f);
     std::uniform_int_distribution<int> face(0, 8);
     const glm::vec3 gridSize(grid.size);
-    auto randomInside = [&] {
-        return gridPoint(grid, glm::vec3(inside(rng), inside(rng), inside(rng)) * gridSize);
-    };
+    auto randomInside = [&] { return gridPoint(grid, glm::vec3(inside(rng), inside(rng), inside(rng)) * gridSize); };
     auto snap = [&](glm::vec3 p, int axis) {  // onto a voxel face along `axis`
         p[axis] = grid.origin[axis] + float(std::min(face(rng), grid.size[axis])) * grid.voxelSize;
         return p;
@@ -189,8 +184,7 @@ TEST(VoxelDensity,
         a = randomInside();
         add(a, a);  // zero length
         add(gridPoint(grid, glm::vec3(outside(rng), outside(rng), outside(rng)) * gridSize),
-            gridPoint(grid, glm::vec3(outside(rng), outside(rng), outside(rng)) *
-                                gridSize));  // partly outside
+            gridPoint(grid, glm::vec3(outside(rng), outside(rng), outside(rng)) * gridSize));  // partly outside
     }
     // Diagonals through voxel corners and edges (ties in the DDA), in both directions.
     add(gridPoint(grid, {1, 1, 1}), gridPoint(grid, {8, 8, 8}));
@@ -223,10 +217,9 @@ TEST(VoxelDensity,
 
 TEST(VoxelDensity, SegmentsEntirelyOutsideDepositNothingAndAreCounted) {
     DensityGrid grid = makeDensityGrid(testBounds(), kTestResolution);
-    voxelizeLines(
-        makeLines({{gridPoint(grid, {-1, 2, 2}), gridPoint(grid, {-3, 5, 5}), 0.1f, 0.1f, 1, 1},
-                   {gridPoint(grid, {5, 5, 14}), gridPoint(grid, {5, 5, 14}), 0.1f, 0.1f, 1, 1}}),
-        grid);
+    voxelizeLines(makeLines({{gridPoint(grid, {-1, 2, 2}), gridPoint(grid, {-3, 5, 5}), 0.1f, 0.1f, 1, 1},
+                             {gridPoint(grid, {5, 5, 14}), gridPoint(grid, {5, 5, 14}), 0.1f, 0.1f, 1, 1}}),
+                  grid);
     EXPECT_EQ(grid.total(), 0.0);
     EXPECT_EQ(grid.clampedSegments, 2u);
 }
@@ -234,12 +227,7 @@ TEST(VoxelDensity, SegmentsEntirelyOutsideDepositNothingAndAreCounted) {
 TEST(VoxelDensity, PartlyOutsideSegmentDepositsTheAnalyticVolumeOfItsClippedPart) {
     DensityGrid grid = makeDensityGrid(testBounds(), kTestResolution);
     // Along x from grid coordinate -4 to 6 at a voxel centre: the part in [0, 6] is deposited.
-    const Segment s{gridPoint(grid, {-4, 3.5f, 4.5f}),
-                    gridPoint(grid, {6, 3.5f, 4.5f}),
-                    0.01f,
-                    0.03f,
-                    0.2f,
-                    0.9f};
+    const Segment s{gridPoint(grid, {-4, 3.5f, 4.5f}), gridPoint(grid, {6, 3.5f, 4.5f}), 0.01f, 0.03f, 0.2f, 0.9f};
     voxelizeLines(makeLines({s}), grid);
     const double expected = analyticDensity(s, 0.4, 1.0, grid.voxelSize);
     EXPECT_NEAR(grid.total(), expected, kRelativeTolerance * expected);
@@ -249,12 +237,8 @@ TEST(VoxelDensity, PartlyOutsideSegmentDepositsTheAnalyticVolumeOfItsClippedPart
 
 TEST(VoxelDensity, SegmentInsideOneVoxelDepositsOnlyThereTheTruncatedConeVolume) {
     DensityGrid grid = makeDensityGrid(testBounds(), kTestResolution);
-    const Segment s{gridPoint(grid, {5.1f, 3.2f, 7.3f}),
-                    gridPoint(grid, {5.8f, 3.9f, 7.7f}),
-                    0.004f,
-                    0.011f,
-                    0.6f,
-                    0.6f};
+    const Segment s{
+        gridPoint(grid, {5.1f, 3.2f, 7.3f}), gridPoint(grid, {5.8f, 3.9f, 7.7f}), 0.004f, 0.011f, 0.6f, 0.6f};
     voxelizeLines(makeLines({s}), grid);
     // pi l (ra^2 + ra rb + rb^2) / 3, times the opacity, in voxel volumes.
     const double l = glm::length(glm::dvec3(s.b) - glm::dvec3(s.a));
@@ -269,9 +253,8 @@ TEST(VoxelDensity, LongAxisAlignedSegmentDepositsEqualAmountsPerVoxelAlongItsPat
     DensityGrid grid = makeDensityGrid(testBounds(), kTestResolution);
     // From face x = 2 to face x = 14, at a voxel centre in y and z.
     const float r = 0.02f, alpha = 0.7f;
-    voxelizeLines(makeLines({{gridPoint(grid, {2, 4.5f, 6.5f}), gridPoint(grid, {14, 4.5f, 6.5f}),
-                              r, r, alpha, alpha}}),
-                  grid);
+    voxelizeLines(
+        makeLines({{gridPoint(grid, {2, 4.5f, 6.5f}), gridPoint(grid, {14, 4.5f, 6.5f}), r, r, alpha, alpha}}), grid);
     const double h = grid.voxelSize;
     const double perVoxel = alpha * kPi * double(r) * r * h / (h * h * h);
     for (int x = 0; x < grid.size.x; ++x) {
@@ -288,14 +271,12 @@ TEST(VoxelDensity, OpacityRampDepositsTheMeanOpacityOfEachVoxelPiece) {
     DensityGrid grid = makeDensityGrid(testBounds(), kTestResolution);
     // Opacity 0 -> 1 over 10 voxels: voxel i holds the tube times the mean opacity (i + 0.5) / 10.
     const float r = 0.01f;
-    voxelizeLines(makeLines({{gridPoint(grid, {3, 2.5f, 2.5f}), gridPoint(grid, {13, 2.5f, 2.5f}),
-                              r, r, 0.0f, 1.0f}}),
+    voxelizeLines(makeLines({{gridPoint(grid, {3, 2.5f, 2.5f}), gridPoint(grid, {13, 2.5f, 2.5f}), r, r, 0.0f, 1.0f}}),
                   grid);
     const double h = grid.voxelSize;
     for (int i = 0; i < 10; ++i) {
         const double expected = (i + 0.5) / 10.0 * kPi * double(r) * r / (h * h);
-        EXPECT_NEAR(grid.density[grid.index(3 + i, 2, 2)], expected, kRelativeTolerance * expected)
-            << i;
+        EXPECT_NEAR(grid.density[grid.index(3 + i, 2, 2)], expected, kRelativeTolerance * expected) << i;
     }
 }
 
@@ -309,10 +290,8 @@ TEST(VoxelDensity, AxisOnAFaceOrEdgeDepositsIntoTheVoxelsWithTheLargerIndexInEit
         glm::vec3 c = gridPoint(grid, {12, 1, 8.5f}), e = gridPoint(grid, {12, 7, 8.5f});
         if (reversed) std::swap(c, e);
         voxelizeLines(makeLines({{a, b, 0.01f, 0.01f, 1, 1}, {c, e, 0.01f, 0.01f, 1, 1}}), grid);
-        for (int x = 4; x < 10; ++x)
-            EXPECT_GT(grid.density[grid.index(x, 3, 5)], 0.0f) << x << " " << reversed;
-        for (int y = 1; y < 7; ++y)
-            EXPECT_GT(grid.density[grid.index(12, y, 8)], 0.0f) << y << " " << reversed;
+        for (int x = 4; x < 10; ++x) EXPECT_GT(grid.density[grid.index(x, 3, 5)], 0.0f) << x << " " << reversed;
+        for (int y = 1; y < 7; ++y) EXPECT_GT(grid.density[grid.index(12, y, 8)], 0.0f) << y << " " << reversed;
         EXPECT_EQ(nonZeroVoxels(grid), 12u) << reversed;
     }
 }
@@ -344,8 +323,7 @@ TEST(VoxelDensity, GridIsBitIdenticalForOneTwoAndFourThreadsAndAnySegmentOrder) 
 
     std::vector<DensityGrid> grids;
     for (int threads : {1, 2, 4}) {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                                  std::size_t(threads));
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
         grids.push_back(makeDensityGrid(lines.bounds, 64));
         voxelizeLines(lines, grids.back());
     }

@@ -1,7 +1,10 @@
 // The VRC voxel model (core/vrc_model.h): clipping at voxel faces, quantization error bounds,
 // the piecewise approximation's distance to the input (Hausdorff), the header/array layout,
 // connectivity across faces, determinism, and the Eq. 1 density pyramid's totals.
+#include "core/vrc_model.h"
+
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,10 +13,6 @@
 #include <cstring>
 #include <random>
 #include <vector>
-
-#include <tbb/global_control.h>
-
-#include "core/vrc_model.h"
 
 namespace tc {
 namespace {
@@ -58,7 +57,8 @@ std::vector<std::vector<Vertex>> randomCurves(std::uint32_t seed, int count, int
         glm::vec3 p(uniform() * 2 - 1, uniform() * 2 - 1, uniform() * 2 - 1);
         glm::vec3 dir = glm::normalize(glm::vec3(uniform() - 0.5f, uniform() - 0.5f, uniform() - 0.5f) + 1e-3f);
         for (int i = 0; i < points; ++i) {
-            pl.push_back({p, 0.005f + 0.02f * uniform(), glm::vec4(uniform(), uniform(), uniform(), 0.2f + 0.8f * uniform())});
+            pl.push_back(
+                {p, 0.005f + 0.02f * uniform(), glm::vec4(uniform(), uniform(), uniform(), 0.2f + 0.8f * uniform())});
             dir = glm::normalize(dir + 0.8f * glm::vec3(uniform() - 0.5f, uniform() - 0.5f, uniform() - 0.5f));
             p += step * (0.3f + uniform()) * dir;
         }
@@ -91,7 +91,8 @@ VrcModel build(const StyledLines& lines, int resolution, int q) {
 
 TEST(VrcModel, straight_axis_aligned_line_gives_one_piece_per_voxel_with_ends_on_faces) {
     // A line along x through voxel centres: 2 vertex pieces + one piece per interior voxel.
-    const StyledLines lines = makeLines({{{glm::vec3(0, 0, 0), 0.01f, glm::vec4(1)}, {glm::vec3(1, 0, 0), 0.01f, glm::vec4(1)}}});
+    const StyledLines lines =
+        makeLines({{{glm::vec3(0, 0, 0), 0.01f, glm::vec4(1)}, {glm::vec3(1, 0, 0), 0.01f, glm::vec4(1)}}});
     const VrcModel m = build(lines, 11, 0);
     ASSERT_GT(m.voxelSize, 0.0f);
     const double x0 = (0.0 - m.origin.x) / m.voxelSize, x1 = (1.0 - m.origin.x) / m.voxelSize;
@@ -299,7 +300,8 @@ TEST(VrcModel, copies_put_each_piece_into_every_voxel_its_tube_reaches) {
         for (std::size_t i = 0; i < base.pieceCount(); ++i) {
             const VrcPiece p = base.piece(i);
             const glm::vec3 axis = p.b - p.a;
-            const glm::vec3 u = glm::normalize(glm::cross(axis + glm::vec3(1e-3f, 2e-3f, 0), glm::vec3(0.3f, 0.5f, 0.8f)));
+            const glm::vec3 u =
+                glm::normalize(glm::cross(axis + glm::vec3(1e-3f, 2e-3f, 0), glm::vec3(0.3f, 0.5f, 0.8f)));
             const glm::vec3 w = glm::normalize(glm::cross(axis + glm::vec3(1e-3f, 2e-3f, 0), u));
             std::vector<glm::vec3> points;
             const float len = glm::length(axis), rMax = std::max(p.ra, p.rb);
@@ -329,7 +331,8 @@ TEST(VrcModel, copies_put_each_piece_into_every_voxel_its_tube_reaches) {
                     const VrcPiece c = m.piece(h.offset + k);
                     found = c.line == p.line && c.a == p.a && c.b == p.b && c.ra == p.ra && c.rb == p.rb;
                 }
-                ASSERT_TRUE(found) << "q=" << q << " piece " << i << " point in voxel " << v.x << "," << v.y << "," << v.z;
+                ASSERT_TRUE(found) << "q=" << q << " piece " << i << " point in voxel " << v.x << "," << v.y << ","
+                                   << v.z;
             }
         }
         EXPECT_GT(samples, 50000u);
@@ -355,10 +358,11 @@ TEST(VrcModel, build_is_identical_for_any_thread_count) {
 }
 
 TEST(VrcModel, a_polyline_inside_one_voxel_is_one_piece_between_its_vertices) {
-    const StyledLines lines = makeLines({{{glm::vec3(0, 0, 0), 0.01f, glm::vec4(1)},
-                                          {glm::vec3(0.01f, 0.005f, 0), 0.01f, glm::vec4(1)},
-                                          {glm::vec3(0.02f, 0, 0), 0.01f, glm::vec4(1)}},
-                                         {{glm::vec3(1, 1, 1), 0.01f, glm::vec4(1)}, {glm::vec3(1.001f, 1, 1), 0.01f, glm::vec4(1)}}});
+    const StyledLines lines =
+        makeLines({{{glm::vec3(0, 0, 0), 0.01f, glm::vec4(1)},
+                    {glm::vec3(0.01f, 0.005f, 0), 0.01f, glm::vec4(1)},
+                    {glm::vec3(0.02f, 0, 0), 0.01f, glm::vec4(1)}},
+                   {{glm::vec3(1, 1, 1), 0.01f, glm::vec4(1)}, {glm::vec3(1.001f, 1, 1), 0.01f, glm::vec4(1)}}});
     const VrcModel m = build(lines, 4, 0);
     ASSERT_EQ(m.pieceCount(), 2u);
     for (std::size_t i = 0; i < 2; ++i) {

@@ -1,6 +1,8 @@
 // Representative lines of the VRC LoD (core/vrc_representative.h): the average of parallel pieces
 // (with the flip test), lines on a straight input and their connection across faces, and the
 // conservation of the Eq. 1 weights over the levels.
+#include "core/vrc_representative.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <vector>
 
 #include "core/vrc_model.h"
-#include "core/vrc_representative.h"
 
 namespace tc {
 namespace {
@@ -63,11 +64,10 @@ TEST(VrcRepresentative, representative_of_parallel_pieces_is_their_average_also_
         const float y0 = grid.origin.y + (std::floor((0.3f - grid.origin.y) / h) + 0.5f) * h;
         const float z0 = grid.origin.z + (std::floor((0.7f - grid.origin.z) / h) + 0.5f) * h;
         const float dy = 0.1f * h, dz = 0.05f * h;
-        const StyledLines lines = makeLines({{d0, d1},
-                                             {{glm::vec3(0.05f, y0 - dy, z0 + dz), 0.004f, 1.0f},
-                                              {glm::vec3(0.95f, y0 - dy, z0 + dz), 0.004f, 1.0f}},
-                                             {{glm::vec3(0.95f, y0 + dy, z0 - dz), 0.008f, 1.0f},
-                                              {glm::vec3(0.05f, y0 + dy, z0 - dz), 0.008f, 1.0f}}});
+        const StyledLines lines = makeLines(
+            {{d0, d1},
+             {{glm::vec3(0.05f, y0 - dy, z0 + dz), 0.004f, 1.0f}, {glm::vec3(0.95f, y0 - dy, z0 + dz), 0.004f, 1.0f}},
+             {{glm::vec3(0.95f, y0 + dy, z0 - dz), 0.008f, 1.0f}, {glm::vec3(0.05f, y0 + dy, z0 - dz), 0.008f, 1.0f}}});
         const VrcModel m = buildVrcModel(lines, o);
         ASSERT_EQ(m.voxelSize, h);
         const auto levels = buildRepresentativeLines(m, 0);
@@ -202,7 +202,9 @@ TEST(VrcRepresentative, weights_are_conserved_over_the_levels_and_copies_are_not
                         const VrcRepresentativeLine& o2 = level.lines[level.index(n)];
                         if (o2.weight <= 0.0f || o2.faceA == kInteriorFace) continue;
                         const std::uint32_t opposite = face ^ 1u;
-                        const glm::vec3* partner = o2.faceA == opposite ? &o2.a : o2.faceB == opposite ? &o2.b : nullptr;
+                        const glm::vec3* partner = o2.faceA == opposite   ? &o2.a
+                                                   : o2.faceB == opposite ? &o2.b
+                                                                          : nullptr;
                         if (!partner || glm::distance(*partner, end) > 0.5f * level.voxelSize) continue;
                         ++faceEnds;
                         connected += *partner == end;

@@ -1,5 +1,6 @@
 // The render.vrc keys of the scene spec (core/scene.cpp, docs/scene-spec.md).
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -21,7 +22,8 @@ std::string errorOf(const json& doc) {
 
 TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
     const Scene d = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
-        "render": {"technique": "voxel_raycast"}})"), "scene.json");
+        "render": {"technique": "voxel_raycast"}})"),
+                               "scene.json");
     EXPECT_EQ(d.render.technique, RenderTechnique::VoxelRaycast);
     EXPECT_EQ(d.render.vrc.resolution, 128);
     EXPECT_EQ(d.render.vrc.quantization, 32);
@@ -35,7 +37,8 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
         "render": {"technique": "voxel_raycast", "transparency": "kbuffer",
                    "vrc": {"resolution": 64, "quantization": 0, "neighbors": "on", "opacity_threshold": 0.5,
                            "path_length_opacity": true, "shadows": true, "shadow_aperture_deg": 20, "shadow_mode": "hard",
-                           "shadow_level": 2}}})"), "scene.json");
+                           "shadow_level": 2}}})"),
+                               "scene.json");
     EXPECT_EQ(s.render.vrc.resolution, 64);
     EXPECT_EQ(s.render.vrc.quantization, 0);
     EXPECT_TRUE(s.render.vrc.neighbors);

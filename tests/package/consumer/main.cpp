@@ -1,8 +1,7 @@
 // Runs tubecast's `validate` subcommand from the installed libraries and checks that the headers
 // of core, io and gl (with its generated GL header) compile from include/tubecast/.
-#include <iostream>
-
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "cli/commands.h"
 #include "core/error.h"
