@@ -25,7 +25,8 @@ void addConvertCommand(CLI::App& app) {
                     "Dataset file, a partitioned set (its directory or index.json), or a scene .json whose dataset to "
                     "write")
         ->required();
-    cmd->add_option("output", options->out, "Output .vtp (VTK XML polydata) or .tcb (tubecast binary) file")->required();
+    cmd->add_option("output", options->out, "Output .vtp (VTK XML polydata) or .tcb (tubecast binary) file")
+        ->required();
     cmd->add_option("--set", options->overrides, "Override a scene key (scene input only)");
     cmd->callback([options] {
         const bool tcb = options->out.ends_with(".tcb");
@@ -35,7 +36,8 @@ void addConvertCommand(CLI::App& app) {
         // A partitioned set's index.json is data (read whole), not a scene.
         if (options->in.ends_with(".json") && !isPartitionPath(options->in))
             spec = loadScene(options->in, options->overrides).dataset;
-        else spec.path = options->in;
+        else
+            spec.path = options->in;
         DatasetLoad data = loadDataset(spec);
         if (data.isParticles()) {
             if (tcb) throw InputError(options->out + ": .tcb holds lines; write particles as .vtp");

@@ -42,7 +42,7 @@ struct FrameLoopInputs {
     TimingsCsv* csv = nullptr;
     Placeholders* placeholders = nullptr;
     Progress* progress = nullptr;
-    std::uint64_t items = 0;   // the dataset's segments (timings "frame" rows)
+    std::uint64_t items = 0;  // the dataset's segments (timings "frame" rows)
     // --mpi: a frame's rows of every rank (to rank 0, none on the others); called on every rank
     // after each render. Null: this process's rows.
     std::function<std::vector<TimingRow>(std::vector<TimingRow>)> gatherRows;

@@ -21,15 +21,15 @@
 // Counts. MPI counts are `int`; buffers here may be larger (a rank's share of a 10^9-segment set),
 // so the byte transfers are split into messages of at most `chunkBytes` (the library cannot do
 // this itself before MPI 4's large-count functions, which Open MPI 4.1 does not have).
+#include <mpi.h>
+
 #include <cstdint>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <mpi.h>
-#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "io/timings_csv.h"

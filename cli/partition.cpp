@@ -1,6 +1,8 @@
 // tubecast partition DATA -n N -o DIR: decomposes a line set once into N k-d regions and writes
 // one brick per region plus index.json (io/partition.h), so that each rank of a data-parallel
 // render reads only its brick. DATA is a dataset file or a scene (its dataset), as for convert.
+#include "io/partition.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -15,7 +17,6 @@
 #include "core/scene.h"
 #include "io/atomic_file.h"
 #include "io/dataset.h"
-#include "io/partition.h"
 
 namespace tc::cli {
 

@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
-#include <functional>
 #include <optional>
 #include <string_view>
 
@@ -76,8 +76,10 @@ struct RenderOptions {
 // One step of the run: with --mpi a phase every rank passes or fails together (cli/mpi_session.h),
 // else just the work.
 void step(DataParallel* dp, std::string_view phase, const std::function<void()>& work) {
-    if (dp) dp->phase(phase, work);
-    else work();
+    if (dp)
+        dp->phase(phase, work);
+    else
+        work();
 }
 
 // The scene, this process's frames and their outputs.
@@ -96,8 +98,8 @@ void planScene(const RenderOptions& o, RenderJob& job, SceneInput input, bool wr
     job.scene = std::move(input.scene);
     job.data = std::move(input.data);
     Scene& scene = job.scene;
-    loadStylePresets(scene.style, scene.file);       // a bad preset file fails before any output,
-    techniqueRegistry().validateWithoutData(scene);  // and so does a technique that cannot take the settings
+    loadStylePresets(scene.style, scene.file);             // a bad preset file fails before any output,
+    techniqueRegistry().validateWithoutData(scene);        // and so does a technique that cannot take the settings
     if (o.mpi) techniqueRegistry().requireRegions(scene);  // or that cannot render a region (again once resolved)
     if (!o.outDir.empty()) scene.output.dir = o.outDir;
     // Only an EXR holds the depth / normal / id / AO AOVs: without one they are not computed (for
@@ -221,8 +223,10 @@ std::string describeData(const DatasetLoad& data) {
 
 void styleData(const Scene& scene, LoadedData& d) {
     d.kind = d.load.isParticles() ? DataKind::Particles : DataKind::Lines;
-    if (d.kind == DataKind::Lines) d.styled = styleLines(d.load.lines, scene.style, scene.file);
-    else d.styled.bounds = particleSeriesBounds(scene, d.load.particles);
+    if (d.kind == DataKind::Lines)
+        d.styled = styleLines(d.load.lines, scene.style, scene.file);
+    else
+        d.styled.bounds = particleSeriesBounds(scene, d.load.particles);
     d.bounds = d.styled.bounds;
 }
 
@@ -358,8 +362,7 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     const OutputSpec& out = scene.output;
     const KeptAovs kept{dp || (out.exr && out.aovDepth), out.exr && out.aovNormal, out.exr && out.aovId};
     const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
-    t.main = wrapInTiles(empty ? std::make_unique<BackgroundOnly>()
-                               : descriptor.create(techniqueScene, input, hooks),
+    t.main = wrapInTiles(empty ? std::make_unique<BackgroundOnly>() : descriptor.create(techniqueScene, input, hooks),
                          t.tiles, scene.image.samples, kept);
     if (!o.quiet && (t.tiles.tiles.size() > 1 || scene.image.samples > 1))
         std::cerr << "tubecast: " << t.tiles.tiles.size() << " tile(s) (" << t.tiles.nx << "x" << t.tiles.ny
@@ -408,8 +411,8 @@ void runRender(const RenderOptions& options) {
     const gl::ContextInfo& info = context->info();
     if (!o.quiet)
         std::cerr << "tubecast: " << info.backend << (info.device.empty() ? "" : " (" + info.device + ")") << ", "
-                  << info.renderer << ", " << describeData(data.load) << (dp ? " on rank 0" : "") << ", "
-                  << todo.size() << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
+                  << info.renderer << ", " << describeData(data.load) << (dp ? " on rank 0" : "") << ", " << todo.size()
+                  << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
     const std::vector<std::string> sources =
         styleSources(scene.style, data.kind == DataKind::Particles ? &data.load.particles : nullptr);
     if (!o.quiet) {
@@ -417,13 +420,12 @@ void runRender(const RenderOptions& options) {
         for (std::size_t i = 0; i < sources.size(); ++i) std::cerr << (i ? "; " : " ") << sources[i];
         std::cerr << "\n";
     }
-    bool translucent = data.kind == DataKind::Lines ? anyTranslucent(data.styled)
-                                                    : anyTranslucent(scene.style, data.load.particles);
+    bool translucent =
+        data.kind == DataKind::Lines ? anyTranslucent(data.styled) : anyTranslucent(scene.style, data.load.particles);
     if (dp) translucent = dp->any(translucent);
     Techniques techniques;
-    step(dp.get(), "technique", [&] {
-        techniques = makeTechniques(o, scene, data, translucent, todo.front().frame, info, dp.get(), &share);
-    });
+    step(dp.get(), "technique",
+         [&] { techniques = makeTechniques(o, scene, data, translucent, todo.front().frame, info, dp.get(), &share); });
     if (dp) techniques.main = dp->composited(std::move(techniques.main), scene);
 
     const Camera base = fitCamera(scene.camera, data.bounds, float(scene.image.width) / float(scene.image.height));
@@ -506,8 +508,8 @@ void runRender(const RenderOptions& options) {
     step(dp.get(), "frames", [&] {
         if (!outcome.failed.empty() && root)
             throw Error(ExitCode::FramesFailed, std::to_string(outcome.failed.size()) + " of " +
-                                                    std::to_string(todo.size()) + " frame(s) failed: " +
-                                                    formatFrameList(outcome.failed) +
+                                                    std::to_string(todo.size()) +
+                                                    " frame(s) failed: " + formatFrameList(outcome.failed) +
                                                     " (the others were written; re-run with --resume)");
     });
 }

@@ -28,9 +28,12 @@ std::string aoOf(const TechniqueDescriptor& d, const std::string& separator) {
     return d.ao.empty() ? std::string("none") : joined(d.ao, aoMethodName, separator);
 }
 std::string regionsOf(const TechniqueDescriptor& d, const std::string& separator) {
-    return d.regionTransparency.empty() ? std::string("none") : joined(d.regionTransparency, transparencyName, separator);
+    return d.regionTransparency.empty() ? std::string("none")
+                                        : joined(d.regionTransparency, transparencyName, separator);
 }
-const char* backendOf(const TechniqueDescriptor& d) { return d.backend == TechniqueBackend::Gl ? "GL" : "CPU"; }
+const char* backendOf(const TechniqueDescriptor& d) {
+    return d.backend == TechniqueBackend::Gl ? "GL" : "CPU";
+}
 
 nlohmann::json asJson(const TechniqueRegistry& registry) {
     nlohmann::json list = nlohmann::json::array();

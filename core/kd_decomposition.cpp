@@ -1,10 +1,10 @@
 #include "core/kd_decomposition.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <tbb/parallel_invoke.h>
 
 #include "core/error.h"
 #include "core/parallel_chunks.h"

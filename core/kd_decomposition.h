@@ -18,12 +18,11 @@
 // building a vtkDataSet of a billion segments. The tree itself is a few dozen lines on top of
 // std::nth_element.
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 
 #include "core/camera.h"
 #include "core/line_set.h"

@@ -6,11 +6,9 @@
 // of a transparent one), so every contribution to a pixel belongs to exactly one region and the
 // regions' images composited in view order are the whole frame's.
 #include <functional>
-#include <limits>
-#include <vector>
-
 #include <glm/glm.hpp>
 #include <limits>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/line_set.h"

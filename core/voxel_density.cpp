@@ -214,9 +214,8 @@ void voxelizeLines(const StyledLines& lines, DensityGrid& grid, const RegionBox&
                               const std::uint32_t ia = lines.segmentVertices[2 * s];
                               const std::uint32_t ib = lines.segmentVertices[2 * s + 1];
                               if (!owner.contains(glm::vec3(lines.positionRadius[ia]))) continue;
-                              localClamped += voxelizeSegment(
-                                  lines.positionRadius[ia], lines.positionRadius[ib],
-                                  lines.color[ia].w, lines.color[ib].w, grid, acc, pending);
+                              localClamped += voxelizeSegment(lines.positionRadius[ia], lines.positionRadius[ib],
+                                                              lines.color[ia].w, lines.color[ib].w, grid, acc, pending);
                           }
                           pending.flush(acc);
                           clamped.fetch_add(localClamped, std::memory_order_relaxed);

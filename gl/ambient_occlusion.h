@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"

@@ -5,9 +5,8 @@
 // what the GL reports). The technique fills it once per frame or tile and uploads it to a buffer
 // bound at binding::kFrameUniforms; passes no longer set camera or light uniforms by name.
 #include <cstdint>
-#include <limits>
-
 #include <glm/glm.hpp>
+#include <limits>
 
 #include "core/region.h"
 #include "core/scene.h"

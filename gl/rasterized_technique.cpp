@@ -46,7 +46,7 @@ TechniqueDescriptor rasterizedTechnique() {
     d.exactTransparency = Transparency::KBuffer;
     d.ao = {AoSpec::Method::ConeTraced};
     d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
-                           Transparency::DepthPeeling};
+                            Transparency::DepthPeeling};
     d.check = [](const Scene& scene, DataKind) -> std::optional<SpecProblem> {
         if (scene.render.transparency == Transparency::OpacityOptimization && scene.render.ao.enabled)
             return SpecProblem{"render.ao", "not available with render.transparency \"opacity_optimization\""};
@@ -71,13 +71,15 @@ TechniqueDescriptor rasterizedTechnique() {
                   const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
         const RegionSetup region = regionSetup(data, hooks);
         switch (scene.render.transparency) {
-        case Transparency::Opaque: return RoundedConeRenderer::create(scene, *data.lines, region);
-        case Transparency::OpacityOptimization:
-            // One optimisation over all of a pixel's fragments, blended into the next frame's
-            // opacities: a region's part of it is not the whole frame's.
-            if (region.clips()) refuseRegion(scene, "render.transparency", "opacity_optimization");
-            return createOpacityOptimization(scene, data, hooks);
-        default: return TransparentRenderer::create(scene, *data.lines, region);
+            case Transparency::Opaque:
+                return RoundedConeRenderer::create(scene, *data.lines, region);
+            case Transparency::OpacityOptimization:
+                // One optimisation over all of a pixel's fragments, blended into the next frame's
+                // opacities: a region's part of it is not the whole frame's.
+                if (region.clips()) refuseRegion(scene, "render.transparency", "opacity_optimization");
+                return createOpacityOptimization(scene, data, hooks);
+            default:
+                return TransparentRenderer::create(scene, *data.lines, region);
         }
     };
     return d;

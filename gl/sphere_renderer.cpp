@@ -164,8 +164,8 @@ void SphereRenderer::setFrame(const FrameSetup& setup) {
     FrameUniforms u = frameUniforms(setup, m_lighting);
     // Linear depth for the opaque depth test: beyond everything the data can reach.
     const Bounds& bounds = m_region.boundsOr(m_bounds);
-    u.farDepth = glm::distance(cam.eye, bounds.center()) + bounds.radius() + 2.0f * m_region.maxRadiusOr(m_maxRadius) +
-                 1e-6f;
+    u.farDepth =
+        glm::distance(cam.eye, bounds.center()) + bounds.radius() + 2.0f * m_region.maxRadiusOr(m_maxRadius) + 1e-6f;
     setRegionUniforms(u, m_region.box);
     uploadFrameUniforms(m_frameUniforms, u);
 }

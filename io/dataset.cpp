@@ -9,8 +9,8 @@
 #include "core/particle_generators.h"
 #include "io/line_formats.h"
 #include "io/line_reader.h"
-#include "io/partition.h"
 #include "io/particle_reader.h"
+#include "io/partition.h"
 #include "io/stream_tracer.h"
 
 namespace tc {

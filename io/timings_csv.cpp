@@ -37,8 +37,7 @@ TimingsCsv::TimingsCsv(std::string path, bool append, bool rankColumn)
     : m_path(std::move(path)), m_rankColumn(rankColumn) {
     const std::string header = rankColumn ? kRankTimingsHeader : kTimingsHeader;
     std::error_code ec;
-    bool needHeader = !append || !std::filesystem::exists(m_path, ec) ||
-                      std::filesystem::file_size(m_path, ec) == 0;
+    bool needHeader = !append || !std::filesystem::exists(m_path, ec) || std::filesystem::file_size(m_path, ec) == 0;
     if (!needHeader) {
         // --resume appends: a file of the other layout would get rows of a different width.
         std::ifstream existing(m_path);

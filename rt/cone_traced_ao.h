@@ -8,8 +8,6 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"

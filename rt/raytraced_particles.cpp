@@ -104,8 +104,8 @@ void RaytracedParticles::upload(const StyledParticles& particles) {
     m_bvh->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     // Per data frame, as the GL sphere renderer re-voxelizes (after the BVH: ray_traced uses it).
     if (m_aoSpec)
-        m_ambient = std::make_unique<ParticleAmbient>(*m_aoSpec, m_spheres, !m_transparent, m_particles,
-                                                      m_bvh->scene, m_region);
+        m_ambient = std::make_unique<ParticleAmbient>(*m_aoSpec, m_spheres, !m_transparent, m_particles, m_bvh->scene,
+                                                      m_region);
 }
 
 SceneBounds RaytracedParticles::traceBounds() const {
@@ -245,8 +245,8 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                     const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
                     if (!s.hit) continue;  // grazing: no optical depth
                     if (clips && !region.contains(ray.origin + s.tNear * ray.dir)) continue;  // another region's
-                    const float alpha = sphereOpacity(
-                        col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
+                    const float alpha =
+                        sphereOpacity(col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
                     const glm::vec3 nrm = entryNormal(ray, i, s.tNear);
                     const AmbientTerms amb = ambientAt(i, ray, s.tNear, nrm, pixel);
                     const glm::vec3 e = sphereEmission(glm::vec3(col), nrm, ray.dir, lightDir, m_lighting,
@@ -305,29 +305,29 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
             totalHits += hits;
         },
         &bounds);
-    m_lastHits = totalHits.load();
-    sink.setItems(m_lastHits);
-    sink.end();
+        m_lastHits = totalHits.load();
+        sink.setItems(m_lastHits);
+        sink.end();
 }
 
 nlohmann::json RaytracedParticles::describe() const {
-    nlohmann::json j = {{"technique", "raytraced"},
-                        {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
-                                       std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
-                        {"geometry", "RTC_GEOMETRY_TYPE_SPHERE_POINT"},
-                        {"transparency", m_transparent ? "raytraced front-to-back, emission-absorption" : "opaque"},
-                        {"tile", kTile},
-                        {"traversal", traversalName(m_traversal)},
-                        {"threads", tbb::this_task_arena::max_concurrency()},
-                        {"particles", m_particles.size()},
-                        {"bvh_build_ms", m_bvh->buildMs},
-                        {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
-    if (m_transparent) {
-        j["alpha_cutoff"] = m_alphaCutoff;
-        j["density"] = int(m_spheres.density);
-        j["alpha_rv"] = m_spheres.alphaRv;
-    }
-    return j;
+        nlohmann::json j = {{"technique", "raytraced"},
+                            {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
+                                           std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
+                            {"geometry", "RTC_GEOMETRY_TYPE_SPHERE_POINT"},
+                            {"transparency", m_transparent ? "raytraced front-to-back, emission-absorption" : "opaque"},
+                            {"tile", kTile},
+                            {"traversal", traversalName(m_traversal)},
+                            {"threads", tbb::this_task_arena::max_concurrency()},
+                            {"particles", m_particles.size()},
+                            {"bvh_build_ms", m_bvh->buildMs},
+                            {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
+        if (m_transparent) {
+            j["alpha_cutoff"] = m_alphaCutoff;
+            j["density"] = int(m_spheres.density);
+            j["alpha_rv"] = m_spheres.alphaRv;
+        }
+        return j;
 }
 
 }  // namespace tc::rt

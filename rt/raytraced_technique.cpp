@@ -23,7 +23,7 @@ TechniqueDescriptor raytracedTechnique() {
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced, AoSpec::Method::RayTraced};
     d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
-                           Transparency::DepthPeeling};
+                            Transparency::DepthPeeling};
     d.create = [](const Scene& scene, const TechniqueData& data,
                   const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
         const RegionSetup region = regionSetup(data, hooks);

@@ -8,10 +8,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <memory>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/camera.h"
 #include "core/frame_images.h"

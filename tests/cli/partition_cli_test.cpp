@@ -1,11 +1,11 @@
 // `tubecast partition` seen from the binary: a scene's lines partitioned into bricks come back
 // byte-identical through `convert` and render the same image as the scene's own dataset; existing
 // partitions are kept unless --overwrite; a broken partitioned set is exit 2 naming the file.
-#include <filesystem>
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cli_fixture.h"
 

@@ -1,5 +1,9 @@
 // cli::IcetCompositor under N ranks against CPU composites of the same synthetic per-rank images,
 // which every rank can regenerate for every other rank.
+#include "cli/icet_compositor.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,9 +11,6 @@
 #include <limits>
 #include <numeric>
 
-#include <gtest/gtest.h>
-
-#include "cli/icet_compositor.h"
 #include "core/color.h"
 #include "core/compositing.h"
 #include "mpi/mpi_test_session.h"

@@ -1,10 +1,10 @@
 // cli::MpiSession under N ranks: the fault barrier and the collectives of the data-parallel render.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <new>
 #include <numeric>
 #include <stdexcept>
-
-#include <gtest/gtest.h>
 
 #include "mpi/mpi_test_session.h"
 

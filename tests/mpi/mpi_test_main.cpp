@@ -3,9 +3,9 @@
 // collectives first and assert afterwards, so a failed assertion on one rank cannot leave the others
 // waiting in a collective. Rank 0 prints gtest's usual output; the other ranks print only their
 // failures, prefixed with the rank. The exit code is non-zero if any rank failed.
-#include <iostream>
-
 #include <gtest/gtest.h>
+
+#include <iostream>
 
 #include "mpi/mpi_test_session.h"
 

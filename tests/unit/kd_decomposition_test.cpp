@@ -2,6 +2,8 @@
 // quantiles, the view order is one no ray contradicts, every segment and sphere is assigned to
 // every region it reaches, a region's extracted line set clips its joints like the whole set,
 // and the tree survives a save/load round trip.
+#include "core/kd_decomposition.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 #include "core/cap_clipping.h"
 #include "core/error.h"
 #include "core/generators.h"
-#include "core/kd_decomposition.h"
 #include "core/rounded_cone.h"
 #include "core/styling.h"
 
