@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/mip_pyramid.h"
 #include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
