@@ -15,6 +15,7 @@
 #include "io/dataset.h"
 #include "io/line_reader.h"
 #include "io/paraview_preset.h"
+#include "io/particle_reader.h"
 #include "io/partition.h"
 
 namespace tc::cli {

@@ -4,6 +4,8 @@
 // cli/frame_writer.h (render, compare, write each frame). With --mpi every rank of an MPI job runs
 // this same sequence on its share of the data, each step a phase every rank must pass, and
 // cli/mpi_render.h supplies what differs (the data's distribution, the region, the composite).
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>

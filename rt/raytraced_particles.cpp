@@ -184,91 +184,60 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
     const bool clips = m_region.clips();
     const SceneBounds bounds = traceBounds();
 
-    forEachTile(camera, window, width, height, [&](const Tile& tile) {
-        if (tile.outside) return storeBackground(out, tile, width);
-        std::uint64_t hits = 0;
-        FirstHit firstHits[kTile * kTile];
-        if (!m_transparent && !clips) traceFirstHits(m_bvh->scene, m_traversal, tile, firstHits);
-        if (!m_transparent && clips)
-            for (int k = 0; k < tile.count(); ++k) hits += regionFirstHit(tile.rays[k], firstHits[k]);
-        HitCollector collector;
-        rtcInitIntersectContext(&collector.context);
-        collector.context.filter = collectEntry;
-        collector.capacity = hitsPerPass(m_alphaCutoff);
-        collector.user = S.centerRadius.data();
-        for (int k = 0; k < tile.count(); ++k) {
-            const Ray& ray = tile.rays[k];
-            const std::size_t pixel = std::size_t(tile.py(k)) * std::size_t(width) + std::size_t(tile.px(k));
-            const float depthScale = ortho ? 1.0f : glm::dot(ray.dir, forward);
-            storePixel(out, pixel, glm::vec4(0.0f), kInf, glm::vec3(0.0f), kBackgroundId);
-            if (!m_transparent) {
-                float ao = 1.0f;
-                if (firstHits[k].hit) {
-                    const std::uint32_t i = firstHits[k].prim;
-                    const glm::vec4& cr = S.centerRadius[i];
-                    const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
-                    // Grazing: Embree hit what the exact test calls a miss; keep Embree's distance.
-                    const float tNear = s.hit ? s.tNear : firstHits[k].t;
-                    const glm::vec3 n = entryNormal(ray, i, tNear);
-                    const AmbientTerms amb = ambientAt(i, ray, tNear, n, pixel);
-                    ao = amb.ao;
-                    // As shaders/sphere.frag (OPAQUE): alpha_A only with AO.
-                    const glm::vec3 e = sphereEmission(glm::vec3(S.color[i]), n, ray.dir, lightDir, m_lighting, 1.0f,
-                                                       m_ambient ? m_spheres.alphaA : 0.0f, amb.ao, amb.light);
-                    storePixel(out, pixel, glm::vec4(e, 1.0f), tNear * depthScale, n, S.id[i]);
-                    ++hits;
-                }
-                if (!out.ao.empty()) out.ao[pixel] = ao;
-                continue;
-            }
-            glm::vec4 acc(0.0f);
-            bool first = true, done = false;
-            float tnear = 0.0f, tfar = kInf;
-            if (clips) {
-                const RayInterval iv = regionRayInterval(ray);
-                done = iv.empty() || iv.t1 < 0.0f;
-                tnear = std::max(iv.t0, 0.0f);
-                tfar = iv.t1;
-            }
-            collector.haveLast = false;
-            while (!done) {
-                collector.count = 0;
-                RTCRayHit rh = makeRayHit(ray, tnear);
-                rh.ray.tfar = tfar;
-                rtcIntersect1(m_bvh->scene, &collector.context, &rh);
-                const int n = collector.count;
-                for (int h = 0; h < n && !done; ++h) {
-                    ++hits;
-                    const std::uint32_t i = collector.hits[h].prim;
-                    const glm::vec4& cr = S.centerRadius[i];
-                    const glm::vec4& col = S.color[i];
-                    const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
-                    if (!s.hit) continue;  // grazing: no optical depth
-                    if (clips && !region.contains(ray.origin + s.tNear * ray.dir)) continue;  // another region's
-                    const float alpha =
-                        sphereOpacity(col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
-                    const glm::vec3 nrm = entryNormal(ray, i, s.tNear);
-                    const AmbientTerms amb = ambientAt(i, ray, s.tNear, nrm, pixel);
-                    const glm::vec3 e = sphereEmission(glm::vec3(col), nrm, ray.dir, lightDir, m_lighting,
-                                                       m_spheres.alphaRv, m_spheres.alphaA, amb.ao, amb.light);
-                    if (first) {
-                        first = false;
-                        out.depth[pixel] = s.tNear * depthScale;
-                        out.normal[3 * pixel + 0] = nrm.x;
-                        out.normal[3 * pixel + 1] = nrm.y;
-                        out.normal[3 * pixel + 2] = nrm.z;
-                        out.id[pixel] = S.id[i];
+    forEachTile(
+        camera, window, width, height,
+        [&](const Tile& tile) {
+            if (tile.outside) return storeBackground(out, tile, width);
+            std::uint64_t hits = 0;
+            FirstHit firstHits[kTile * kTile];
+            if (!m_transparent && !clips) traceFirstHits(m_bvh->scene, m_traversal, tile, firstHits);
+            if (!m_transparent && clips)
+                for (int k = 0; k < tile.count(); ++k) hits += regionFirstHit(tile.rays[k], firstHits[k]);
+            HitCollector collector;
+            rtcInitIntersectContext(&collector.context);
+            collector.context.filter = collectEntry;
+            collector.capacity = hitsPerPass(m_alphaCutoff);
+            collector.user = S.centerRadius.data();
+            for (int k = 0; k < tile.count(); ++k) {
+                const Ray& ray = tile.rays[k];
+                const std::size_t pixel = std::size_t(tile.py(k)) * std::size_t(width) + std::size_t(tile.px(k));
+                const float depthScale = ortho ? 1.0f : glm::dot(ray.dir, forward);
+                storePixel(out, pixel, glm::vec4(0.0f), kInf, glm::vec3(0.0f), kBackgroundId);
+                if (!m_transparent) {
+                    float ao = 1.0f;
+                    if (firstHits[k].hit) {
+                        const std::uint32_t i = firstHits[k].prim;
+                        const glm::vec4& cr = S.centerRadius[i];
+                        const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
+                        // Grazing: Embree hit what the exact test calls a miss; keep Embree's distance.
+                        const float tNear = s.hit ? s.tNear : firstHits[k].t;
+                        const glm::vec3 n = entryNormal(ray, i, tNear);
+                        const AmbientTerms amb = ambientAt(i, ray, tNear, n, pixel);
+                        ao = amb.ao;
+                        // As shaders/sphere.frag (OPAQUE): alpha_A only with AO.
+                        const glm::vec3 e =
+                            sphereEmission(glm::vec3(S.color[i]), n, ray.dir, lightDir, m_lighting, 1.0f,
+                                           m_ambient ? m_spheres.alphaA : 0.0f, amb.ao, amb.light);
+                        storePixel(out, pixel, glm::vec4(e, 1.0f), tNear * depthScale, n, S.id[i]);
+                        ++hits;
                     }
                     if (!out.ao.empty()) out.ao[pixel] = ao;
                     continue;
                 }
                 glm::vec4 acc(0.0f);
                 bool first = true, done = false;
-                float tnear = 0.0f;
+                float tnear = 0.0f, tfar = kInf;
+                if (clips) {
+                    const RayInterval iv = regionRayInterval(ray);
+                    done = iv.empty() || iv.t1 < 0.0f;
+                    tnear = std::max(iv.t0, 0.0f);
+                    tfar = iv.t1;
+                }
                 collector.haveLast = false;
                 while (!done) {
                     collector.count = 0;
                     RTCRayHit rh = makeRayHit(ray, tnear);
+                    rh.ray.tfar = tfar;
                     rtcIntersect1(m_bvh->scene, &collector.context, &rh);
                     const int n = collector.count;
                     for (int h = 0; h < n && !done; ++h) {
@@ -278,6 +247,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                         const glm::vec4& col = S.color[i];
                         const SphereInterval s = intersectSphere(ray, glm::vec3(cr), cr.w);
                         if (!s.hit) continue;  // grazing: no optical depth
+                        if (clips && !region.contains(ray.origin + s.tNear * ray.dir)) continue;  // another region's
                         const float alpha = sphereOpacity(
                             col.w, unitOpticalDepth(m_spheres.density, m_spheres.innerRadius, s, cr.w), P);
                         const glm::vec3 nrm = entryNormal(ray, i, s.tNear);
@@ -305,29 +275,29 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
             totalHits += hits;
         },
         &bounds);
-        m_lastHits = totalHits.load();
-        sink.setItems(m_lastHits);
-        sink.end();
+    m_lastHits = totalHits.load();
+    sink.setItems(m_lastHits);
+    sink.end();
 }
 
 nlohmann::json RaytracedParticles::describe() const {
-        nlohmann::json j = {{"technique", "raytraced"},
-                            {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
-                                           std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
-                            {"geometry", "RTC_GEOMETRY_TYPE_SPHERE_POINT"},
-                            {"transparency", m_transparent ? "raytraced front-to-back, emission-absorption" : "opaque"},
-                            {"tile", kTile},
-                            {"traversal", traversalName(m_traversal)},
-                            {"threads", tbb::this_task_arena::max_concurrency()},
-                            {"particles", m_particles.size()},
-                            {"bvh_build_ms", m_bvh->buildMs},
-                            {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
-        if (m_transparent) {
-            j["alpha_cutoff"] = m_alphaCutoff;
-            j["density"] = int(m_spheres.density);
-            j["alpha_rv"] = m_spheres.alphaRv;
-        }
-        return j;
+    nlohmann::json j = {{"technique", "raytraced"},
+                        {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
+                                       std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
+                        {"geometry", "RTC_GEOMETRY_TYPE_SPHERE_POINT"},
+                        {"transparency", m_transparent ? "raytraced front-to-back, emission-absorption" : "opaque"},
+                        {"tile", kTile},
+                        {"traversal", traversalName(m_traversal)},
+                        {"threads", tbb::this_task_arena::max_concurrency()},
+                        {"particles", m_particles.size()},
+                        {"bvh_build_ms", m_bvh->buildMs},
+                        {"ambient_occlusion", m_ambient ? m_ambient->describe() : nlohmann::json(false)}};
+    if (m_transparent) {
+        j["alpha_cutoff"] = m_alphaCutoff;
+        j["density"] = int(m_spheres.density);
+        j["alpha_rv"] = m_spheres.alphaRv;
+    }
+    return j;
 }
 
 }  // namespace tc::rt

@@ -95,282 +95,287 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
-    forEachTile(camera, window, width, height, [&](const Tile& tile) {
-        if (tile.outside) return storeBackground(out, tile, width);
-        std::uint64_t hits = 0;
-        FirstHit firstHits[kTile * kTile];
-        // Region opaque rays trace one at a time from the box (regionSurface).
-        if (!m_transparent && !clips) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
-        for (int row = 0, k = 0; row < tile.h; ++row) {
-            const std::uint32_t rowStart = std::uint32_t(tile.y0 + row) * std::uint32_t(width) + std::uint32_t(tile.x0);
-            for (int col = 0; col < tile.w; ++col, ++k) {
-                PixelContext c;
-                c.pixel = rowStart + std::uint32_t(col);
-                if (!m_transparent && !clips && !firstHits[k].hit) {
-                    // Background: PixelContext's defaults are FrameImages::allocate's clear values.
+    forEachTile(
+        camera, window, width, height,
+        [&](const Tile& tile) {
+            if (tile.outside) return storeBackground(out, tile, width);
+            std::uint64_t hits = 0;
+            FirstHit firstHits[kTile * kTile];
+            // Region opaque rays trace one at a time from the box (regionSurface).
+            if (!m_transparent && !clips) traceFirstHits(m_embree->scene(), m_traversal, tile, firstHits);
+            for (int row = 0, k = 0; row < tile.h; ++row) {
+                const std::uint32_t rowStart =
+                    std::uint32_t(tile.y0 + row) * std::uint32_t(width) + std::uint32_t(tile.x0);
+                for (int col = 0; col < tile.w; ++col, ++k) {
+                    PixelContext c;
+                    c.pixel = rowStart + std::uint32_t(col);
+                    if (!m_transparent && !clips && !firstHits[k].hit) {
+                        // Background: PixelContext's defaults are FrameImages::allocate's clear values.
+                        storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
+                        if (ao) ao[c.pixel] = c.ao;
+                        continue;
+                    }
+                    c.ray = tile.rays[k];
+                    c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
+                    c.lightDir = lightDir;
+                    if (m_transparent) {
+                        shadeTransparent(c);
+                    } else if (clips) {
+                        Surface s;
+                        if (regionSurface(c, s)) shadeSurface(c, s);
+                    } else {
+                        shadeOpaque(c, firstHits[k]);
+                    }
+                    hits += c.hits;
                     storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
                     if (ao) ao[c.pixel] = c.ao;
                 }
-                c.ray = tile.rays[k];
-                c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
-                c.lightDir = lightDir;
-                if (m_transparent) {
-                    shadeTransparent(c);
-                } else if (clips) {
-                    Surface s;
-                    if (regionSurface(c, s)) shadeSurface(c, s);
-                } else {
-                    shadeOpaque(c, firstHits[k]);
-                }
-                hits += c.hits;
-                storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
-                if (ao) ao[c.pixel] = c.ao;
             }
             totalHits += hits;
         },
         &m_bounds);
-        m_lastHits = totalHits.load();
-        sink.setItems(m_lastHits);
-        sink.end();
+    m_lastHits = totalHits.load();
+    sink.setItems(m_lastHits);
+    sink.end();
 }
 
 bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool inRegion, Surface& surface,
                                        bool& anyCandidate) const {
-        // Re-intersect the hit segment and its polyline neighbours exactly as the CPU reference does
-        // (see the header): Embree's curve intersector solves the same surface with other float
-        // operations, and at joints it may attribute a point to either neighbour.
-        const StyledLines& L = m_lines;
-        const std::uint32_t hitSeg = hit.prim;
-        const std::size_t segments = L.segmentCount();
-        float best = kInf;
-        std::uint32_t bestSeg = hitSeg;
-        glm::vec3 bestN(0.0f);
-        anyCandidate = false;
-        // The CPU reference's rule on one segment: nearest wins, equal t to the lower segment.
-        auto consider = [&](std::uint32_t s) {
-            const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
+    // Re-intersect the hit segment and its polyline neighbours exactly as the CPU reference does
+    // (see the header): Embree's curve intersector solves the same surface with other float
+    // operations, and at joints it may attribute a point to either neighbour.
+    const StyledLines& L = m_lines;
+    const std::uint32_t hitSeg = hit.prim;
+    const std::size_t segments = L.segmentCount();
+    float best = kInf;
+    std::uint32_t bestSeg = hitSeg;
+    glm::vec3 bestN(0.0f);
+    anyCandidate = false;
+    // The CPU reference's rule on one segment: nearest wins, equal t to the lower segment.
+    auto consider = [&](std::uint32_t s) {
+        const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
+        const glm::vec4& a = L.positionRadius[v0];
+        const glm::vec4& b = L.positionRadius[v1];
+        ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
+        if (!iv.hit) return;
+        float t;
+        glm::vec3 n;
+        if (iv.tIn > 0.0f)
+            t = iv.tIn, n = iv.nIn;
+        else if (iv.tOut > 0.0f)
+            t = iv.tOut, n = iv.nOut;
+        else
+            return;
+        anyCandidate = true;
+        if (inRegion && !m_region.contains(ray.origin + t * ray.dir)) return;
+        if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;
+    };
+    consider(hitSeg);
+    const std::uint32_t polyline = L.polylineId[L.segmentVertices[2 * hitSeg]];
+    for (std::uint32_t s : {hitSeg - 1, hitSeg + 1}) {  // hitSeg - 1 wraps past `segments` at 0
+        if (s >= segments) continue;
+        const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
+        if (L.polylineId[v0] != polyline) continue;
+        if (best != kInf) {
+            // Skip a neighbour the ray cannot reach before `best`: its rounded cone lies in the
+            // sphere around its midpoint of radius half its length + its larger radius, which the
+            // ray enters at tEnter <= any t of the cone. The margin covers the rounding of this
+            // bound, so a skipped neighbour could neither win nor tie: images stay identical.
             const glm::vec4& a = L.positionRadius[v0];
             const glm::vec4& b = L.positionRadius[v1];
-            ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
-            if (!iv.hit) return;
-            float t;
-            glm::vec3 n;
-            if (iv.tIn > 0.0f)
-                t = iv.tIn, n = iv.nIn;
-            else if (iv.tOut > 0.0f)
-                t = iv.tOut, n = iv.nOut;
-            else
-                return;
-            anyCandidate = true;
-            if (inRegion && !m_region.contains(ray.origin + t * ray.dir)) return;
-            if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;
-        };
-        consider(hitSeg);
-        const std::uint32_t polyline = L.polylineId[L.segmentVertices[2 * hitSeg]];
-        for (std::uint32_t s : {hitSeg - 1, hitSeg + 1}) {  // hitSeg - 1 wraps past `segments` at 0
-            if (s >= segments) continue;
-            const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
-            if (L.polylineId[v0] != polyline) continue;
-            if (best != kInf) {
-                // Skip a neighbour the ray cannot reach before `best`: its rounded cone lies in the
-                // sphere around its midpoint of radius half its length + its larger radius, which the
-                // ray enters at tEnter <= any t of the cone. The margin covers the rounding of this
-                // bound, so a skipped neighbour could neither win nor tie: images stay identical.
-                const glm::vec4& a = L.positionRadius[v0];
-                const glm::vec4& b = L.positionRadius[v1];
-                const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b)) - ray.origin;
-                const float R = 0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + std::max(a.w, b.w);
-                const float along = glm::dot(m, ray.dir);
-                const float miss2 = glm::dot(m, m) - along * along;
-                const float slack = 1e-4f * (std::abs(along) + R + best);
-                const float R2 = (R + slack) * (R + slack);
-                if (miss2 > R2) continue;
-                const float tEnter = along - std::sqrt(R2 - miss2);
-                if (tEnter > best + slack) continue;
-            }
-            consider(s);
+            const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b)) - ray.origin;
+            const float R = 0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + std::max(a.w, b.w);
+            const float along = glm::dot(m, ray.dir);
+            const float miss2 = glm::dot(m, m) - along * along;
+            const float slack = 1e-4f * (std::abs(along) + R + best);
+            const float R2 = (R + slack) * (R + slack);
+            if (miss2 > R2) continue;
+            const float tEnter = along - std::sqrt(R2 - miss2);
+            if (tEnter > best + slack) continue;
         }
-        if (best == kInf) return false;
-        surface = {best, bestSeg, bestN};
-        return true;
+        consider(s);
+    }
+    if (best == kInf) return false;
+    surface = {best, bestSeg, bestN};
+    return true;
 }
 
 void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const {
-        c.hits = 1;
-        Surface s;
-        bool anyCandidate = false;
-        if (!visibleSurface(c.ray, hit, false, s, anyCandidate)) {
-            // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
-            s.t = hit.t;
-            s.segment = hit.prim;
-            s.normal = glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir;
-        }
-        shadeSurface(c, s);
+    c.hits = 1;
+    Surface s;
+    bool anyCandidate = false;
+    if (!visibleSurface(c.ray, hit, false, s, anyCandidate)) {
+        // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
+        s.t = hit.t;
+        s.segment = hit.prim;
+        s.normal = glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir;
+    }
+    shadeSurface(c, s);
 }
 
 RayInterval RaytracedRenderer::regionRayInterval(const Ray& ray) const {
-        RayInterval iv = rayInterval(ray, m_region);
-        if (iv.empty()) return iv;
-        // Float slack for hit points on a box face, and room for the hit just before the face that a
-        // joint duplicate is tested against (shadeTransparent): a few joint epsilons.
-        auto pad = [&](float t) { return 4.0f * m_jointEpsilon + 1e-5f * std::abs(t); };
-        return {iv.t0 - pad(iv.t0), iv.t1 + pad(iv.t1)};
+    RayInterval iv = rayInterval(ray, m_region);
+    if (iv.empty()) return iv;
+    // Float slack for hit points on a box face, and room for the hit just before the face that a
+    // joint duplicate is tested against (shadeTransparent): a few joint epsilons.
+    auto pad = [&](float t) { return 4.0f * m_jointEpsilon + 1e-5f * std::abs(t); };
+    return {iv.t0 - pad(iv.t0), iv.t1 + pad(iv.t1)};
 }
 
 bool RaytracedRenderer::regionSurface(PixelContext& c, Surface& s) const {
-        const RayInterval iv = regionRayInterval(c.ray);
-        if (iv.empty() || iv.t1 < 0.0f) return false;
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        float tnear = std::max(iv.t0, 0.0f);
-        // Each pass starts behind the last hit, so the loop ends at the box's far side.
-        for (;;) {
-            RTCRayHit rh = makeRayHit(c.ray, tnear);
-            rh.ray.tfar = iv.t1;
-            rtcIntersect1(m_embree->scene(), &context, &rh);
-            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-            ++c.hits;
-            const FirstHit hit{true, rh.hit.primID, rh.ray.tfar, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)};
-            bool anyCandidate = false;
-            if (visibleSurface(c.ray, hit, true, s, anyCandidate)) return true;
-            if (!anyCandidate && m_region.contains(c.ray.origin + hit.t * c.ray.dir)) {
-                // Grazing, as shadeOpaque: Embree's hit, in this region by its own point.
-                s = {hit.t, hit.prim, glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir};
-                return true;
-            }
-            tnear = std::nextafter(hit.t, kInf);
+    const RayInterval iv = regionRayInterval(c.ray);
+    if (iv.empty() || iv.t1 < 0.0f) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    float tnear = std::max(iv.t0, 0.0f);
+    // Each pass starts behind the last hit, so the loop ends at the box's far side.
+    for (;;) {
+        RTCRayHit rh = makeRayHit(c.ray, tnear);
+        rh.ray.tfar = iv.t1;
+        rtcIntersect1(m_embree->scene(), &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        ++c.hits;
+        const FirstHit hit{true, rh.hit.primID, rh.ray.tfar, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)};
+        bool anyCandidate = false;
+        if (visibleSurface(c.ray, hit, true, s, anyCandidate)) return true;
+        if (!anyCandidate && m_region.contains(c.ray.origin + hit.t * c.ray.dir)) {
+            // Grazing, as shadeOpaque: Embree's hit, in this region by its own point.
+            s = {hit.t, hit.prim, glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir};
+            return true;
         }
+        tnear = std::nextafter(hit.t, kInf);
+    }
 }
 
 void RaytracedRenderer::shadeSurface(PixelContext& c, const Surface& s) const {
-        const StyledLines& L = m_lines;
-        const float best = s.t;
-        const std::uint32_t bestSeg = s.segment;
-        const glm::vec3 bestN = s.normal;
-        const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
-        const glm::vec3 x0(L.positionRadius[v0]), x1(L.positionRadius[v1]);
-        const glm::vec3 p = c.ray.origin + best * c.ray.dir;
-        const glm::vec3 ba = x1 - x0;
-        const float m0 = glm::dot(ba, ba);
-        const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - x0, ba) / m0, 0.0f, 1.0f) : 0.0f;
-        glm::vec3 base = glm::mix(glm::vec3(L.color[v0]), glm::vec3(L.color[v1]), u);
-        if (m_ao) {
-            // As shaders/deferred_shading.frag: AO scales the albedo, at the normal facing the viewer.
-            const glm::vec3 facing = glm::dot(bestN, c.ray.dir) <= 0.0f ? bestN : -bestN;
-            c.ao = m_ao->visibility(p, facing, c.pixel, bestSeg);
-            base *= c.ao;
-        }
-        const glm::vec3 rgb = shadeBlinnPhong(base, bestN, c.ray.dir, c.lightDir, m_lighting);
-        c.rgba = glm::vec4(rgb, 1.0f);
-        c.depth = best * c.depthScale;
-        c.normal = bestN;
-        c.id = L.polylineId[v0];
+    const StyledLines& L = m_lines;
+    const float best = s.t;
+    const std::uint32_t bestSeg = s.segment;
+    const glm::vec3 bestN = s.normal;
+    const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
+    const glm::vec3 x0(L.positionRadius[v0]), x1(L.positionRadius[v1]);
+    const glm::vec3 p = c.ray.origin + best * c.ray.dir;
+    const glm::vec3 ba = x1 - x0;
+    const float m0 = glm::dot(ba, ba);
+    const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - x0, ba) / m0, 0.0f, 1.0f) : 0.0f;
+    glm::vec3 base = glm::mix(glm::vec3(L.color[v0]), glm::vec3(L.color[v1]), u);
+    if (m_ao) {
+        // As shaders/deferred_shading.frag: AO scales the albedo, at the normal facing the viewer.
+        const glm::vec3 facing = glm::dot(bestN, c.ray.dir) <= 0.0f ? bestN : -bestN;
+        c.ao = m_ao->visibility(p, facing, c.pixel, bestSeg);
+        base *= c.ao;
+    }
+    const glm::vec3 rgb = shadeBlinnPhong(base, bestN, c.ray.dir, c.lightDir, m_lighting);
+    c.rgba = glm::vec4(rgb, 1.0f);
+    c.depth = best * c.depthScale;
+    c.normal = bestN;
+    c.id = L.polylineId[v0];
 }
 
 void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
-        const StyledLines& L = m_lines;
-        HitCollector collector;
-        rtcInitIntersectContext(&collector.context);
-        collector.context.filter = collectHit;
-        collector.capacity = hitsPerPass(m_alphaCutoff);
+    const StyledLines& L = m_lines;
+    HitCollector collector;
+    rtcInitIntersectContext(&collector.context);
+    collector.context.filter = collectHit;
+    collector.capacity = hitsPerPass(m_alphaCutoff);
 
-        glm::vec3 color(0.0f);
-        float alpha = 0.0f;
-        bool havePrev = false, first = true;
-        RayHitRecord prev{};
-        float tnear = 0.0f, tfar = kInf;
-        const bool clips = !m_region.unbounded();
-        if (clips) {
-            const RayInterval iv = regionRayInterval(c.ray);
-            if (iv.empty() || iv.t1 < 0.0f) return;
-            tnear = std::max(iv.t0, 0.0f);
-            tfar = iv.t1;
-        }
-        for (;;) {
-            collector.count = 0;
-            RTCRayHit rh = makeRayHit(c.ray, tnear);
-            rh.ray.tfar = tfar;
-            rtcIntersect1(m_embree->scene(), &collector.context, &rh);
-            const int n = collector.count;
-            bool done = false;
-            for (int k = 0; k < n && !done; ++k) {
-                const RayHitRecord& h = collector.hits[k];
-                ++c.hits;
-                if (!(h.t > 0.0f)) continue;
-                const std::uint32_t v0 = L.segmentVertices[2 * h.prim], v1 = L.segmentVertices[2 * h.prim + 1];
-                // A ray through the rim shared by adjacent segments at a joint is reported by both.
-                // (Unjoined segments are separate rounded cones: both count, as without cap clipping.)
-                const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back &&
-                                       h.t - prev.t <= m_jointEpsilon &&
-                                       (h.prim == prev.prim + 1 || prev.prim == h.prim + 1) &&
-                                       L.polylineId[v0] == L.polylineId[L.segmentVertices[2 * prev.prim]];
-                havePrev = true;
-                prev = h;
-                if (duplicate) continue;
-                const glm::vec4& a = L.positionRadius[v0];
-                const glm::vec4& b = L.positionRadius[v1];
-                if (h.back) {
-                    // Only the inner wall of a segment the eye is in counts (the references' rule).
-                    const float reach = glm::length(glm::vec3(b) - glm::vec3(a)) + a.w + b.w;
-                    if (h.t > 2.0f * reach) continue;
-                    if (!(sdRoundedCone(c.ray.origin, {glm::vec3(a), a.w, glm::vec3(b), b.w}) < 0.0f)) continue;
-                }
-                const glm::vec3 p = c.ray.origin + h.t * c.ray.dir;
-                // Another region composites this entry (after the duplicate test, which every region
-                // makes on the same hits, so a joint's pair counts once over all regions).
-                if (clips && !m_region.contains(p)) continue;
-                const glm::vec3 ba = glm::vec3(b) - glm::vec3(a);
-                const float m0 = glm::dot(ba, ba);
-                const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - glm::vec3(a), ba) / m0, 0.0f, 1.0f) : 0.0f;
-                glm::vec4 base = glm::mix(L.color[v0], L.color[v1], u);
-                const float ngLen2 = glm::dot(h.ng, h.ng);
-                const glm::vec3 nrm = ngLen2 > 0.0f ? h.ng / std::sqrt(ngLen2) : -c.ray.dir;
-                if (m_ao) {
-                    // As shaders/transparent_fragment.glsl: per fragment, before shading.
-                    const glm::vec3 facing = glm::dot(nrm, c.ray.dir) <= 0.0f ? nrm : -nrm;
-                    base = glm::vec4(glm::vec3(base) * m_ao->visibility(p, facing, c.pixel, h.prim), base.w);
-                }
-                // Clamped like every transparent path (the GL k-buffer stores RGBA8).
-                const glm::vec3 rgb =
-                    glm::clamp(shadeBlinnPhong(glm::vec3(base), nrm, c.ray.dir, c.lightDir, m_lighting), 0.0f, 1.0f);
-                if (first) {
-                    first = false;
-                    c.depth = h.t * c.depthScale;
-                    c.normal = nrm;
-                    c.id = L.polylineId[v0];
-                }
-                const float w = (1.0f - alpha) * base.w;
-                color += w * rgb;
-                alpha += w;
-                if (m_alphaCutoff < 1.0f && alpha >= m_alphaCutoff) done = true;
+    glm::vec3 color(0.0f);
+    float alpha = 0.0f;
+    bool havePrev = false, first = true;
+    RayHitRecord prev{};
+    float tnear = 0.0f, tfar = kInf;
+    const bool clips = !m_region.unbounded();
+    if (clips) {
+        const RayInterval iv = regionRayInterval(c.ray);
+        if (iv.empty() || iv.t1 < 0.0f) return;
+        tnear = std::max(iv.t0, 0.0f);
+        tfar = iv.t1;
+    }
+    for (;;) {
+        collector.count = 0;
+        RTCRayHit rh = makeRayHit(c.ray, tnear);
+        rh.ray.tfar = tfar;
+        rtcIntersect1(m_embree->scene(), &collector.context, &rh);
+        const int n = collector.count;
+        bool done = false;
+        for (int k = 0; k < n && !done; ++k) {
+            const RayHitRecord& h = collector.hits[k];
+            ++c.hits;
+            if (!(h.t > 0.0f)) continue;
+            const std::uint32_t v0 = L.segmentVertices[2 * h.prim], v1 = L.segmentVertices[2 * h.prim + 1];
+            // A ray through the rim shared by adjacent segments at a joint is reported by both.
+            // (Unjoined segments are separate rounded cones: both count, as without cap clipping.)
+            const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back &&
+                                   h.t - prev.t <= m_jointEpsilon &&
+                                   (h.prim == prev.prim + 1 || prev.prim == h.prim + 1) &&
+                                   L.polylineId[v0] == L.polylineId[L.segmentVertices[2 * prev.prim]];
+            havePrev = true;
+            prev = h;
+            if (duplicate) continue;
+            const glm::vec4& a = L.positionRadius[v0];
+            const glm::vec4& b = L.positionRadius[v1];
+            if (h.back) {
+                // Only the inner wall of a segment the eye is in counts (the references' rule).
+                const float reach = glm::length(glm::vec3(b) - glm::vec3(a)) + a.w + b.w;
+                if (h.t > 2.0f * reach) continue;
+                if (!(sdRoundedCone(c.ray.origin, {glm::vec3(a), a.w, glm::vec3(b), b.w}) < 0.0f)) continue;
             }
-            if (done || n < collector.capacity) break;
-            tnear = collector.continueBehindLast();
+            const glm::vec3 p = c.ray.origin + h.t * c.ray.dir;
+            // Another region composites this entry (after the duplicate test, which every region
+            // makes on the same hits, so a joint's pair counts once over all regions).
+            if (clips && !m_region.contains(p)) continue;
+            const glm::vec3 ba = glm::vec3(b) - glm::vec3(a);
+            const float m0 = glm::dot(ba, ba);
+            const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - glm::vec3(a), ba) / m0, 0.0f, 1.0f) : 0.0f;
+            glm::vec4 base = glm::mix(L.color[v0], L.color[v1], u);
+            const float ngLen2 = glm::dot(h.ng, h.ng);
+            const glm::vec3 nrm = ngLen2 > 0.0f ? h.ng / std::sqrt(ngLen2) : -c.ray.dir;
+            if (m_ao) {
+                // As shaders/transparent_fragment.glsl: per fragment, before shading.
+                const glm::vec3 facing = glm::dot(nrm, c.ray.dir) <= 0.0f ? nrm : -nrm;
+                base = glm::vec4(glm::vec3(base) * m_ao->visibility(p, facing, c.pixel, h.prim), base.w);
+            }
+            // Clamped like every transparent path (the GL k-buffer stores RGBA8).
+            const glm::vec3 rgb =
+                glm::clamp(shadeBlinnPhong(glm::vec3(base), nrm, c.ray.dir, c.lightDir, m_lighting), 0.0f, 1.0f);
+            if (first) {
+                first = false;
+                c.depth = h.t * c.depthScale;
+                c.normal = nrm;
+                c.id = L.polylineId[v0];
+            }
+            const float w = (1.0f - alpha) * base.w;
+            color += w * rgb;
+            alpha += w;
+            if (m_alphaCutoff < 1.0f && alpha >= m_alphaCutoff) done = true;
         }
-        c.rgba = glm::vec4(color, alpha);
+        if (done || n < collector.capacity) break;
+        tnear = collector.continueBehindLast();
+    }
+    c.rgba = glm::vec4(color, alpha);
 }
 
 nlohmann::json RaytracedRenderer::describe() const {
-        nlohmann::json j = {{"technique", "raytraced"},
-                            {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
-                                           std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
-                            {"geometry", "RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE"},
-                            {"neighbour_flags", m_joinNeighbours},
-                            {"transparency", m_transparent ? "raytraced front-to-back" : "opaque"},
-                            {"tile", kTile},
-                            {"traversal", traversalName(m_traversal)},
-                            {"threads", tbb::this_task_arena::max_concurrency()},
-                            {"segments", m_lines.segmentCount()},
-                            {"bvh_build_ms", m_embree->buildMs()},
-                            {"bvh_memory_mb", double(m_embree->bytes()) / (1024.0 * 1024.0)},
-                            {"bvh_peak_memory_mb", double(m_embree->peakBytes()) / (1024.0 * 1024.0)},
-                            {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
-        if (m_transparent) {
-            j["alpha_cutoff"] = m_alphaCutoff;
-            j["hits_per_pass"] = hitsPerPass(m_alphaCutoff);
-            j["joint_epsilon"] = m_jointEpsilon;
-        }
-        return j;
+    nlohmann::json j = {{"technique", "raytraced"},
+                        {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
+                                       std::to_string(RTC_VERSION_MINOR) + "." + std::to_string(RTC_VERSION_PATCH)},
+                        {"geometry", "RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE"},
+                        {"neighbour_flags", m_joinNeighbours},
+                        {"transparency", m_transparent ? "raytraced front-to-back" : "opaque"},
+                        {"tile", kTile},
+                        {"traversal", traversalName(m_traversal)},
+                        {"threads", tbb::this_task_arena::max_concurrency()},
+                        {"segments", m_lines.segmentCount()},
+                        {"bvh_build_ms", m_embree->buildMs()},
+                        {"bvh_memory_mb", double(m_embree->bytes()) / (1024.0 * 1024.0)},
+                        {"bvh_peak_memory_mb", double(m_embree->peakBytes()) / (1024.0 * 1024.0)},
+                        {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
+    if (m_transparent) {
+        j["alpha_cutoff"] = m_alphaCutoff;
+        j["hits_per_pass"] = hitsPerPass(m_alphaCutoff);
+        j["joint_epsilon"] = m_jointEpsilon;
+    }
+    return j;
 }
 
 }  // namespace tc::rt
