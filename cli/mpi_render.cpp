@@ -6,6 +6,7 @@
 #include <iostream>
 #include <limits>
 
+#include "cli/run_manifest.h"
 #include "core/default_scene.h"
 #include "core/error.h"
 #include "core/particle_series.h"
@@ -40,13 +41,43 @@ Bounds boundsOf(const nlohmann::json& j) {
     return b;
 }
 
+// Per run of an extracted region, its source polyline: the id AOV's value (a uint32, as the
+// AOV is).
+std::vector<std::uint32_t> sourcePolylines(const std::vector<RunOrigin>& origins) {
+    std::vector<std::uint32_t> ids(origins.size());
+    for (std::size_t q = 0; q < origins.size(); ++q) {
+        TC_CHECK(origins[q].polyline < kBackgroundId);
+        ids[q] = std::uint32_t(origins[q].polyline);
+    }
+    return ids;
+}
+
+template <typename T>
+nlohmann::json::binary_t binaryOf(const std::vector<T>& v) {
+    std::vector<std::uint8_t> bytes(v.size() * sizeof(T));
+    if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
+    return nlohmann::json::binary_t(std::move(bytes));
+}
+
+template <typename T>
+std::vector<T> vectorOf(const nlohmann::json& j) {
+    const std::vector<std::uint8_t>& bytes = j.get_binary();
+    TC_CHECK_OP(bytes.size() % sizeof(T), ==, 0u);
+    std::vector<T> v(bytes.size() / sizeof(T));
+    if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+    return v;
+}
+
 // A rank's lines as one message: a CBOR header (what the .tcb format does not hold: the source's
-// attribute ranges, which automatic styling ranges need, and the velocity name) and the .tcb bytes.
-Bytes packLines(const LineSet& lines) {
+// attribute ranges, which automatic styling ranges need, the velocity name and each run's source
+// polyline) and the .tcb bytes.
+Bytes packLines(const RegionLines& region) {
+    const LineSet& lines = region.lines;
     nlohmann::json header;
     header["velocity"] = lines.velocity;
     header["ranges"] = nlohmann::json::array();
     for (const Attribute& a : lines.attributes) header["ranges"].push_back({a.min, a.max});
+    header["polylines"] = binaryOf(sourcePolylines(region.origins));
     const Bytes cbor = nlohmann::json::to_cbor(header);
     const Bytes tcb = encodeTcb(lines);
     Bytes out(8);
@@ -57,14 +88,21 @@ Bytes packLines(const LineSet& lines) {
     return out;
 }
 
-LineSet unpackLines(const Bytes& bytes, const std::string& name) {
+struct UnpackedLines {
+    LineSet lines;
+    std::vector<std::uint32_t> polylineIds;  // per polyline: its source polyline
+};
+
+UnpackedLines unpackLines(const Bytes& bytes, const std::string& name) {
     std::uint64_t n = 0;
     TC_CHECK(bytes.size() >= 8);
     std::memcpy(&n, bytes.data(), 8);
     TC_CHECK(8 + n <= bytes.size());
     const nlohmann::json header = nlohmann::json::from_cbor(bytes.begin() + 8, bytes.begin() + 8 + std::ptrdiff_t(n));
     MemorySource source(name, bytes.data() + 8 + n, bytes.size() - 8 - n);
-    LineSet lines = readTcb(source);
+    UnpackedLines out;
+    LineSet& lines = out.lines;
+    lines = readTcb(source);
     lines.velocity = header["velocity"].get<std::string>();
     const nlohmann::json& ranges = header["ranges"];
     TC_CHECK_OP(ranges.size(), ==, lines.attributes.size());
@@ -77,7 +115,9 @@ LineSet unpackLines(const Bytes& bytes, const std::string& name) {
         lines.attributes[a].max = get(ranges[a][1]);
     }
     lines.updateBounds();
-    return lines;
+    out.polylineIds = vectorOf<std::uint32_t>(header["polylines"]);
+    TC_CHECK_OP(out.polylineIds.size(), ==, lines.polylineCount());
+    return out;
 }
 
 std::string sceneName(const Scene& scene) {
@@ -94,8 +134,13 @@ bool isPartitionInput(const DatasetSpec& d) {
 class CompositedTechnique final : public Technique {
 public:
     CompositedTechnique(std::unique_ptr<Technique> inner, MpiSession& mpi, IcetCompositor& compositor,
-                        const KdDecomposition& tree, CompositeMode mode)
-        : m_inner(std::move(inner)), m_mpi(mpi), m_compositor(compositor), m_tree(tree), m_mode(mode) {}
+                        const KdDecomposition& tree, CompositeMode mode, std::vector<std::uint32_t> polylineIds)
+        : m_inner(std::move(inner)),
+          m_mpi(mpi),
+          m_compositor(compositor),
+          m_tree(tree),
+          m_mode(mode),
+          m_polylineIds(std::move(polylineIds)) {}
 
     void prepareFrame(int frame, StageSink& sink) override {
         m_mpi.phase("prepare frame " + std::to_string(frame), [&] { m_inner->prepareFrame(frame, sink); });
@@ -105,6 +150,7 @@ public:
         m_mpi.phase("render frame " + std::to_string(setup.frame), [&] {
             m_inner->render(setup, out, sink);
             completeBuffers(out, setup.width, setup.height);
+            globalIds(out.id);
         });
         const std::vector<int> order = m_tree.viewOrder(setup.camera);
         m_compositor.composite(out, m_mode, order, sink);
@@ -129,11 +175,21 @@ private:
         if (out.id.size() != n) out.id.assign(n, kBackgroundId);
     }
 
+    // The techniques give the share's polyline index: the source's instead, so that the
+    // composited id AOV is what one process gives. (Particles keep their index in the data frame:
+    // every rank holds all of them.)
+    void globalIds(std::vector<std::uint32_t>& id) const {
+        if (m_polylineIds.empty()) return;
+        for (std::uint32_t& v : id)
+            if (v != kBackgroundId) v = m_polylineIds.at(v);
+    }
+
     std::unique_ptr<Technique> m_inner;
     MpiSession& m_mpi;
     IcetCompositor& m_compositor;
     const KdDecomposition& m_tree;
     CompositeMode m_mode;
+    std::vector<std::uint32_t> m_polylineIds;  // per polyline of the share: its source polyline
 };
 
 }  // namespace
@@ -210,10 +266,17 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
             m_tree = index.tree;
             m_partitionRadius = index.radius;
             m_partitionIndex = index.path;
-            share.load.lines = readPartitionRegion(index, m_mpi.rank());
+            std::vector<RunOrigin> origins;
+            share.load.lines = readPartitionRegion(index, m_mpi.rank(), &origins);
+            share.polylineIds = sourcePolylines(origins);
             share.load.source = scene.dataset.path;
             share.source = index.source;
             share.items = index.segments;
+            share.dataset = {{"source", scene.dataset.path},
+                             {"polylines", index.polylines},
+                             {"vertices", index.vertices},
+                             {"segments", index.segments},
+                             {"skipped", ""}};
         });
         return share;
     }
@@ -233,6 +296,7 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
         nlohmann::json m;
         m["source"] = whole.source;
         m["particles"] = whole.isParticles();
+        m["dataset"] = datasetSummary(whole);
         if (!whole.isParticles()) {
             const LineSet& lines = whole.lines;
             const StyledLines styled = styleLines(lines, scene.style, scene.file);
@@ -246,7 +310,7 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
                 const RegionLines region = extractRegionLines(lines, items[std::size_t(r)]);
                 m_regionCounts.push_back({{"assigned_segments", items[std::size_t(r)].size()},
                                           {"owned_segments", ownedSegments(m_tree, r, lines).size()}});
-                parts.push_back(packLines(region.lines));
+                parts.push_back(packLines(region));
             }
             m["tree"] = m_tree.toJson();
             m["bounds"] = boundsJson(styled.bounds);
@@ -259,6 +323,7 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
     m_mpi.broadcastBytes(meta);
     const nlohmann::json m = nlohmann::json::from_cbor(meta);
     share.source = m["source"].get<std::string>();
+    share.dataset = m["dataset"];
     if (m["particles"].get<bool>()) {
         // Every rank reads the particles: the spheres are clipped to the rank's region, so the
         // frame is exact, but each rank holds all of them (they are not redistributed yet).
@@ -281,7 +346,9 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
     parts.clear();
     phase("distribute", [&] {
         if (!root()) m_tree = KdDecomposition::fromJson(m["tree"], "decomposition");
-        share.load.lines = unpackLines(mine, share.source + " (rank " + std::to_string(m_mpi.rank()) + ")");
+        UnpackedLines lines = unpackLines(mine, share.source + " (rank " + std::to_string(m_mpi.rank()) + ")");
+        share.load.lines = std::move(lines.lines);
+        share.polylineIds = std::move(lines.polylineIds);
         share.load.source = share.source;
         share.bounds = boundsOf(m["bounds"]);
         share.maxRadius = m["max_radius"].get<float>();
@@ -343,11 +410,13 @@ void DataParallel::applyRegion(const RankShare& share, TechniqueData& data, Tech
     hooks.reduceDensity = [this](std::vector<float>& grid) { m_mpi.allreduceSum(grid); };
 }
 
-std::unique_ptr<Technique> DataParallel::composited(std::unique_ptr<Technique> inner, const Scene& scene) {
+std::unique_ptr<Technique> DataParallel::composited(std::unique_ptr<Technique> inner, const Scene& scene,
+                                                    const RankShare& share) {
     m_compositor = std::make_unique<IcetCompositor>(m_mpi, scene.image.width, scene.image.height);
     const CompositeMode mode =
         scene.render.transparency == Transparency::Opaque ? CompositeMode::Opaque : CompositeMode::Transparent;
-    return std::make_unique<CompositedTechnique>(std::move(inner), m_mpi, *m_compositor, m_tree, mode);
+    return std::make_unique<CompositedTechnique>(std::move(inner), m_mpi, *m_compositor, m_tree, mode,
+                                                 share.polylineIds);
 }
 
 std::vector<TimingRow> DataParallel::gatherRows(std::vector<TimingRow> mine) const {

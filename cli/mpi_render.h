@@ -7,8 +7,9 @@
 //   - the scene: a dataset given alone is read by rank 0 alone, which sends its default scene;
 //   - the plan: rank 0 decides which frames to render (and --resume), every rank renders those;
 //   - the data: a single input is read by rank 0, decomposed and each rank's segments sent to it
-//     (MpiSession::scatterBytes of .tcb bytes); a partitioned set (`tubecast partition`, io/
-//     partition.h) is read brick by brick, each rank its own; particles are read by every rank;
+//     (MpiSession::scatterBytes of .tcb bytes, with the source polyline of each run); a
+//     partitioned set (`tubecast partition`, io/partition.h) is read brick by brick, each rank
+//     its own (and its runs); particles are read by every rank;
 //   - the technique: made with TechniqueData::region (the rank's box), the whole data's bounds
 //     and largest radius, and TechniqueHooks::reduceDensity (the AO grid summed over the ranks),
 //     then wrapped so that each frame's render is a phase (a failing rank fails every rank) and
@@ -45,6 +46,10 @@ struct RankShare {
     float maxRadius = 0;      // the whole data's largest radius
     std::uint64_t items = 0;  // the whole data's segments (particles: the largest frame's)
     bool localEmpty = false;  // this rank holds nothing
+    nlohmann::json dataset;   // run.json's "dataset" block of the whole data (datasetSummary)
+    // Per polyline of `load.lines`, the index of the source polyline it is a run of: the id AOV
+    // shows these, as one process does (its ids are the source's polyline indices).
+    std::vector<std::uint32_t> polylineIds;
 };
 
 class DataParallel {
@@ -87,8 +92,9 @@ public:
     // The rank's region, the whole data's bounds and radius, and the AO density reduction.
     void applyRegion(const RankShare& share, TechniqueData& data, TechniqueHooks& hooks) const;
     // Collective (IceT's context): `inner` (made with applyRegion's data) wrapped into the
-    // technique every rank's frame loop runs: render as a phase, then the composite.
-    std::unique_ptr<Technique> composited(std::unique_ptr<Technique> inner, const Scene& scene);
+    // technique every rank's frame loop runs: render as a phase, the id AOV turned from the share's
+    // indices into the whole data's (share.polylineIds), then the composite.
+    std::unique_ptr<Technique> composited(std::unique_ptr<Technique> inner, const Scene& scene, const RankShare& share);
     // A frame's timing rows of every rank on rank 0, each with its rank; none on the others.
     std::vector<TimingRow> gatherRows(std::vector<TimingRow> mine) const;
 

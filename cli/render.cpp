@@ -428,11 +428,11 @@ void runRender(const RenderOptions& options) {
     Techniques techniques;
     step(dp.get(), "technique",
          [&] { techniques = makeTechniques(o, scene, data, translucent, todo.front().frame, info, dp.get(), &share); });
-    if (dp) techniques.main = dp->composited(std::move(techniques.main), scene);
+    if (dp) techniques.main = dp->composited(std::move(techniques.main), scene, share);
 
     const Camera base = fitCamera(scene.camera, data.bounds, float(scene.image.width) / float(scene.image.height));
     RunManifest manifest(scene, job.hash);
-    manifest.setDataset(data.load, data.seconds);
+    manifest.setDataset(dp ? share.dataset : datasetSummary(data.load), data.seconds);
     manifest.setGl(info);
     manifest.setTechnique(techniques.main->describe(), techniques.choice);
     manifest.setStyleSources(sources);

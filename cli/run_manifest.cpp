@@ -28,13 +28,17 @@ RunManifest::RunManifest(const Scene& scene, const std::string& sceneHash) {
     if (auto lp = env("LP_NUM_THREADS")) m_json["lp_num_threads"] = *lp;
 }
 
-void RunManifest::setDataset(const DatasetLoad& data, double loadAndStyleSeconds) {
-    m_json["dataset"] = {{"source", data.source},
-                         {"polylines", data.lines.polylineCount()},
-                         {"vertices", data.lines.vertexCount()},
-                         {"segments", data.lines.segmentCount()},
-                         {"skipped", data.cleaned.summary()},
-                         {"load_and_style_s", loadAndStyleSeconds}};
+nlohmann::json datasetSummary(const DatasetLoad& data) {
+    return {{"source", data.source},
+            {"polylines", data.lines.polylineCount()},
+            {"vertices", data.lines.vertexCount()},
+            {"segments", data.lines.segmentCount()},
+            {"skipped", data.cleaned.summary()}};
+}
+
+void RunManifest::setDataset(const nlohmann::json& summary, double loadAndStyleSeconds) {
+    m_json["dataset"] = summary;
+    m_json["dataset"]["load_and_style_s"] = loadAndStyleSeconds;
 }
 
 void RunManifest::setGl(const gl::ContextInfo& info) {

@@ -21,13 +21,18 @@ struct ContextInfo;
 
 namespace tc::cli {
 
+// run.json's "dataset" block of a dataset: source, polylines, vertices, segments, what cleaning
+// skipped.
+nlohmann::json datasetSummary(const DatasetLoad& data);
+
 class RunManifest {
 public:
     // Version, scene file and resolved scene, its hash, image size, host, pid, Slurm job and
     // LP_NUM_THREADS (when set).
     RunManifest(const Scene& scene, const std::string& sceneHash);
 
-    void setDataset(const DatasetLoad& data, double loadAndStyleSeconds);
+    // "dataset": datasetSummary of the whole dataset (with --mpi not a rank's share) and the seconds.
+    void setDataset(const nlohmann::json& summary, double loadAndStyleSeconds);
     void setGl(const gl::ContextInfo& info);
     // The technique's own description (Technique::describe) and, for render.technique "auto", the
     // log line saying what was chosen and why.
