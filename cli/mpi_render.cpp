@@ -69,15 +69,16 @@ std::vector<T> vectorOf(const nlohmann::json& j) {
 }
 
 // A rank's lines as one message: a CBOR header (what the .tcb format does not hold: the source's
-// attribute ranges, which automatic styling ranges need, the velocity name and each run's source
-// polyline) and the .tcb bytes.
-Bytes packLines(const RegionLines& region) {
+// attribute ranges, which automatic styling ranges need, the velocity name, each run's source
+// polyline and incoming tangent) and the .tcb bytes.
+Bytes packLines(const RegionLines& region, const std::vector<glm::vec3>& tangents) {
     const LineSet& lines = region.lines;
     nlohmann::json header;
     header["velocity"] = lines.velocity;
     header["ranges"] = nlohmann::json::array();
     for (const Attribute& a : lines.attributes) header["ranges"].push_back({a.min, a.max});
     header["polylines"] = binaryOf(sourcePolylines(region.origins));
+    header["tangents"] = binaryOf(tangents);
     const Bytes cbor = nlohmann::json::to_cbor(header);
     const Bytes tcb = encodeTcb(lines);
     Bytes out(8);
@@ -91,6 +92,7 @@ Bytes packLines(const RegionLines& region) {
 struct UnpackedLines {
     LineSet lines;
     std::vector<std::uint32_t> polylineIds;  // per polyline: its source polyline
+    std::vector<glm::vec3> tangents;         // and the tangent it carries in
 };
 
 UnpackedLines unpackLines(const Bytes& bytes, const std::string& name) {
@@ -116,7 +118,9 @@ UnpackedLines unpackLines(const Bytes& bytes, const std::string& name) {
     }
     lines.updateBounds();
     out.polylineIds = vectorOf<std::uint32_t>(header["polylines"]);
+    out.tangents = vectorOf<glm::vec3>(header["tangents"]);
     TC_CHECK_OP(out.polylineIds.size(), ==, lines.polylineCount());
+    TC_CHECK_OP(out.tangents.size(), ==, lines.polylineCount());
     return out;
 }
 
@@ -267,7 +271,7 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
             m_partitionRadius = index.radius;
             m_partitionIndex = index.path;
             std::vector<RunOrigin> origins;
-            share.load.lines = readPartitionRegion(index, m_mpi.rank(), &origins);
+            share.load.lines = readPartitionRegion(index, m_mpi.rank(), &origins, &share.incomingTangents);
             share.polylineIds = sourcePolylines(origins);
             share.load.source = scene.dataset.path;
             share.source = index.source;
@@ -305,12 +309,13 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
             for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
             m_tree = KdDecomposition::build(segmentMidpoints(lines), ranks);
             const RegionItems items = assignSegments(m_tree, lines, radii);
+            const std::vector<glm::vec3> transported = transportedTangents(lines);
             m_regionCounts = nlohmann::json::array();
             for (int r = 0; r < ranks; ++r) {
                 const RegionLines region = extractRegionLines(lines, items[std::size_t(r)]);
                 m_regionCounts.push_back({{"assigned_segments", items[std::size_t(r)].size()},
                                           {"owned_segments", ownedSegments(m_tree, r, lines).size()}});
-                parts.push_back(packLines(region));
+                parts.push_back(packLines(region, incomingTangents(lines, transported, region.origins)));
             }
             m["tree"] = m_tree.toJson();
             m["bounds"] = boundsJson(styled.bounds);
@@ -349,6 +354,7 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
         UnpackedLines lines = unpackLines(mine, share.source + " (rank " + std::to_string(m_mpi.rank()) + ")");
         share.load.lines = std::move(lines.lines);
         share.polylineIds = std::move(lines.polylineIds);
+        share.incomingTangents = std::move(lines.tangents);
         share.load.source = share.source;
         share.bounds = boundsOf(m["bounds"]);
         share.maxRadius = m["max_radius"].get<float>();

@@ -50,6 +50,9 @@ struct RankShare {
     // Per polyline of `load.lines`, the index of the source polyline it is a run of: the id AOV
     // shows these, as one process does (its ids are the source's polyline indices).
     std::vector<std::uint32_t> polylineIds;
+    // Per polyline of `load.lines`: the tangent its source polyline carries into it
+    // (StyledLines::incomingTangent), so that the cached AO frames each run as one process does.
+    std::vector<glm::vec3> incomingTangents;
 };
 
 class DataParallel {

@@ -254,6 +254,7 @@ LoadedData loadShare(DataParallel& dp, const Scene& scene, std::optional<Dataset
     step(&dp, "style", [&] {
         d.load = std::move(share.load);
         styleData(scene, d);
+        if (d.kind == DataKind::Lines) d.styled.incomingTangent = std::move(share.incomingTangents);
     });
     dp.agreeOnBounds(share, d.load, d.styled.bounds, d.styled.maxRadius);
     dp.checkShare(scene, share);

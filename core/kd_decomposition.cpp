@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/parallel_chunks.h"
 #include "core/spec_reader.h"
+#include "core/tangent_frame.h"
 
 namespace tc {
 
@@ -470,6 +471,35 @@ ParticleSet extractParticles(const ParticleSet& particles, std::span<const std::
         for (std::uint32_t i : indices) b.values.push_back(a.values[i]);
     }
     for (const glm::vec3& p : out.positions) out.bounds.extend(p);
+    return out;
+}
+
+std::vector<glm::vec3> transportedTangents(const LineSet& lines) {
+    std::vector<glm::vec3> out(lines.segmentCount());
+    std::size_t s = 0;
+    for (std::size_t p = 0; p < lines.polylineCount(); ++p) {
+        glm::vec3 carried(0.0f);  // nothing carried into a polyline's first segment
+        for (std::uint32_t v = lines.offsets[p]; v + 1 < lines.offsets[p + 1]; ++v, ++s) {
+            const glm::vec3 axis = segmentAxis(lines.positions[v], lines.positions[v + 1]);
+            glm::vec3 t, b;
+            tangentFrame(axis, t, b);
+            carried = out[s] = transportTangent(carried, axis, t);
+        }
+    }
+    return out;
+}
+
+std::vector<glm::vec3> incomingTangents(const LineSet& lines, std::span<const glm::vec3> transported,
+                                        std::span<const RunOrigin> origins) {
+    TC_CHECK_OP(transported.size(), ==, lines.segmentCount());
+    std::vector<glm::vec3> out(origins.size(), glm::vec3(0.0f));
+    for (std::size_t q = 0; q < origins.size(); ++q) {
+        const RunOrigin& o = origins[q];
+        TC_CHECK(o.polyline < lines.polylineCount());
+        // Segment S of polyline P starts at vertex S + P: the one ending at the run's first vertex
+        // is firstVertex - 1 - P.
+        if (o.firstVertex > lines.offsets[o.polyline]) out[q] = transported[o.firstVertex - 1 - o.polyline];
+    }
     return out;
 }
 

@@ -169,6 +169,17 @@ struct RegionLines {
 // every rank); bounds are the extracted positions'; velocity is kept.
 RegionLines extractRegionLines(const LineSet& lines, std::span<const std::uint32_t> segments);
 
+// Per segment of `lines` (numbered as segmentMidpoints numbers them), the tangent the
+// rotation-minimising frame carries out of it along its polyline (transportTangent of
+// core/tangent_frame.h, starting afresh at each polyline's first segment).
+std::vector<glm::vec3> transportedTangents(const LineSet& lines);
+// Per run of an extracted region (`origins`, from extractRegionLines on `lines`), the tangent its
+// source polyline carries into the run's first segment (`transported`: transportedTangents of
+// `lines`), 0 for a run that starts its polyline: StyledLines::incomingTangent of the region, so
+// that the rank holding the run frames it as one process holding the whole polyline does.
+std::vector<glm::vec3> incomingTangents(const LineSet& lines, std::span<const glm::vec3> transported,
+                                        std::span<const RunOrigin> origins);
+
 // The particles at `indices` with their radii, colours, attributes and provenance; attribute
 // min/max stay the source's, bounds are the extracted positions'.
 ParticleSet extractParticles(const ParticleSet& particles, std::span<const std::uint32_t> indices);

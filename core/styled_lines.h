@@ -23,6 +23,11 @@ struct StyledLines {
     // Segment S joins vertices segmentVertices[2S] and segmentVertices[2S + 1]. A sort permutes
     // segment ids; vertex data never moves (Groß & Gumhold 2020, Sect. 4.1).
     std::vector<std::uint32_t> segmentVertices;
+    // Per polyline, or empty: the rotation-minimising frame's tangent the source polyline carries
+    // into this one's first segment when this polyline is a run cut from it (core/
+    // kd_decomposition.h, incomingTangents), 0 for one that starts its source polyline. Empty:
+    // every polyline starts its own frame. The AO line cache's azimuths follow it.
+    std::vector<glm::vec3> incomingTangent;
     Bounds bounds;  // of the tubes (positions grown by radii)
     float maxRadius = 0;
 

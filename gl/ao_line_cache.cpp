@@ -36,15 +36,22 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
         const bool joined = s > 0 && lines.segmentVertices[2 * s] == lines.segmentVertices[2 * s - 1];
         if (joined) --total;
         words[2 * s] = std::uint32_t(total) | (joined ? kJoinedBit : 0u);
-        const glm::vec3 a(lines.positionRadius[lines.segmentVertices[2 * s]]);
+        const std::uint32_t v0 = lines.segmentVertices[2 * s];
+        const glm::vec3 a(lines.positionRadius[v0]);
         const glm::vec3 b(lines.positionRadius[lines.segmentVertices[2 * s + 1]]);
         const float length = glm::length(b - a);
-        const glm::vec3 axis = length > 0.0f ? (b - a) / length : glm::vec3(0.0f, 0.0f, 1.0f);
+        const glm::vec3 axis = segmentAxis(a, b);
         glm::vec3 t, bt;
         tangentFrame(axis, t, bt);
-        const glm::vec3 across = transported - glm::dot(transported, axis) * axis;
-        const float acrossLength = glm::length(across);
-        transported = joined && acrossLength > 1e-3f ? across / acrossLength : t;
+        // A polyline's first segment starts a frame, unless the polyline is a run cut from a
+        // longer one (a rank's share of data-parallel rendering): then it carries on the tangent
+        // the source polyline brought to the cut.
+        glm::vec3 previous(0.0f);
+        if (joined)
+            previous = transported;
+        else if (!lines.incomingTangent.empty())
+            previous = lines.incomingTangent[lines.polylineId[v0]];
+        transported = transportTangent(previous, axis, t);
         const float origin = std::atan2(glm::dot(transported, bt), glm::dot(transported, t));
         std::memcpy(&words[2 * s + 1], &origin, sizeof(float));
         const float steps = std::ceil(length / spacing);

@@ -27,15 +27,20 @@ namespace {
 constexpr const char* kFormat = "tubecast-partition";
 constexpr const char* kIndexName = "index.json";
 constexpr char kRunsMagic[8] = {'T', 'C', 'B', 'R', 'U', 'N', 'S', '\0'};
-constexpr std::uint32_t kRunsVersion = 1;
+// Version 2 adds the tangent each run's source polyline carries into it (incomingTangents); a
+// version 1 file has none and still reads.
+constexpr std::uint32_t kRunsVersion = 2;
 constexpr std::size_t kRunsHeaderBytes = 24;
 constexpr std::size_t kRunBytes = 16;
+constexpr std::size_t kTangentBytes = 12;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // --- region-K.runs ---------------------------------------------------------------------------
 
-void writeRuns(const std::vector<RunOrigin>& origins, const std::string& path) {
+void writeRuns(const std::vector<RunOrigin>& origins, const std::vector<glm::vec3>& tangents, const std::string& path) {
     static_assert(sizeof(RunOrigin) == kRunBytes, "runs are written as two packed u64");
+    static_assert(sizeof(glm::vec3) == kTangentBytes, "tangents are written as three packed f32");
+    TC_CHECK_OP(tangents.size(), ==, origins.size());
     std::uint8_t header[kRunsHeaderBytes] = {};
     std::memcpy(header, kRunsMagic, 8);
     const std::uint32_t version = kRunsVersion;
@@ -52,12 +57,15 @@ void writeRuns(const std::vector<RunOrigin>& origins, const std::string& path) {
         };
         put(header, sizeof header);
         put(origins.data(), kRunBytes * origins.size());
+        put(tangents.data(), kTangentBytes * tangents.size());
         if (std::fclose(f.release()) != 0) throw OutputError(path + ": cannot write: " + std::strerror(errno));
     }
     file.commit();
 }
 
-std::vector<RunOrigin> readRuns(const std::string& path, std::uint64_t expectedRuns) {
+// `tangents`, when given, receives each run's incoming tangent (empty from a version 1 file).
+std::vector<RunOrigin> readRuns(const std::string& path, std::uint64_t expectedRuns,
+                                std::vector<glm::vec3>* tangents = nullptr) {
     FileSource source(path);
     std::uint8_t h[kRunsHeaderBytes];
     if (source.size() < kRunsHeaderBytes)
@@ -65,18 +73,27 @@ std::vector<RunOrigin> readRuns(const std::string& path, std::uint64_t expectedR
     source.read(0, h, kRunsHeaderBytes, "the header");
     if (std::memcmp(h, kRunsMagic, 8) != 0) source.failAt(0, "not a runs file (no \"TCBRUNS\" magic)");
     const auto version = loadLittle<std::uint32_t>(h + 8);
-    if (version != kRunsVersion)
-        source.failAt(8, "unsupported runs version " + std::to_string(version) + " (this build reads version 1)");
+    if (version != 1 && version != kRunsVersion)
+        source.failAt(8, "unsupported runs version " + std::to_string(version) + " (this build reads versions 1 and " +
+                             std::to_string(kRunsVersion) + ")");
+    const std::size_t perRun = kRunBytes + (version >= 2 ? kTangentBytes : 0);
     const auto count = loadLittle<std::uint64_t>(h + 16);
     if (count != expectedRuns)
         source.failAt(16,
                       std::to_string(count) + " runs, the brick has " + std::to_string(expectedRuns) + " polylines");
-    if (source.size() != kRunsHeaderBytes + kRunBytes * count)
+    if (source.size() != kRunsHeaderBytes + perRun * count)
         source.failAt(source.size(), "file size " + std::to_string(source.size()) + " does not match " +
                                          std::to_string(count) + " runs (" +
-                                         std::to_string(kRunsHeaderBytes + kRunBytes * count) + " bytes)");
+                                         std::to_string(kRunsHeaderBytes + perRun * count) + " bytes)");
     std::vector<RunOrigin> origins(count);
     source.read(kRunsHeaderBytes, origins.data(), kRunBytes * count, "the runs");
+    if (tangents) {
+        tangents->clear();
+        if (version >= 2) {
+            tangents->resize(count);
+            source.read(kRunsHeaderBytes + kRunBytes * count, tangents->data(), kTangentBytes * count, "the tangents");
+        }
+    }
     return origins;
 }
 
@@ -214,6 +231,7 @@ PartitionIndex writePartition(const LineSet& lines, const KdDecomposition& tree,
     for (const Attribute& a : lines.attributes) index.attributes.push_back({a.name, a.min, a.max});
 
     const RegionItems assigned = assignSegments(tree, lines, radius);
+    const std::vector<glm::vec3> transported = transportedTangents(lines);
     for (int k = 0; k < tree.regionCount(); ++k) {
         const std::vector<std::uint32_t>& segments = assigned[std::size_t(k)];
         const RegionLines region = extractRegionLines(lines, segments);
@@ -227,7 +245,8 @@ PartitionIndex writePartition(const LineSet& lines, const KdDecomposition& tree,
         b.assignedSegments = segments.size();
         b.ownedSegments = ownedSegments(tree, k, region.lines).size();
         writeTcb(region.lines, (fs::path(directory) / b.file).string());
-        writeRuns(region.origins, (fs::path(directory) / b.runsFile).string());
+        writeRuns(region.origins, incomingTangents(lines, transported, region.origins),
+                  (fs::path(directory) / b.runsFile).string());
     }
     writeJsonFile(index.path, indexJson(index));
     return index;
@@ -319,7 +338,8 @@ PartitionIndex readPartitionIndex(const std::string& path) {
     return index;
 }
 
-LineSet readPartitionRegion(const PartitionIndex& index, int region, std::vector<RunOrigin>* origins) {
+LineSet readPartitionRegion(const PartitionIndex& index, int region, std::vector<RunOrigin>* origins,
+                            std::vector<glm::vec3>* tangents) {
     if (region < 0 || region >= index.regionCount())
         throw InputError(index.path + ": region " + std::to_string(region) + " requested, the set has " +
                          std::to_string(index.regionCount()) + " regions (0.." +
@@ -360,7 +380,7 @@ LineSet readPartitionRegion(const PartitionIndex& index, int region, std::vector
     if (origins) {
         const std::string runsPath = (fs::path(index.directory) / brick.runsFile).string();
         try {
-            *origins = readRuns(runsPath, lines.polylineCount());
+            *origins = readRuns(runsPath, lines.polylineCount(), tangents);
         } catch (const InputError& e) {
             throw InputError(e.what() + listed);
         }

@@ -6,7 +6,8 @@
 //                          the source's counts, bounds and attribute ranges
 //     DIR/region-K.tcb     region K's line set (extractRegionLines: the segments assigned to K
 //                          in runs, with one joint neighbour at each cut) as a plain .tcb
-//     DIR/region-K.runs    where each polyline of region-K.tcb came from (RunOrigin)
+//     DIR/region-K.runs    where each polyline of region-K.tcb came from (RunOrigin) and the
+//                          tangent its source polyline carries into it (incomingTangents)
 // (layout in docs/formats.md, "Partitioned line sets"). The bricks are written first and
 // index.json last, each through an AtomicFile, so a directory with an index.json is complete.
 //
@@ -79,10 +80,13 @@ PartitionIndex readPartitionIndex(const std::string& path);
 // Region `region`'s brick alone: its line set as written (whole runs with their joint
 // neighbours), attribute min/max set to the SOURCE's ranges (automatic styling ranges are then the
 // same on every rank), bounds of its own positions, the source's velocity. `origins`, when given,
-// receives the RunOrigin of each polyline (reads region-K.runs too). Throws InputError naming the
+// receives the RunOrigin of each polyline (reads region-K.runs too), and `tangents` (only with
+// `origins`) each polyline's incoming tangent (core/kd_decomposition.h; empty from a runs file of
+// version 1, which has none). Throws InputError naming the
 // brick: "DIR/region-3.tcb: no such file", "DIR/region-3.tcb: 1200 vertices, index.json says
 // 1300", a .tcb format error, an attribute list that differs from the index's.
-LineSet readPartitionRegion(const PartitionIndex& index, int region, std::vector<RunOrigin>* origins = nullptr);
+LineSet readPartitionRegion(const PartitionIndex& index, int region, std::vector<RunOrigin>* origins = nullptr,
+                            std::vector<glm::vec3>* tangents = nullptr);
 
 // Every brick and its runs, each segment kept once (from its owner's brick), reassembled into the
 // source line set (see the top of this file). Throws InputError naming the file for a missing or
