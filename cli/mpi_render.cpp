@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <map>
 
 #include "cli/run_manifest.h"
 #include "core/default_scene.h"
@@ -124,6 +125,58 @@ UnpackedLines unpackLines(const Bytes& bytes, const std::string& name) {
     return out;
 }
 
+// A rank's particles as one message: per data frame its particles (extractParticles) and their
+// indices in the whole frame (the id AOV's values), in CBOR with the arrays as byte strings.
+Bytes packParticles(const ParticleData& data, const std::vector<std::vector<std::uint32_t>>& ids) {
+    const auto number = [](float v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+    nlohmann::json frames = nlohmann::json::array();
+    for (std::size_t f = 0; f < data.frameCount(); ++f) {
+        const ParticleSet& p = data.frames[f];
+        nlohmann::json j;
+        j["positions"] = binaryOf(p.positions);
+        j["radii"] = binaryOf(p.radii);
+        j["colors"] = binaryOf(p.colors);
+        j["radii_from"] = int(p.radiiFrom);
+        j["colors_from"] = int(p.colorsFrom);
+        j["element_radii"] = p.elementRadii;
+        j["attributes"] = nlohmann::json::array();
+        for (const Attribute& a : p.attributes)
+            j["attributes"].push_back(
+                {{"name", a.name}, {"values", binaryOf(a.values)}, {"min", number(a.min)}, {"max", number(a.max)}});
+        j["ids"] = binaryOf(ids[f]);
+        frames.push_back(std::move(j));
+    }
+    return nlohmann::json::to_cbor(nlohmann::json{{"frames", std::move(frames)}});
+}
+
+// packParticles' message: the particles (bounds of their positions, attribute ranges the whole
+// frame's) and per data frame the whole frame's index of each.
+ParticleData unpackParticles(const Bytes& bytes, std::vector<std::vector<std::uint32_t>>& ids) {
+    const nlohmann::json message = nlohmann::json::from_cbor(bytes);
+    const auto number = [](const nlohmann::json& v) {
+        return v.is_null() ? std::numeric_limits<float>::quiet_NaN() : v.get<float>();
+    };
+    ParticleData data;
+    ids.clear();
+    for (const nlohmann::json& j : message["frames"]) {
+        ParticleSet& p = data.frames.emplace_back();
+        p.positions = vectorOf<glm::vec3>(j["positions"]);
+        p.radii = vectorOf<float>(j["radii"]);
+        p.colors = vectorOf<glm::vec4>(j["colors"]);
+        p.radiiFrom = Provenance(j["radii_from"].get<int>());
+        p.colorsFrom = Provenance(j["colors_from"].get<int>());
+        p.elementRadii = j["element_radii"].get<std::map<std::string, float>>();
+        for (const nlohmann::json& a : j["attributes"])
+            p.attributes.push_back(
+                {a["name"].get<std::string>(), vectorOf<float>(a["values"]), number(a["min"]), number(a["max"])});
+        for (const glm::vec3& x : p.positions) p.bounds.extend(x);
+        p.checkConsistent();
+        ids.push_back(vectorOf<std::uint32_t>(j["ids"]));
+        TC_CHECK_OP(ids.back().size(), ==, p.size());
+    }
+    return data;
+}
+
 std::string sceneName(const Scene& scene) {
     return scene.file.empty() ? std::string("scene") : scene.file;
 }
@@ -132,19 +185,23 @@ bool isPartitionInput(const DatasetSpec& d) {
     return d.generate.empty() && !d.trace && !d.path.empty() && isPartitionPath(d.path);
 }
 
+// Per id a frame's technique gives (the share's polyline or particle index), the whole data's;
+// nullptr: the ids are the whole data's already.
+using GlobalIds = std::function<const std::vector<std::uint32_t>*(int frame)>;
+
 // The frame loop's technique on every rank: the rank's own technique, whose render is a phase
 // (a rank that fails fails every rank, before any composite), then IceT's composite into rank 0's
 // images in the view's front-to-back order of the regions (region r is rank r's).
 class CompositedTechnique final : public Technique {
 public:
     CompositedTechnique(std::unique_ptr<Technique> inner, MpiSession& mpi, IcetCompositor& compositor,
-                        const KdDecomposition& tree, CompositeMode mode, std::vector<std::uint32_t> polylineIds)
+                        const KdDecomposition& tree, CompositeMode mode, GlobalIds ids)
         : m_inner(std::move(inner)),
           m_mpi(mpi),
           m_compositor(compositor),
           m_tree(tree),
           m_mode(mode),
-          m_polylineIds(std::move(polylineIds)) {}
+          m_ids(std::move(ids)) {}
 
     void prepareFrame(int frame, StageSink& sink) override {
         m_mpi.phase("prepare frame " + std::to_string(frame), [&] { m_inner->prepareFrame(frame, sink); });
@@ -154,7 +211,7 @@ public:
         m_mpi.phase("render frame " + std::to_string(setup.frame), [&] {
             m_inner->render(setup, out, sink);
             completeBuffers(out, setup.width, setup.height);
-            globalIds(out.id);
+            globalIds(setup.frame, out.id);
         });
         const std::vector<int> order = m_tree.viewOrder(setup.camera);
         m_compositor.composite(out, m_mode, order, sink);
@@ -179,13 +236,13 @@ private:
         if (out.id.size() != n) out.id.assign(n, kBackgroundId);
     }
 
-    // The techniques give the share's polyline index: the source's instead, so that the
-    // composited id AOV is what one process gives. (Particles keep their index in the data frame:
-    // every rank holds all of them.)
-    void globalIds(std::vector<std::uint32_t>& id) const {
-        if (m_polylineIds.empty()) return;
+    // The techniques give the share's polyline (particle) index: the whole data's instead, so
+    // that the composited id AOV is what one process gives.
+    void globalIds(int frame, std::vector<std::uint32_t>& id) const {
+        const std::vector<std::uint32_t>* ids = m_ids ? m_ids(frame) : nullptr;
+        if (!ids) return;
         for (std::uint32_t& v : id)
-            if (v != kBackgroundId) v = m_polylineIds.at(v);
+            if (v != kBackgroundId) v = ids->at(v);
     }
 
     std::unique_ptr<Technique> m_inner;
@@ -193,7 +250,7 @@ private:
     IcetCompositor& m_compositor;
     const KdDecomposition& m_tree;
     CompositeMode m_mode;
-    std::vector<std::uint32_t> m_polylineIds;  // per polyline of the share: its source polyline
+    GlobalIds m_ids;
 };
 
 }  // namespace
@@ -254,38 +311,94 @@ void DataParallel::sharePlan(OutputPlan& plan) {
     for (const nlohmann::json& f : j["frames"]) plan.todo.push_back({f.get<int>(), {}});
 }
 
-RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded) {
+RankShare DataParallel::loadPartitionShare(const Scene& scene) {
+    // Every rank reads the index and its own brick; bounds are agreed on after styling.
     RankShare share;
+    m_inputMode = "partition";
+    phase("load", [&] {
+        const PartitionIndex index = readPartitionIndex(scene.dataset.path);
+        const int ranks = m_mpi.size();
+        if (index.regionCount() != ranks)
+            throw InputError(index.path + ": regions: the set has " + std::to_string(index.regionCount()) +
+                             " regions and the job " + std::to_string(ranks) + " ranks: run with -np " +
+                             std::to_string(index.regionCount()) + " or partition again with -n " +
+                             std::to_string(ranks));
+        m_tree = index.tree;
+        m_partitionRadius = index.radius;
+        m_partitionIndex = index.path;
+        std::vector<RunOrigin> origins;
+        share.load.lines = readPartitionRegion(index, m_mpi.rank(), &origins, &share.incomingTangents);
+        share.polylineIds = sourcePolylines(origins);
+        share.load.source = scene.dataset.path;
+        share.source = index.source;
+        share.items = index.segments;
+        share.dataset = {{"source", scene.dataset.path},
+                         {"polylines", index.polylines},
+                         {"vertices", index.vertices},
+                         {"segments", index.segments},
+                         {"skipped", ""}};
+    });
+    return share;
+}
+
+void DataParallel::decomposeLines(const Scene& scene, const LineSet& lines, nlohmann::json& meta,
+                                  std::vector<Bytes>& parts) {
     const int ranks = m_mpi.size();
-    if (isPartitionInput(scene.dataset)) {
-        // Every rank reads the index and its own brick; bounds are agreed on after styling.
-        m_inputMode = "partition";
-        phase("load", [&] {
-            const PartitionIndex index = readPartitionIndex(scene.dataset.path);
-            if (index.regionCount() != ranks)
-                throw InputError(index.path + ": regions: the set has " + std::to_string(index.regionCount()) +
-                                 " regions and the job " + std::to_string(ranks) + " ranks: run with -np " +
-                                 std::to_string(index.regionCount()) + " or partition again with -n " +
-                                 std::to_string(ranks));
-            m_tree = index.tree;
-            m_partitionRadius = index.radius;
-            m_partitionIndex = index.path;
-            std::vector<RunOrigin> origins;
-            share.load.lines = readPartitionRegion(index, m_mpi.rank(), &origins, &share.incomingTangents);
-            share.polylineIds = sourcePolylines(origins);
-            share.load.source = scene.dataset.path;
-            share.source = index.source;
-            share.items = index.segments;
-            share.dataset = {{"source", scene.dataset.path},
-                             {"polylines", index.polylines},
-                             {"vertices", index.vertices},
-                             {"segments", index.segments},
-                             {"skipped", ""}};
-        });
-        return share;
+    const StyledLines styled = styleLines(lines, scene.style, scene.file);
+    std::vector<float> radii(lines.vertexCount());
+    TC_CHECK_OP(styled.vertexCount(), ==, lines.vertexCount());
+    for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
+    m_tree = KdDecomposition::build(segmentMidpoints(lines), ranks);
+    const RegionItems items = assignSegments(m_tree, lines, radii);
+    const std::vector<glm::vec3> transported = transportedTangents(lines);
+    m_regionCounts = nlohmann::json::array();
+    for (int r = 0; r < ranks; ++r) {
+        const RegionLines region = extractRegionLines(lines, items[std::size_t(r)]);
+        m_regionCounts.push_back({{"assigned_segments", items[std::size_t(r)].size()},
+                                  {"owned_segments", ownedSegments(m_tree, r, lines).size()}});
+        parts.push_back(packLines(region, incomingTangents(lines, transported, region.origins)));
     }
-    // A single input: rank 0 reads it whole. Lines are decomposed there and each rank is sent
-    // the segments that reach its region; particles are read by every rank.
+    meta["tree"] = m_tree.toJson();
+    meta["bounds"] = boundsJson(styled.bounds);
+    meta["max_radius"] = styled.maxRadius;
+    meta["items"] = lines.segmentCount();
+}
+
+void DataParallel::decomposeParticles(const Scene& scene, const ParticleData& data, nlohmann::json& meta,
+                                      std::vector<Bytes>& parts) {
+    const int ranks = m_mpi.size();
+    const ParticleSet& first = data.frames.front();
+    m_tree = KdDecomposition::build(std::vector<glm::vec3>(first.positions.begin(), first.positions.end()), ranks);
+    // Each data frame's particles go to every region their sphere can reach; the largest radius
+    // the style or the data can give stands for every sphere's (styling each frame here would
+    // cost what the ranks' techniques do again).
+    const float radius = particleSeriesMaxRadius(scene, data);
+    std::vector<RegionItems> items;  // per data frame
+    for (const ParticleSet& f : data.frames) items.push_back(assignParticles(m_tree, f, radius));
+    m_regionCounts = nlohmann::json::array();
+    for (int r = 0; r < ranks; ++r) {
+        std::uint64_t assigned = 0, owned = 0;
+        ParticleData region;
+        std::vector<std::vector<std::uint32_t>> ids;
+        for (std::size_t f = 0; f < data.frameCount(); ++f) {
+            ids.push_back(items[f][std::size_t(r)]);
+            region.frames.push_back(extractParticles(data.frames[f], ids.back()));
+            assigned += ids.back().size();
+            owned += ownedParticles(m_tree, r, data.frames[f]).size();
+        }
+        m_regionCounts.push_back({{"assigned_particles", assigned}, {"owned_particles", owned}});
+        parts.push_back(packParticles(region, ids));
+    }
+    meta["tree"] = m_tree.toJson();
+    meta["bounds"] = boundsJson(particleSeriesBounds(scene, data));
+    meta["max_radius"] = radius;
+    meta["items"] = data.maxParticles();
+}
+
+RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded) {
+    if (isPartitionInput(scene.dataset)) return loadPartitionShare(scene);
+    // A single input: rank 0 reads it whole and decomposes it; each rank is sent the segments
+    // (particles) that reach its region.
     DatasetLoad whole;
     std::vector<Bytes> parts;
     Bytes meta;
@@ -301,60 +414,32 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
         m["source"] = whole.source;
         m["particles"] = whole.isParticles();
         m["dataset"] = datasetSummary(whole);
-        if (!whole.isParticles()) {
-            const LineSet& lines = whole.lines;
-            const StyledLines styled = styleLines(lines, scene.style, scene.file);
-            std::vector<float> radii(lines.vertexCount());
-            TC_CHECK_OP(styled.vertexCount(), ==, lines.vertexCount());
-            for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
-            m_tree = KdDecomposition::build(segmentMidpoints(lines), ranks);
-            const RegionItems items = assignSegments(m_tree, lines, radii);
-            const std::vector<glm::vec3> transported = transportedTangents(lines);
-            m_regionCounts = nlohmann::json::array();
-            for (int r = 0; r < ranks; ++r) {
-                const RegionLines region = extractRegionLines(lines, items[std::size_t(r)]);
-                m_regionCounts.push_back({{"assigned_segments", items[std::size_t(r)].size()},
-                                          {"owned_segments", ownedSegments(m_tree, r, lines).size()}});
-                parts.push_back(packLines(region, incomingTangents(lines, transported, region.origins)));
-            }
-            m["tree"] = m_tree.toJson();
-            m["bounds"] = boundsJson(styled.bounds);
-            m["max_radius"] = styled.maxRadius;
-            m["items"] = lines.segmentCount();
-            whole.lines = {};  // rank 0 keeps its share only
-        }
+        if (whole.isParticles())
+            decomposeParticles(scene, whole.particles, m, parts);
+        else
+            decomposeLines(scene, whole.lines, m, parts);
+        whole = {};  // rank 0 keeps its share only
         meta = nlohmann::json::to_cbor(m);
     });
     m_mpi.broadcastBytes(meta);
     const nlohmann::json m = nlohmann::json::from_cbor(meta);
-    share.source = m["source"].get<std::string>();
-    share.dataset = m["dataset"];
-    if (m["particles"].get<bool>()) {
-        // Every rank reads the particles: the spheres are clipped to the rank's region, so the
-        // frame is exact, but each rank holds all of them (they are not redistributed yet).
-        m_inputMode = "replicated";
-        phase("load", [&] {
-            if (root())
-                share.load = std::move(whole);
-            else
-                share.load = loadDataset(scene.dataset);
-            const ParticleSet& first = share.load.particles.frames.front();
-            std::vector<glm::vec3> centres(first.positions.begin(), first.positions.end());
-            m_tree = KdDecomposition::build(std::move(centres), ranks);
-            share.bounds = particleSeriesBounds(scene, share.load.particles);
-            share.items = share.load.particles.maxParticles();
-        });
-        return share;
-    }
     m_inputMode = "scatter";
     const Bytes mine = m_mpi.scatterBytes(parts);
     parts.clear();
+    RankShare share;
     phase("distribute", [&] {
         if (!root()) m_tree = KdDecomposition::fromJson(m["tree"], "decomposition");
-        UnpackedLines lines = unpackLines(mine, share.source + " (rank " + std::to_string(m_mpi.rank()) + ")");
-        share.load.lines = std::move(lines.lines);
-        share.polylineIds = std::move(lines.polylineIds);
-        share.incomingTangents = std::move(lines.tangents);
+        share.source = m["source"].get<std::string>();
+        share.dataset = m["dataset"];
+        const std::string name = share.source + " (rank " + std::to_string(m_mpi.rank()) + ")";
+        if (m["particles"].get<bool>()) {
+            share.load.particles = unpackParticles(mine, share.particleIds);
+        } else {
+            UnpackedLines lines = unpackLines(mine, name);
+            share.load.lines = std::move(lines.lines);
+            share.polylineIds = std::move(lines.polylineIds);
+            share.incomingTangents = std::move(lines.tangents);
+        }
         share.load.source = share.source;
         share.bounds = boundsOf(m["bounds"]);
         share.maxRadius = m["max_radius"].get<float>();
@@ -421,8 +506,16 @@ std::unique_ptr<Technique> DataParallel::composited(std::unique_ptr<Technique> i
     m_compositor = std::make_unique<IcetCompositor>(m_mpi, scene.image.width, scene.image.height);
     const CompositeMode mode =
         scene.render.transparency == Transparency::Opaque ? CompositeMode::Opaque : CompositeMode::Transparent;
-    return std::make_unique<CompositedTechnique>(std::move(inner), m_mpi, *m_compositor, m_tree, mode,
-                                                 share.polylineIds);
+    GlobalIds ids;
+    if (!share.polylineIds.empty()) {
+        ids = [polylines = share.polylineIds](int) { return &polylines; };
+    } else if (!share.particleIds.empty()) {
+        // The data frame each animation frame shows (ParticleSeriesTechnique's choice).
+        ids = [particles = share.particleIds, pinned = scene.dataset.frame](int frame) {
+            return &particles.at(dataFrameFor(particles.size(), frame, pinned));
+        };
+    }
+    return std::make_unique<CompositedTechnique>(std::move(inner), m_mpi, *m_compositor, m_tree, mode, std::move(ids));
 }
 
 std::vector<TimingRow> DataParallel::gatherRows(std::vector<TimingRow> mine) const {

@@ -9,7 +9,7 @@
 //   - the data: a single input is read by rank 0, decomposed and each rank's segments sent to it
 //     (MpiSession::scatterBytes of .tcb bytes, with the source polyline of each run); a
 //     partitioned set (`tubecast partition`, io/partition.h) is read brick by brick, each rank
-//     its own (and its runs); particles are read by every rank;
+//     its own (and its runs); particles are decomposed by rank 0 as lines are, every data frame;
 //   - the technique: made with TechniqueData::region (the rank's box), the whole data's bounds
 //     and largest radius, and TechniqueHooks::reduceDensity (the AO grid summed over the ranks),
 //     then wrapped so that each frame's render is a phase (a failing rank fails every rank) and
@@ -53,6 +53,8 @@ struct RankShare {
     // Per polyline of `load.lines`: the tangent its source polyline carries into it
     // (StyledLines::incomingTangent), so that the cached AO frames each run as one process does.
     std::vector<glm::vec3> incomingTangents;
+    // Particles: per data frame, per particle of the share, its index in the whole data frame.
+    std::vector<std::vector<std::uint32_t>> particleIds;
 };
 
 class DataParallel {
@@ -76,8 +78,9 @@ public:
     void sharePlan(OutputPlan& plan);
 
     // Reads and distributes the data (phases "load" and "distribute"); `preloaded`: the dataset
-    // rank 0 read for a default scene. Rank 0 styles a single input whole once, for the radii the
-    // assignment must cover and for the bounds every rank uses.
+    // rank 0 read for a default scene. Rank 0 styles a single input of lines whole once, for the
+    // radii the assignment must cover and for the bounds every rank uses; particles are assigned
+    // by the largest radius any sphere can have (particleSeriesMaxRadius).
     RankShare loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded);
     // After styling the share (its bounds and largest radius): a partitioned set's ranks agree on
     // the whole data's bounds and radius; notes whether this rank holds nothing.
@@ -108,11 +111,17 @@ public:
 
 private:
     void logRoot(const std::string& line) const;
+    // loadShare's parts: a partitioned set's brick; rank 0's decomposition of a single input into
+    // the ranks' messages (and `meta`: the tree, the whole data's bounds, largest radius, items).
+    RankShare loadPartitionShare(const Scene& scene);
+    void decomposeLines(const Scene& scene, const LineSet& lines, nlohmann::json& meta, std::vector<Bytes>& parts);
+    void decomposeParticles(const Scene& scene, const ParticleData& data, nlohmann::json& meta,
+                            std::vector<Bytes>& parts);
 
     MpiSession m_mpi;
     bool m_quiet;
     KdDecomposition m_tree;
-    std::string m_inputMode;        // "scatter", "partition", "replicated"
+    std::string m_inputMode;        // "scatter", "partition"
     float m_partitionRadius = 0;    // a partitioned set's --radius
     std::string m_partitionIndex;   // and its index.json
     nlohmann::json m_regionCounts;  // rank 0, single input: per region what was assigned

@@ -6,12 +6,17 @@
 
 namespace tc {
 
-Bounds particleSeriesBounds(const Scene& scene, const ParticleData& data) {
+float particleSeriesMaxRadius(const Scene& scene, const ParticleData& data) {
     const RadiusSpec& radius = scene.style.radius;
     float maxRadius = radius.attribute.empty() ? radius.constant : std::max(radius.radiusLo, radius.radiusHi);
     if (radius.attribute.empty() && !radius.fromScene)
         for (const ParticleSet& f : data.frames)
             for (float r : f.radii) maxRadius = std::max(maxRadius, r);
+    return maxRadius;
+}
+
+Bounds particleSeriesBounds(const Scene& scene, const ParticleData& data) {
+    const float maxRadius = particleSeriesMaxRadius(scene, data);
     Bounds out;
     const Bounds b = data.bounds();
     if (!b.empty()) {

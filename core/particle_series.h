@@ -17,6 +17,9 @@ namespace tc {
 // Bounds of the spheres over all data frames without styling them all: the positions' union grown
 // by the largest radius the style or the data can give (for the camera fit and depth range).
 Bounds particleSeriesBounds(const Scene& scene, const ParticleData& data);
+// The largest radius the style or the data can give a sphere of any data frame (what
+// particleSeriesBounds grows the positions by).
+float particleSeriesMaxRadius(const Scene& scene, const ParticleData& data);
 
 // Whether any particle of any data frame can get an opacity below 1 (render.transparency "auto"),
 // from the style and the data's colours without styling every frame: a constant below 1, an

@@ -25,11 +25,15 @@ void ParticleSet::checkConsistent() const {
     for (const Attribute& a : attributes) TC_CHECK_OP(a.values.size(), ==, n);
 }
 
-std::size_t ParticleData::dataFrameFor(int frame, int pinned) const {
-    if (frames.empty()) return 0;
-    const std::size_t last = frames.size() - 1;
+std::size_t dataFrameFor(std::size_t frameCount, int frame, int pinned) {
+    if (frameCount == 0) return 0;
+    const std::size_t last = frameCount - 1;
     const int wanted = pinned >= 0 ? pinned : std::max(frame, 0);
     return std::min(std::size_t(wanted), last);
+}
+
+std::size_t ParticleData::dataFrameFor(int frame, int pinned) const {
+    return tc::dataFrameFor(frames.size(), frame, pinned);
 }
 
 Bounds ParticleData::bounds() const {

@@ -39,6 +39,9 @@ struct ParticleSet {
     void checkConsistent() const;
 };
 
+// ParticleData::dataFrameFor of a series of `frameCount` data frames.
+std::size_t dataFrameFor(std::size_t frameCount, int frame, int pinned);
+
 // A particle dataset: one frame, or a time series (LAMMPS dumps, MMPLD, multi-model PDB, ...).
 // Frames may differ in particle count.
 struct ParticleData {
