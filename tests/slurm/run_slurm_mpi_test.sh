@@ -8,11 +8,14 @@
 #      must have been called as `render scene.json --mpi -o out`;
 #   3. a job whose rank 1 fails in a phase (tubecast_mpi_fault) must end with that rank's exit code
 #      and its message, from rank 0, in the job's log;
-#   4. stops the daemons (trap: also on failure or timeout).
-# Usage: run_slurm_mpi_test.sh MPI_TESTS_BINARY MPI_FAULT_BINARY SOURCE_DIR WORK_DIR
+#   4. the real thing: `tubecast render scene.json --mpi -o out` as a 2-task job (srun --mpi=pmix)
+#      on 60 tornado polylines at 64x48, opaque: the job exits 0, run.json says 2 ranks, and the
+#      frame is within 1/255 (max error) of the single-process render of the same scene;
+#   5. stops the daemons (trap: also on failure or timeout).
+# Usage: run_slurm_mpi_test.sh MPI_TESTS_BINARY MPI_FAULT_BINARY SOURCE_DIR WORK_DIR TUBECAST
 # Exit 0 pass, 1 fail, 77 skip (not root, or the daemons cannot start here).
 set -uo pipefail
-tests=$(realpath "$1") faults=$(realpath "$2") src=$(realpath "$3") work=$4
+tests=$(realpath "$1") faults=$(realpath "$2") src=$(realpath "$3") work=$4 tubecast=$(realpath "$5")
 SKIP=77
 
 skip() { echo "SKIP: $*"; exit $SKIP; }
@@ -65,5 +68,27 @@ grep -qF "error: rank 1 (host $(hostname)) in phase 'load': data.tcb: cannot rea
     fail "the job's log lacks rank 1's message"
 [[ ! -e $tmp/frame.txt ]] || fail "the failed job wrote an output"
 echo "ok: a rank's failure ends the Slurm job with its exit code 4 and its message"
+
+# 4. A real data-parallel render of 2 tasks against one process.
+cat >scene.json <<'JSON'
+{"dataset": {"generate": "tornado", "lines": 60, "points": 64, "seed": 3},
+ "image": {"width": 64, "height": 48},
+ "style": {"radius": 0.02, "color": [0.8, 0.5, 0.2]},
+ "render": {"technique": "rasterized", "transparency": "opaque"},
+ "output": {"formats": ["png"]}}
+JSON
+"$tubecast" render scene.json -o one -q 2>one.err || { cat one.err; fail "single-process render exited $?"; }
+log=$tmp/render.log
+job=$(TUBECAST=$tubecast sbatch --parsable --ntasks=2 -o "$log" "$src/scripts/slurm/render_mpi.sbatch" scene.json \
+      -o out -q) || fail "sbatch (render)"
+local_cluster_wait_job "$job" 120 || fail "render job $job still queued/running after 120 s"
+exit_code=$(job_exit "$job")
+[[ $exit_code == 0:0 ]] || fail "the render job ended with ExitCode=$exit_code"
+[[ -f out/frame.0000.png ]] || fail "the render job wrote no frame"
+python3 -c "import json, sys; r = json.load(open('out/run.json'))['mpi']['ranks']; sys.exit(r != 2)" ||
+    fail "out/run.json does not say 2 ranks"
+maxerr=$("$tubecast" compare one/frame.0000.png out/frame.0000.png | awk '$1 == "max_error" { print $2 }')
+awk -v e="$maxerr" 'BEGIN { exit !(e <= 1 / 255) }' || fail "the 2-task frame differs from one process's: max error $maxerr"
+echo "ok: a 2-task tubecast render --mpi through render_mpi.sbatch: max error $maxerr against one process"
 echo PASS
 exit 0
