@@ -382,97 +382,98 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     return t;
 }
 
-void runRender(const RenderOptions& options) {
-    RenderOptions o = options;
-    std::unique_ptr<DataParallel> dp;
-    if (o.mpi) {
-        dp = std::make_unique<DataParallel>(o.quiet);
-        if (!dp->root()) {  // rank 0 speaks for the job
-            o.quiet = true;
-            o.logFormat = "human";
-        }
-    } else if (MpiSession::launchedByMpi() && !o.quiet) {
-        std::cerr << "warning: started by an MPI launcher without --mpi: every process renders and writes the "
-                     "whole frame\n";
+// --mpi: the job's MpiSession, after which only rank 0 speaks (`o` made quiet on the others).
+// Without --mpi, a warning when an MPI launcher started this process anyway.
+std::unique_ptr<DataParallel> startDataParallel(RenderOptions& o) {
+    if (!o.mpi) {
+        if (MpiSession::launchedByMpi() && !o.quiet)
+            std::cerr << "warning: started by an MPI launcher without --mpi: every process renders and writes the "
+                         "whole frame\n";
+        return nullptr;
     }
-    const bool root = !dp || dp->root();
-    RenderJob job = planJob(o, dp.get());
-    if (reportPlanOnly(o, job, root)) return;
-    Scene& scene = job.scene;
-    const OutputSpec& out = scene.output;
-    const std::vector<FramePlan>& todo = job.plan.todo;
-    setLlvmpipeThreads(o);
-
-    RankShare share;
-    const LoadedData data = dp ? loadShare(*dp, scene, std::move(job.data), share)
-                               : loadData(scene, std::move(job.data));  // per dataset, once per process
-    if (!dp && data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0)
-        std::cerr << "warning: " << data.load.source << ": the dataset holds no polylines: the frames show the "
-                  << "background only\n";
-    std::optional<gl::Context> context;
-    step(dp.get(), "context", [&] { context = makeContext(o); });
-    const gl::ContextInfo& info = context->info();
-    if (!o.quiet)
-        std::cerr << "tubecast: " << info.backend << (info.device.empty() ? "" : " (" + info.device + ")") << ", "
-                  << info.renderer << ", " << describeData(data.load) << (dp ? " on rank 0" : "") << ", " << todo.size()
-                  << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
-    const std::vector<std::string> sources =
-        styleSources(scene.style, data.kind == DataKind::Particles ? &data.load.particles : nullptr);
-    if (!o.quiet) {
-        std::cerr << "tubecast: style:";
-        for (std::size_t i = 0; i < sources.size(); ++i) std::cerr << (i ? "; " : " ") << sources[i];
-        std::cerr << "\n";
+    auto dp = std::make_unique<DataParallel>(o.quiet);
+    if (!dp->root()) {  // rank 0 speaks for the job
+        o.quiet = true;
+        o.logFormat = "human";
     }
-    bool translucent =
-        data.kind == DataKind::Lines ? anyTranslucent(data.styled) : anyTranslucent(scene.style, data.load.particles);
-    if (dp) translucent = dp->any(translucent);
-    Techniques techniques;
-    step(dp.get(), "technique",
-         [&] { techniques = makeTechniques(o, scene, data, translucent, todo.front().frame, info, dp.get(), &share); });
-    if (dp) techniques.main = dp->composited(std::move(techniques.main), scene, share);
+    return dp;
+}
 
-    const Camera base = fitCamera(scene.camera, data.bounds, float(scene.image.width) / float(scene.image.height));
-    RunManifest manifest(scene, job.hash);
+// The log lines of the context, the data and where the style comes from.
+void logSetup(const RenderOptions& o, const Scene& scene, const gl::ContextInfo& info, const LoadedData& data,
+              std::size_t frames, bool mpi, const std::vector<std::string>& sources) {
+    if (o.quiet) return;
+    std::cerr << "tubecast: " << info.backend << (info.device.empty() ? "" : " (" + info.device + ")") << ", "
+              << info.renderer << ", " << describeData(data.load) << (mpi ? " on rank 0" : "") << ", " << frames
+              << " frame(s) at " << scene.image.width << "x" << scene.image.height << "\n";
+    std::cerr << "tubecast: style:";
+    for (std::size_t i = 0; i < sources.size(); ++i) std::cerr << (i ? "; " : " ") << sources[i];
+    std::cerr << "\n";
+}
+
+// run.json before the first frame (written by the caller). With --mpi collective: the ranks'
+// counts are gathered.
+RunManifest startManifest(const RenderOptions& o, const RenderJob& job, const LoadedData& data,
+                          const gl::ContextInfo& info, const Techniques& techniques,
+                          const std::vector<std::string>& sources, const Camera& firstCamera, DataParallel* dp,
+                          const RankShare& share) {
+    RunManifest manifest(job.scene, job.hash);
     manifest.setDataset(dp ? share.dataset : datasetSummary(data.load), data.seconds);
     manifest.setGl(info);
     manifest.setTechnique(techniques.main->describe(), techniques.choice);
     manifest.setStyleSources(sources);
     manifest.setFrames(job.frames, job.shard, o.shard);
-    manifest.setFirstCamera(cameraAtFrame(scene.animation, base, todo.front().frame));
+    manifest.setFirstCamera(firstCamera);
     if (dp) manifest.setDataParallel(dp->manifest(data.load, share.items));
-    const bool timings = out.timings && root;
-    if (timings) manifest.write(job.plan.runPath);
+    return manifest;
+}
 
+// The files the frame loop appends to besides the frames: timings.csv (`timings`: this process
+// writes it), quality.csv (with a reference) and the placeholders' claims.
+struct RunFiles {
     std::unique_ptr<TimingsCsv> csv;
-    const std::string& timingsPath = job.plan.timingsPath;
-    if (timings) csv = std::make_unique<TimingsCsv>(timingsPath, o.resume && fs::exists(timingsPath), dp != nullptr);
     std::unique_ptr<std::ofstream> quality;
+    std::unique_ptr<Placeholders> placeholders;
+};
+
+RunFiles openRunFiles(const RenderOptions& o, const RenderJob& job, const Techniques& techniques, bool timings,
+                      bool mpi) {
+    RunFiles f;
+    const std::string& timingsPath = job.plan.timingsPath;
+    if (timings) f.csv = std::make_unique<TimingsCsv>(timingsPath, o.resume && fs::exists(timingsPath), mpi);
     if (techniques.reference) {
         const std::string& path = job.plan.qualityPath;
         const bool append = o.resume && fs::exists(path);
-        quality = std::make_unique<std::ofstream>(path, append ? std::ios::app : std::ios::trunc);
-        if (!*quality) throw OutputError(path + ": cannot open for writing");
-        if (!append) *quality << "frame,reference,rmse,psnr_db,max_error\n" << std::flush;
+        f.quality = std::make_unique<std::ofstream>(path, append ? std::ios::app : std::ios::trunc);
+        if (!*f.quality) throw OutputError(path + ": cannot open for writing");
+        if (!append) *f.quality << "frame,reference,rmse,psnr_db,max_error\n" << std::flush;
     }
-    std::unique_ptr<Placeholders> placeholders;
-    if (o.placeholders) placeholders = std::make_unique<Placeholders>(o.placeholderTimeout, slurmJobId(processEnv()));
-    Progress progress(todo.size(), o.quiet, o.logFormat == "json", std::cerr, std::cout, isatty(2));
-    progress.event({{"event", "start"},
-                    {"frames", todo.size()},
-                    {"skipped_complete", job.plan.skipped},
-                    {"host", hostName()},
-                    {"pid", long(getpid())},
-                    {"shard", job.shard ? o.shard : ""}});
+    if (o.placeholders) f.placeholders = std::make_unique<Placeholders>(o.placeholderTimeout, slurmJobId(processEnv()));
+    return f;
+}
 
-    gl::StageTimer timer, referenceTimer;
+// What the frame loop needs (the pointers stay the caller's).
+struct LoopParts {
+    const Techniques* techniques;
+    gl::StageTimer *timer, *referenceTimer;
+    RunFiles* files;
+    Progress* progress;
+    std::function<Camera(int)> camera;
+};
+
+FrameLoopInputs frameLoopInputs(const RenderOptions& o, const RenderJob& job, const LoadedData& data,
+                                const gl::ContextInfo& info, const LoopParts& parts, DataParallel* dp,
+                                const RankShare& share) {
+    const Scene& scene = job.scene;
+    const OutputSpec& out = scene.output;
     FrameLoopInputs in;
-    in.technique = techniques.main.get();
-    in.timer = &timer;
-    in.reference = techniques.reference.get();
-    in.referenceTimer = &referenceTimer;
-    in.referenceName = techniques.referenceName;
-    in.quality = quality.get();
-    in.camera = [&](int frame) { return cameraAtFrame(scene.animation, base, frame); };
+    in.technique = parts.techniques->main.get();
+    in.timer = parts.timer;
+    in.reference = parts.techniques->reference.get();
+    in.referenceTimer = parts.referenceTimer;
+    in.referenceName = parts.techniques->referenceName;
+    in.quality = parts.files->quality.get();
+    in.camera = parts.camera;
     in.width = scene.image.width;
     in.height = scene.image.height;
     in.bounds = data.bounds;
@@ -485,36 +486,95 @@ void runRender(const RenderOptions& options) {
     in.exr.id = out.aovId;
     in.exr.ao = out.aovAo;
     in.exr.metadata = in.pngText;
-    in.csv = csv.get();
-    in.placeholders = placeholders.get();
-    in.progress = &progress;
+    in.csv = parts.files->csv.get();
+    in.placeholders = parts.files->placeholders.get();
+    in.progress = parts.progress;
     in.items = data.kind == DataKind::Lines ? data.styled.segmentCount() : data.load.particles.maxParticles();
     if (dp) {
         in.items = share.items;
-        in.gatherRows = [&dp](std::vector<TimingRow> rows) { return dp->gatherRows(std::move(rows)); };
+        in.gatherRows = [dp](std::vector<TimingRow> rows) { return dp->gatherRows(std::move(rows)); };
     }
     in.keepGoing = o.keepGoing;
     // Not with --placeholders (one claim at a time), image tiles (the memory budget was planned for
     // one full-size frame) or --serial-writes.
-    in.overlapWrites = !o.serialWrites && !placeholders && todo.size() > 1 && techniques.tiles.tiles.size() <= 1;
+    in.overlapWrites = !o.serialWrites && !parts.files->placeholders && job.plan.todo.size() > 1 &&
+                       parts.techniques->tiles.tiles.size() <= 1;
     in.resume = o.resume;
     in.sceneHash = job.hash;
-    const FrameLoopOutcome outcome = runFrameLoop(todo, out, in);
+    return in;
+}
 
+// The outcome in run.json and the progress log; failed frames are the run's error (with --mpi
+// every rank knows the outcome, rank 0 reports it for the job).
+void finishRun(const FrameLoopOutcome& outcome, const RenderJob& job, RunManifest& manifest, bool timings,
+               Progress& progress, DataParallel* dp) {
     manifest.setOutcome(outcome.rendered, outcome.failed, outcome.heldElsewhere);
     if (timings) manifest.write(job.plan.runPath);
     progress.event({{"event", "done"},
                     {"rendered", outcome.rendered},
                     {"failed", outcome.failed},
                     {"held_elsewhere", outcome.heldElsewhere}});
-    // With --mpi every rank knows the outcome; rank 0 reports it for the job.
-    step(dp.get(), "frames", [&] {
-        if (!outcome.failed.empty() && root)
+    step(dp, "frames", [&] {
+        if (!outcome.failed.empty() && (!dp || dp->root()))
             throw Error(ExitCode::FramesFailed, std::to_string(outcome.failed.size()) + " of " +
-                                                    std::to_string(todo.size()) +
+                                                    std::to_string(job.plan.todo.size()) +
                                                     " frame(s) failed: " + formatFrameList(outcome.failed) +
                                                     " (the others were written; re-run with --resume)");
     });
+}
+
+// The run, in its named parts: the plan, the data, the context and technique, run.json and
+// the run's files, the frame loop, the outcome.
+void runRender(const RenderOptions& options) {
+    RenderOptions o = options;
+    const std::unique_ptr<DataParallel> dp = startDataParallel(o);
+    const bool root = !dp || dp->root();
+    RenderJob job = planJob(o, dp.get());
+    if (reportPlanOnly(o, job, root)) return;
+    Scene& scene = job.scene;
+    const std::vector<FramePlan>& todo = job.plan.todo;
+    setLlvmpipeThreads(o);
+
+    RankShare share;
+    const LoadedData data = dp ? loadShare(*dp, scene, std::move(job.data), share)
+                               : loadData(scene, std::move(job.data));  // per dataset, once per process
+    if (!dp && data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0)
+        std::cerr << "warning: " << data.load.source << ": the dataset holds no polylines: the frames show the "
+                  << "background only\n";
+    std::optional<gl::Context> context;
+    step(dp.get(), "context", [&] { context = makeContext(o); });
+    const gl::ContextInfo& info = context->info();
+    const std::vector<std::string> sources =
+        styleSources(scene.style, data.kind == DataKind::Particles ? &data.load.particles : nullptr);
+    logSetup(o, scene, info, data, todo.size(), dp != nullptr, sources);
+    bool translucent =
+        data.kind == DataKind::Lines ? anyTranslucent(data.styled) : anyTranslucent(scene.style, data.load.particles);
+    if (dp) translucent = dp->any(translucent);
+    Techniques techniques;
+    step(dp.get(), "technique",
+         [&] { techniques = makeTechniques(o, scene, data, translucent, todo.front().frame, info, dp.get(), &share); });
+    if (dp) techniques.main = dp->composited(std::move(techniques.main), scene, share);
+
+    const Camera base = fitCamera(scene.camera, data.bounds, float(scene.image.width) / float(scene.image.height));
+    const auto camera = [&](int frame) { return cameraAtFrame(scene.animation, base, frame); };
+    RunManifest manifest =
+        startManifest(o, job, data, info, techniques, sources, camera(todo.front().frame), dp.get(), share);
+    const bool timings = scene.output.timings && root;
+    if (timings) manifest.write(job.plan.runPath);
+    RunFiles files = openRunFiles(o, job, techniques, timings, dp != nullptr);
+    Progress progress(todo.size(), o.quiet, o.logFormat == "json", std::cerr, std::cout, isatty(2));
+    progress.event({{"event", "start"},
+                    {"frames", todo.size()},
+                    {"skipped_complete", job.plan.skipped},
+                    {"host", hostName()},
+                    {"pid", long(getpid())},
+                    {"shard", job.shard ? o.shard : ""}});
+
+    gl::StageTimer timer, referenceTimer;
+    const LoopParts parts{&techniques, &timer, &referenceTimer, &files, &progress, camera};
+    const FrameLoopOutcome outcome =
+        runFrameLoop(todo, scene.output, frameLoopInputs(o, job, data, info, parts, dp.get(), share));
+    finishRun(outcome, job, manifest, timings, progress, dp.get());
 }
 
 }  // namespace
