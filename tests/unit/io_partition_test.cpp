@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/generators.h"
 #include "core/kd_decomposition.h"
+#include "core/tangent_frame.h"
 #include "io/dataset.h"
 #include "io/json_file.h"
 #include "io/partition.h"
@@ -78,6 +79,41 @@ TEST(Partition, whole_load_is_the_source_line_set_exactly) {
             expectSameLines(loadDataset(spec).lines, lines);
         }
     }
+}
+
+// A rank that holds a run of a polyline carries the rotation-minimising frame along it from the
+// tangent stored with the run (runs version 2), and must get the frame one process carrying it
+// from the polyline's start gets, bit for bit (the AO line cache's azimuths).
+TEST(Partition, runs_carry_the_frame_of_the_whole_polyline) {
+    const LineSet lines = generateDataset("tornado", 30, 80, 4);
+    const std::vector<glm::vec3> whole = transportedTangents(lines);
+    const std::string dir = test::testDir();
+    const PartitionIndex index = partition(lines, 3, dir);
+    std::size_t cut = 0, segments = 0;
+    for (int k = 0; k < 3; ++k) {
+        std::vector<RunOrigin> origins;
+        std::vector<glm::vec3> tangents;
+        const LineSet brick = readPartitionRegion(index, k, &origins, &tangents);
+        ASSERT_EQ(tangents.size(), brick.polylineCount());
+        EXPECT_EQ(tangents, incomingTangents(lines, whole, origins));
+        for (std::size_t q = 0; q < brick.polylineCount(); ++q) {
+            const RunOrigin& o = origins[q];
+            const bool starts = o.firstVertex == lines.offsets[o.polyline];
+            EXPECT_EQ(tangents[q] == glm::vec3(0.0f), starts) << "region " << k << ", run " << q;
+            cut += !starts;
+            glm::vec3 carried = tangents[q];
+            for (std::uint32_t v = brick.offsets[q]; v + 1 < brick.offsets[q + 1]; ++v, ++segments) {
+                const glm::vec3 axis = segmentAxis(brick.positions[v], brick.positions[v + 1]);
+                glm::vec3 t, b;
+                tangentFrame(axis, t, b);
+                carried = transportTangent(carried, axis, t);
+                const std::uint64_t g = o.firstVertex + (v - brick.offsets[q]);  // the source's vertex
+                ASSERT_EQ(carried, whole[g - o.polyline]) << "region " << k << ", run " << q << ", vertex " << g;
+            }
+        }
+    }
+    EXPECT_GT(cut, 20u) << "few runs start inside a polyline: the test checks little";
+    EXPECT_GT(segments, lines.segmentCount());
 }
 
 TEST(Partition, index_round_trips_the_tree_boxes_and_counts) {
