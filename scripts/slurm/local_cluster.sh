@@ -101,8 +101,14 @@ local_cluster_stop() {
     for f in "$_lc_dir/slurmd.pid" "$_lc_dir/slurmctld.pid"; do
         [[ -n $_lc_dir && -f $f ]] && kill "$(cat "$f")" 2>/dev/null
     done
-    local pid
+    local pid i
     for pid in $_lc_slurmd_pid $_lc_ctld_pid $_lc_munged_pid; do kill "$pid" 2>/dev/null; done
-    wait 2>/dev/null
+    # Bounded: a daemon that ignores SIGTERM for 10 s is killed, so a failing test ends with its
+    # message instead of hanging until ctest's timeout.
+    for pid in $_lc_slurmd_pid $_lc_ctld_pid $_lc_munged_pid; do
+        for i in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.2; done
+        kill -9 "$pid" 2>/dev/null
+        wait "$pid" 2>/dev/null
+    done
     return 0
 }

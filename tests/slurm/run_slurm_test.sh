@@ -35,9 +35,12 @@ cat >scene.json <<'EOF'
   "camera": {"fit": true, "eye": [1.6, -1.2, 1.25], "target": [0.5, 0.5, 0.5], "up": [0, 0, 1]},
   "animation": {"type": "orbit", "frames": 8, "axis": [0, 0, 1], "degrees": 360},
   "image": {"width": 48, "height": 32},
+  "render": {"technique": "rasterized"},
   "output": {"dir": "out", "name": "f.####", "aovs": ["depth"]}
 }
 EOF
+# The rasterizer, named: part 3 needs frames slow enough (llvmpipe with one thread per task) to
+# cancel a task between two of them; "auto" would pick the much faster CPU ray tracer here.
 
 wait_job() {
     local_cluster_wait_job "$1" "$2" || fail "job $1 still queued/running after $2 s: $(squeue -j "$1")"
