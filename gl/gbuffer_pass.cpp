@@ -17,7 +17,8 @@ GBufferPass GBufferPass::create(const LineGeometry& geometry, const Hierarchical
     pass.m_visibilityProgram = geometry.compileDrawProgram(
         "rounded_cone_gbuffer.frag", culling ? culling->drawDefines() : std::vector<std::string>{});
     pass.m_attributesProgram =
-        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}});
+        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}},
+                       geometry.regionDefines());
     pass.m_emptyVao = VertexArray::create();
     return pass;
 }

@@ -50,6 +50,10 @@ public:
     // geometry's billboard path; `defines` go to every stage, and REGION_CLIP when the geometry
     // has a region box (the fragment shaders then drop what enters the ray outside it).
     Program compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines = {}) const;
+    // REGION_CLIP when the geometry has a region box, for full-screen passes that test hits.
+    std::vector<std::string> regionDefines() const {
+        return m_region.unbounded() ? std::vector<std::string>{} : std::vector<std::string>{"REGION_CLIP"};
+    }
     // Builds this frame's billboards (BillboardPath::Compute; no-op otherwise) as stage
     // "billboards" of `timer`, for the camera of setFrame.
     void computeBillboards(StageSink& timer) const;

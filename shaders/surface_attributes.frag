@@ -46,6 +46,11 @@ uint lowestTiedSegment(Ray ray, uint segment, inout float t, inout vec3 n, float
         float tPrev, depthPrev;
         vec3 nPrev;
         if (!visibleFragmentDepth(ray, segmentCone(s - 1u), tPrev, nPrev, depthPrev) || depthPrev > fragDepth) break;
+#ifdef REGION_CLIP
+        // A tied predecessor whose hit lies in another region is that region's (as in the
+        // visibility pass, rounded_cone_gbuffer.frag).
+        if (!inRegion(ray.origin + tPrev * ray.dir)) break;
+#endif
         best = s - 1u;
         t = tPrev;
         n = nPrev;
