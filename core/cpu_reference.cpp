@@ -29,20 +29,12 @@ FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera
                 for (std::size_t s = 0; s < segments; ++s) {
                     const glm::vec4& a = lines.positionRadius[lines.segmentVertices[2 * s]];
                     const glm::vec4& b = lines.positionRadius[lines.segmentVertices[2 * s + 1]];
-                    ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
-                    if (!iv.hit) continue;
-                    float t;
-                    glm::vec3 n;
-                    if (iv.tIn > 0.0f)
-                        t = iv.tIn, n = iv.nIn;
-                    else if (iv.tOut > 0.0f)
-                        t = iv.tOut, n = iv.nOut;
-                    else
-                        continue;
-                    if (t < best) {
-                        best = t;
+                    const auto hit =
+                        nearestPositiveHit(intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w}));
+                    if (hit && hit->t < best) {
+                        best = hit->t;
                         bestSeg = s;
-                        bestN = n;
+                        bestN = hit->normal;
                     }
                 }
                 if (best == std::numeric_limits<float>::infinity()) continue;

@@ -159,6 +159,13 @@ T sdImpl(glm::vec<3, T> p, glm::vec<3, T> x0, T r0, glm::vec<3, T> x1, T r1) {
 
 }  // namespace
 
+std::optional<SurfaceHit> nearestPositiveHit(const ConeInterval& iv) {
+    if (!iv.hit) return std::nullopt;
+    if (iv.tIn > 0.0f) return SurfaceHit{iv.tIn, iv.nIn};
+    if (iv.tOut > 0.0f) return SurfaceHit{iv.tOut, iv.nOut};
+    return std::nullopt;
+}
+
 ConeInterval intersectRoundedCone(const Ray& ray, const RoundedCone& c) {
     IntervalT<float> i = intersectImpl<float>(ray.origin, ray.dir, c.x0, c.r0, c.x1, c.r1);
     return {i.hit, i.tIn, i.tOut, i.nIn, i.nOut};

@@ -3,6 +3,7 @@
 // segment is drawn as (Groß & Gumhold 2020, Sect. 5.1). shaders/rounded_cone.glsl is the GPU twin
 // of this file: same math, same names, same edge cases; keep them in lock-step.
 #include <glm/glm.hpp>
+#include <optional>
 
 #include "core/camera.h"
 
@@ -31,6 +32,15 @@ struct ConeInterval {
 // NaN. Solved in a frame whose origin is the point of the ray closest to x0, so thin tubes far
 // from the ray origin keep float precision. ray.dir must be unit length; radii > 0.
 ConeInterval intersectRoundedCone(const Ray& ray, const RoundedCone& cone);
+
+// The surface a ray leaving its origin meets first: the entry when it lies ahead (t > 0), else the
+// exit (the origin is inside the cone); nothing when the whole interval lies behind the origin or
+// the ray misses. The opaque visible-surface rule of the CPU reference and the Embree path.
+struct SurfaceHit {
+    float t;
+    glm::vec3 normal;
+};
+std::optional<SurfaceHit> nearestPositiveHit(const ConeInterval& iv);
 
 // Signed distance from p to the rounded cone: exact outside; inside negative, with the magnitude
 // of the distance to the boundary piece (sphere 0, lateral, sphere 1) whose region holds p, so

@@ -156,16 +156,10 @@ bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool
         const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
         const glm::vec4& a = L.positionRadius[v0];
         const glm::vec4& b = L.positionRadius[v1];
-        ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
-        if (!iv.hit) return;
-        float t;
-        glm::vec3 n;
-        if (iv.tIn > 0.0f)
-            t = iv.tIn, n = iv.nIn;
-        else if (iv.tOut > 0.0f)
-            t = iv.tOut, n = iv.nOut;
-        else
-            return;
+        const auto hit = nearestPositiveHit(intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w}));
+        if (!hit) return;
+        const float t = hit->t;
+        const glm::vec3 n = hit->normal;
         anyCandidate = true;
         if (inRegion && !m_region.contains(ray.origin + t * ray.dir)) return;
         if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;

@@ -76,13 +76,9 @@ Hit visibleHit(const StyledLines& lines, std::size_t s, const Ray& ray, const Ca
     const glm::vec4 a = lines.positionRadius[v0], b = lines.positionRadius[v1];
     ConeInterval iv = intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
     Hit h;
-    if (!iv.hit) return h;
-    if (iv.tIn > 0.0f)
-        h.t = iv.tIn, h.normal = iv.nIn;
-    else if (iv.tOut > 0.0f)
-        h.t = iv.tOut, h.normal = iv.nOut;
-    else
-        return h;
+    const auto nearest = nearestPositiveHit(iv);
+    if (!nearest) return h;
+    h.t = nearest->t, h.normal = nearest->normal;
     h.hit = true;
     h.grazing = iv.tOut - iv.tIn < kGrazingChord * 2.0 * std::min(a.w, b.w);
     h.depth = cam.projection == Projection::Orthographic ? h.t : h.t * glm::dot(ray.dir, cam.forward());

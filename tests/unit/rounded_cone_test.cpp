@@ -234,6 +234,24 @@ TEST(RoundedCone, rays_from_inside_have_negative_entry_and_positive_exit) {
     EXPECT_GT(i.nOut.y, 0.9f);
 }
 
+TEST(RoundedCone, nearest_positive_hit_is_the_entry_ahead_else_the_exit_else_nothing) {
+    RoundedCone c{{0, 0, 0}, 0.2f, {1, 0, 0}, 0.1f};
+    // From outside, in front: the entry.
+    auto ahead = nearestPositiveHit(intersectRoundedCone({{0.5f, -1, 0}, {0, 1, 0}}, c));
+    ASSERT_TRUE(ahead.has_value());
+    EXPECT_GT(ahead->t, 0.0f);
+    EXPECT_LT(ahead->normal.y, -0.9f);
+    // From inside: the exit, with the outward normal of the far side.
+    ConeInterval inside = intersectRoundedCone({{0.5f, 0, 0}, {0, 1, 0}}, c);
+    auto exit = nearestPositiveHit(inside);
+    ASSERT_TRUE(exit.has_value());
+    EXPECT_EQ(exit->t, inside.tOut);
+    EXPECT_GT(exit->normal.y, 0.9f);
+    // The cone wholly behind the origin, and a miss: nothing.
+    EXPECT_FALSE(nearestPositiveHit(intersectRoundedCone({{0.5f, 1, 0}, {0, 1, 0}}, c)).has_value());
+    EXPECT_FALSE(nearestPositiveHit(intersectRoundedCone({{0.5f, -1, 0}, {1, 0, 0}}, c)).has_value());
+}
+
 TEST(RoundedCone, grazing_and_degenerate_rays_never_produce_nan) {
     std::mt19937 rng(12);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
