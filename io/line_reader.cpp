@@ -15,6 +15,8 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkXMLPPolyDataReader.h>
+#include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
@@ -264,20 +266,36 @@ LineSet extractLines(const std::string& path, vtkDataObject* object) {
                      std::string(object ? object->GetClassName() : "no data") + ")");
 }
 
-// Runs `reader` and returns its output, turning VTK's complaints into an InputError.
+// Runs `reader` and returns its output, turning VTK's complaints into an InputError. `pieces` > 1:
+// requests piece `piece` of that many (UpdatePiece), which a parallel XML reader serves with its
+// share of the file's pieces.
 template <class Reader>
-vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader, const VtkMessageCapture& capture) {
+vtkSmartPointer<vtkDataObject> runReader(const std::string& path, Reader* reader, const VtkMessageCapture& capture,
+                                         int piece = 0, int pieces = 1) {
     reader->SetFileName(path.c_str());
-    reader->Update();
+    if (pieces > 1)
+        reader->UpdatePiece(piece, pieces, 0);
+    else
+        reader->Update();
     if (capture.failed()) throw InputError(path + ": VTK: " + capture.firstError());
     if (reader->GetErrorCode() != 0) throw InputError(path + ": VTK: " + errorCodeText(reader->GetErrorCode()));
     return reader->GetOutputDataObject(0);
 }
 
-// The data object of a .vtk / .vtp / .vtu file (isVtkFile).
-vtkSmartPointer<vtkDataObject> readVtkObject(const std::string& path) {
+// The data object of a .vtk / .vtp / .vtu / .pvtp / .pvtu file (isVtkFile); of a .pvtp / .pvtu,
+// all its pieces appended in file order, or with `pieces` > 1 the share `piece` of them.
+vtkSmartPointer<vtkDataObject> readVtkObject(const std::string& path, int piece = 0, int pieces = 1) {
     const std::string ext = extensionLower(path);
     VtkMessageCapture capture;
+    if (ext == ".pvtp") {
+        vtkNew<vtkXMLPPolyDataReader> reader;
+        return runReader(path, reader.Get(), capture, piece, pieces);
+    }
+    if (ext == ".pvtu") {
+        vtkNew<vtkXMLPUnstructuredGridReader> reader;
+        return runReader(path, reader.Get(), capture, piece, pieces);
+    }
+    TC_CHECK_OP(pieces, ==, 1);
     if (ext == ".vtk") {
         // Generic rather than vtkPolyDataReader: also takes UNSTRUCTURED_GRID files.
         vtkNew<vtkGenericDataObjectReader> reader;
@@ -337,7 +355,30 @@ LineSet readLineSet(const std::string& path, CleanReport* report) {
 
 bool isVtkFile(const std::string& path) {
     const std::string ext = extensionLower(path);
-    return ext == ".vtk" || ext == ".vtp" || ext == ".vtu";
+    return ext == ".vtk" || ext == ".vtp" || ext == ".vtu" || isPiecedVtkFile(path);
+}
+
+bool isPiecedVtkFile(const std::string& path) {
+    const std::string ext = extensionLower(path);
+    return ext == ".pvtp" || ext == ".pvtu";
+}
+
+LineSet readLinePieces(const std::string& path, int share, int shares, CleanReport* report) {
+    TC_CHECK(share >= 0 && share < shares);
+    TC_CHECK(isPiecedVtkFile(path));
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory");
+    vtkSmartPointer<vtkDataObject> object = readVtkObject(path, share, shares);
+    auto* set = vtkDataSet::SafeDownCast(object);
+    if (lineCellCount(object) == 0) {
+        // More shares than pieces: VTK gives some shares none.
+        if (set && set->GetNumberOfPoints() == 0) return LineSet{};
+        throw InputError(path + ": share " + std::to_string(share) + " of " + std::to_string(shares) +
+                         ": no polylines (" + std::to_string(set ? set->GetNumberOfPoints() : 0) +
+                         " points): reading the pieces of a file in parallel takes line data only");
+    }
+    return cleanedLines(path, extractLines(path, object), report);
 }
 
 VtkFileData readVtkFile(const std::string& path, CleanReport* report) {

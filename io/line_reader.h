@@ -1,6 +1,7 @@
 #pragma once
 // Line sets from VTK files: legacy .vtk (ASCII or binary; POLYDATA or UNSTRUCTURED_GRID),
-// XML .vtp (PolyData) and XML .vtu (UnstructuredGrid).
+// XML .vtp (PolyData) and XML .vtu (UnstructuredGrid), and ParaView's partitioned XML files
+// .pvtp / .pvtu (a header naming the .vtp / .vtu pieces).
 #include <string>
 
 #include "core/line_set.h"
@@ -8,7 +9,8 @@
 
 namespace tc {
 
-// Reads the polylines of a VTK file, chosen by extension (case-insensitive): .vtk, .vtp, .vtu.
+// Reads the polylines of a VTK file, chosen by extension (case-insensitive): .vtk, .vtp, .vtu,
+// .pvtp, .pvtu (every piece, appended in the order the file lists them).
 // The non-VTK formats .trk, .tck (+ .tsf), .obj and .tcb go to io/line_formats.h (their errors
 // name the byte offset or line); cleaning and the checks below apply to them too.
 //
@@ -33,8 +35,20 @@ namespace tc {
 // process-global).
 LineSet readLineSet(const std::string& path, CleanReport* report = nullptr);
 
-// .vtk, .vtp or .vtu (case-insensitive).
+// .vtk, .vtp, .vtu, .pvtp or .pvtu (case-insensitive).
 bool isVtkFile(const std::string& path);
+// .pvtp or .pvtu (case-insensitive): a partitioned file whose pieces readLinePieces reads.
+bool isPiecedVtkFile(const std::string& path);
+
+// The polylines of share `share` of `shares` of a .pvtp / .pvtu file (VTK's UpdatePiece): of its P
+// pieces a contiguous block (shares <= P: from share * P / shares up to (share + 1) * P / shares;
+// more shares than pieces: one piece or none each), so the shares in order hold readLineSet's
+// polylines in order (cleaned piece by piece, which cleans each polyline as the whole read
+// does). Attribute ranges are the share's. A share without pieces is an empty LineSet without
+// attributes. Errors as readLineSet's; a share whose
+// pieces hold points but no polylines (particles) is refused: "PATH: share S of N: no polylines
+// (K points): reading the pieces of a file in parallel takes line data only".
+LineSet readLinePieces(const std::string& path, int share, int shares, CleanReport* report = nullptr);
 
 // A VTK file holds either lines or particles: lines when it has line or polyline cells (read
 // as readLineSet does), otherwise, when it has points (vertex cells or a bare point cloud, the

@@ -166,6 +166,79 @@ TEST(ReadLineSet, vtp_round_trip_keeps_positions_offsets_and_attributes) {
     EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(path).parent_path()), fs::directory_iterator{}), 1);
 }
 
+// A ParaView partitioned PolyData file (.pvtp) naming `pieces` (.vtp files next to it) with one
+// float point array "speed".
+std::string writePvtp(const std::string& path, const std::vector<std::string>& pieces) {
+    std::string text = R"(<?xml version="1.0"?>
+<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+  <PPolyData GhostLevel="0">
+    <PPointData><PDataArray type="Float32" Name="speed"/></PPointData>
+    <PPoints><PDataArray type="Float32" Name="Points" NumberOfComponents="3"/></PPoints>
+)";
+    for (const std::string& p : pieces) text += "    <Piece Source=\"" + p + "\"/>\n";
+    return writeText(path, text + "  </PPolyData>\n</VTKFile>\n");
+}
+
+// Two pieces: polylines {0..2}, {3..4} and {5..7}, {8..9}; speed = 10 x vertex index.
+std::string writeTwoPieces(const std::string& dir) {
+    for (int piece = 0; piece < 2; ++piece) {
+        LineSet lines;
+        lines.offsets = {0, 3, 5};
+        std::vector<float> speed;
+        for (int v = 0; v < 5; ++v) {
+            lines.positions.emplace_back(float(5 * piece + v), float(v * v), float(piece));
+            speed.push_back(float(10 * (5 * piece + v)));
+        }
+        lines.attributes = {{"speed", speed}};
+        writeLineSetVtp(lines, dir + "/piece" + std::to_string(piece) + ".vtp");
+    }
+    return writePvtp(dir + "/lines.pvtp", {"piece0.vtp", "piece1.vtp"});
+}
+
+TEST(ReadLineSet, pvtp_is_read_as_its_pieces_in_file_order) {
+    const std::string path = writeTwoPieces(testDir());
+    EXPECT_TRUE(isVtkFile(path));
+    EXPECT_TRUE(isPiecedVtkFile(path));
+    EXPECT_FALSE(isPiecedVtkFile("lines.vtp"));
+    const LineSet whole = readLineSet(path);
+    EXPECT_EQ(whole.offsets, (std::vector<std::uint32_t>{0, 3, 5, 8, 10}));
+    ASSERT_EQ(whole.positions.size(), 10u);
+    for (int v = 0; v < 10; ++v) {
+        const int piece = v / 5, local = v % 5;
+        EXPECT_EQ(whole.positions[std::size_t(v)], glm::vec3(float(v), float(local * local), float(piece))) << v;
+    }
+    ASSERT_NE(whole.attribute("speed"), nullptr);
+    EXPECT_EQ(whole.attribute("speed")->values, (std::vector<float>{0, 10, 20, 30, 40, 50, 60, 70, 80, 90}));
+    EXPECT_EQ(whole.attribute("speed")->max, 90.0f);
+}
+
+TEST(ReadLineSet, pvtp_shares_hold_contiguous_pieces) {
+    const std::string path = writeTwoPieces(testDir());
+    const LineSet first = readLinePieces(path, 0, 2), second = readLinePieces(path, 1, 2);
+    EXPECT_EQ(first.offsets, (std::vector<std::uint32_t>{0, 3, 5}));
+    EXPECT_EQ(second.offsets, (std::vector<std::uint32_t>{0, 3, 5}));
+    EXPECT_EQ(first.positions[4], glm::vec3(4, 16, 0));
+    EXPECT_EQ(second.positions[0], glm::vec3(5, 0, 1));
+    EXPECT_EQ(second.attribute("speed")->min, 50.0f);  // the share's range
+    EXPECT_EQ(readLinePieces(path, 0, 1).polylineCount(), 4u);
+    // Three shares of two pieces: one share gets none, the others a piece each, in file order.
+    std::vector<glm::vec3> firsts;
+    for (int share = 0; share < 3; ++share) {
+        const LineSet lines = readLinePieces(path, share, 3);
+        EXPECT_TRUE(lines.polylineCount() == 0 || lines.polylineCount() == 2) << share;
+        if (lines.polylineCount()) firsts.push_back(lines.positions.front());
+    }
+    EXPECT_EQ(firsts, (std::vector<glm::vec3>{{0, 0, 0}, {5, 0, 1}}));
+}
+
+TEST(ReadLineSet, pvtp_with_a_missing_piece_names_the_file) {
+    const std::string dir = testDir();
+    const std::string path = writeTwoPieces(dir);
+    fs::remove(dir + "/piece1.vtp");
+    const std::string message = inputErrorOf([&] { readLineSet(path); });
+    EXPECT_EQ(message.rfind(path + ": VTK: ", 0), 0u) << message;
+}
+
 TEST(ReadLineSet, nan_written_to_vtp_is_reported_on_read) {
     LineSet lines;
     lines.positions = {{0, 0, 0}, {1, 0, 0}, {std::nanf(""), 0, 0}, {3, 0, 0}, {4, 0, 0}};
