@@ -1,11 +1,13 @@
 #include "cli/mpi_render.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <map>
+#include <span>
 
 #include "cli/run_manifest.h"
 #include "core/default_scene.h"
@@ -14,6 +16,7 @@
 #include "core/styling.h"
 #include "io/byte_source.h"
 #include "io/line_formats.h"
+#include "io/line_reader.h"
 #include "io/partition.h"
 
 namespace tc::cli {
@@ -82,11 +85,13 @@ Bytes packLines(const RegionLines& region, const std::vector<glm::vec3>& tangent
     header["tangents"] = binaryOf(tangents);
     const Bytes cbor = nlohmann::json::to_cbor(header);
     const Bytes tcb = encodeTcb(lines);
-    Bytes out(8);
+    // Sized once and copied into: GCC 12's -Warray-bounds misreads insert() at the end of an
+    // 8-byte vector once packLines is inlined into two callers.
+    Bytes out(8 + cbor.size() + tcb.size());
     const std::uint64_t n = cbor.size();
     std::memcpy(out.data(), &n, 8);
-    out.insert(out.end(), cbor.begin(), cbor.end());
-    out.insert(out.end(), tcb.begin(), tcb.end());
+    std::copy(cbor.begin(), cbor.end(), out.begin() + 8);
+    std::copy(tcb.begin(), tcb.end(), out.begin() + 8 + std::ptrdiff_t(cbor.size()));
     return out;
 }
 
@@ -123,6 +128,30 @@ UnpackedLines unpackLines(const Bytes& bytes, const std::string& name) {
     TC_CHECK_OP(out.polylineIds.size(), ==, lines.polylineCount());
     TC_CHECK_OP(out.tangents.size(), ==, lines.polylineCount());
     return out;
+}
+
+// Appends `part`'s polylines (with their ids and tangents) to `into`; the attributes must be the
+// same (names, order, ranges: every rank's parts carry the whole data's). No LineSet append exists
+// in core: the only other concatenation (extractRegionLines) copies runs of one source.
+void appendLines(UnpackedLines& into, UnpackedLines&& part) {
+    LineSet& a = into.lines;
+    const LineSet& b = part.lines;
+    if (a.polylineCount() == 0 && a.attributes.empty()) {  // the first part: its attributes' names and ranges
+        a.attributes = b.attributes;
+        for (Attribute& x : a.attributes) x.values.clear();
+        a.velocity = b.velocity;
+    }
+    TC_CHECK_OP(a.attributes.size(), ==, b.attributes.size());
+    const std::uint32_t base = a.offsets.back();
+    a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+    for (std::size_t p = 1; p < b.offsets.size(); ++p) a.offsets.push_back(base + b.offsets[p]);
+    for (std::size_t i = 0; i < a.attributes.size(); ++i) {
+        TC_CHECK(a.attributes[i].name == b.attributes[i].name);
+        a.attributes[i].values.insert(a.attributes[i].values.end(), b.attributes[i].values.begin(),
+                                      b.attributes[i].values.end());
+    }
+    into.polylineIds.insert(into.polylineIds.end(), part.polylineIds.begin(), part.polylineIds.end());
+    into.tangents.insert(into.tangents.end(), part.tangents.begin(), part.tangents.end());
 }
 
 // A rank's particles as one message: per data frame its particles (extractParticles) and their
@@ -183,6 +212,10 @@ std::string sceneName(const Scene& scene) {
 
 bool isPartitionInput(const DatasetSpec& d) {
     return d.generate.empty() && !d.trace && !d.path.empty() && isPartitionPath(d.path);
+}
+
+bool isPiecedInput(const DatasetSpec& d) {
+    return d.generate.empty() && !d.trace && !d.path.empty() && isPiecedVtkFile(d.path);
 }
 
 // Per id a frame's technique gives (the share's polyline or particle index), the whole data's;
@@ -395,8 +428,155 @@ void DataParallel::decomposeParticles(const Scene& scene, const ParticleData& da
     meta["items"] = data.maxParticles();
 }
 
+void DataParallel::agreeOnAttributes(const std::string& path, LineSet& lines) {
+    // The ranks with polylines read the same point arrays (the file's PPointData); a rank without
+    // pieces takes their names, with no values.
+    nlohmann::json names = nlohmann::json::array();
+    for (const Attribute& a : lines.attributes) names.push_back(a.name);
+    const std::vector<nlohmann::json> all = m_mpi.gatherJson({{"names", names}, {"polylines", lines.polylineCount()}});
+    Bytes agreed;
+    phase("attributes", [&] {
+        if (!root()) return;
+        std::optional<std::size_t> first;
+        for (std::size_t r = 0; r < all.size(); ++r) {
+            if (all[r]["polylines"].get<std::uint64_t>() == 0) continue;
+            if (!first) first = r;
+            if (all[r]["names"] != all[*first]["names"])
+                throw InputError(path + ": the pieces of rank " + std::to_string(r) + " hold the point arrays " +
+                                 all[r]["names"].dump() + ", those of rank " + std::to_string(*first) + " " +
+                                 all[*first]["names"].dump());
+        }
+        agreed = nlohmann::json::to_cbor(first ? all[*first]["names"] : nlohmann::json::array());
+    });
+    m_mpi.broadcastBytes(agreed);
+    if (lines.polylineCount() == 0) {
+        lines.attributes.clear();
+        for (const nlohmann::json& n : nlohmann::json::from_cbor(agreed))
+            lines.attributes.push_back({n.get<std::string>(), {}});
+    }
+    // The whole data's range of each attribute (what one process's styling maps colours over):
+    // the min of the ranks' minima, the max of their maxima; NaN (no finite value) as +-inf.
+    const std::size_t n = lines.attributes.size();
+    std::vector<float> lo(n), hi(n);
+    const float inf = std::numeric_limits<float>::infinity();
+    for (std::size_t a = 0; a < n; ++a) {
+        lo[a] = std::isnan(lines.attributes[a].min) ? inf : lines.attributes[a].min;
+        hi[a] = std::isnan(lines.attributes[a].max) ? -inf : lines.attributes[a].max;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, lo.data(), int(n), MPI_FLOAT, MPI_MIN, m_mpi.comm());
+    MPI_Allreduce(MPI_IN_PLACE, hi.data(), int(n), MPI_FLOAT, MPI_MAX, m_mpi.comm());
+    for (std::size_t a = 0; a < n; ++a) {
+        const bool none = lo[a] > hi[a];
+        lines.attributes[a].min = none ? std::numeric_limits<float>::quiet_NaN() : lo[a];
+        lines.attributes[a].max = none ? std::numeric_limits<float>::quiet_NaN() : hi[a];
+    }
+}
+
+void DataParallel::buildTreeFromPieces(const LineSet& lines) {
+    // Rank 0 builds the tree from every segment's midpoint in rank order, which is file order:
+    // the tree a single input's decomposition builds.
+    const std::vector<glm::vec3> mine = segmentMidpoints(lines);
+    const std::vector<Bytes> all = m_mpi.gatherBytes(std::span<const std::uint8_t>(
+        reinterpret_cast<const std::uint8_t*>(mine.data()), mine.size() * sizeof(glm::vec3)));
+    Bytes tree;
+    phase("decompose", [&] {
+        if (!root()) return;
+        std::vector<glm::vec3> midpoints;
+        for (const Bytes& b : all) {
+            const std::size_t at = midpoints.size();
+            midpoints.resize(at + b.size() / sizeof(glm::vec3));
+            if (!b.empty()) std::memcpy(midpoints.data() + at, b.data(), b.size());
+        }
+        m_tree = KdDecomposition::build(std::move(midpoints), m_mpi.size());
+        tree = nlohmann::json::to_cbor(m_tree.toJson());
+    });
+    m_mpi.broadcastBytes(tree);
+    if (!root()) m_tree = KdDecomposition::fromJson(nlohmann::json::from_cbor(tree), "decomposition");
+}
+
+std::vector<Bytes> DataParallel::decomposePiece(const Scene& scene, const LineSet& lines, std::uint64_t first,
+                                                std::vector<std::uint64_t>& counts) const {
+    // As decomposeLines, on the rank's whole polylines: their tangents and radii are what one
+    // process computes; the runs' ids are the whole data's.
+    const int ranks = m_mpi.size();
+    RegionItems items(static_cast<std::size_t>(ranks));
+    std::vector<glm::vec3> transported;
+    if (lines.polylineCount() > 0) {
+        const StyledLines styled = styleLines(lines, scene.style, scene.file);
+        std::vector<float> radii(lines.vertexCount());
+        for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
+        items = assignSegments(m_tree, lines, radii);
+        transported = transportedTangents(lines);
+    }
+    std::vector<Bytes> parts;
+    counts.assign(2 * std::size_t(ranks), 0);
+    for (int r = 0; r < ranks; ++r) {
+        RegionLines region = extractRegionLines(lines, items[std::size_t(r)]);
+        const std::vector<glm::vec3> tangents = incomingTangents(lines, transported, region.origins);
+        for (RunOrigin& o : region.origins) o.polyline += first;
+        counts[2 * std::size_t(r)] = items[std::size_t(r)].size();
+        counts[2 * std::size_t(r) + 1] = lines.polylineCount() ? ownedSegments(m_tree, r, lines).size() : 0;
+        parts.push_back(packLines(region, tangents));
+    }
+    return parts;
+}
+
+RankShare DataParallel::loadPieceShare(const Scene& scene) {
+    // Each rank reads its share of the file's pieces (whole polylines, io/line_reader.h), the
+    // ranks agree on the attribute ranges, number the polylines as one process does (an exclusive
+    // scan of the counts), decompose the segments' midpoints and send each region its segments.
+    m_inputMode = "pieces";
+    const std::string& path = scene.dataset.path;
+    LineSet lines;
+    CleanReport cleaned;
+    phase("load", [&] { lines = readLinePieces(path, m_mpi.rank(), m_mpi.size(), &cleaned); });
+    if (cleaned.any())
+        std::cerr << "warning: " << path << " (rank " << m_mpi.rank() << "): " << cleaned.summary() << "\n";
+    agreeOnAttributes(path, lines);
+    std::uint64_t totals[6] = {lines.polylineCount(),     lines.vertexCount(),       lines.segmentCount(),
+                               cleaned.nonFiniteVertices, cleaned.duplicateVertices, cleaned.droppedPolylines};
+    std::uint64_t first = 0;
+    MPI_Exscan(totals, &first, 1, MPI_UINT64_T, MPI_SUM, m_mpi.comm());
+    if (root()) first = 0;  // MPI_Exscan leaves rank 0's result undefined
+    MPI_Allreduce(MPI_IN_PLACE, totals, 6, MPI_UINT64_T, MPI_SUM, m_mpi.comm());
+    buildTreeFromPieces(lines);
+    std::vector<Bytes> parts;
+    std::vector<std::uint64_t> counts;
+    phase("decompose", [&] { parts = decomposePiece(scene, lines, first, counts); });
+    lines = {};
+    MPI_Allreduce(MPI_IN_PLACE, counts.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, m_mpi.comm());
+    m_regionCounts = nlohmann::json::array();
+    for (std::size_t r = 0; r < counts.size() / 2; ++r)
+        m_regionCounts.push_back({{"assigned_segments", counts[2 * r]}, {"owned_segments", counts[2 * r + 1]}});
+    const std::vector<Bytes> incoming = m_mpi.exchangeBytes(parts);
+    parts.clear();
+    RankShare share;
+    phase("distribute", [&] {
+        const std::string name = path + " (rank " + std::to_string(m_mpi.rank()) + ")";
+        UnpackedLines merged;
+        for (const Bytes& part : incoming) appendLines(merged, unpackLines(part, name));  // in sender order
+        merged.lines.updateBounds();
+        share.load.lines = std::move(merged.lines);
+        share.polylineIds = std::move(merged.polylineIds);
+        share.incomingTangents = std::move(merged.tangents);
+        share.load.source = share.source = path;
+        share.items = totals[2];
+        CleanReport whole;
+        whole.nonFiniteVertices = totals[3];
+        whole.duplicateVertices = totals[4];
+        whole.droppedPolylines = totals[5];
+        share.dataset = {{"source", path},
+                         {"polylines", totals[0]},
+                         {"vertices", totals[1]},
+                         {"segments", totals[2]},
+                         {"skipped", whole.summary()}};
+    });
+    return share;
+}
+
 RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded) {
     if (isPartitionInput(scene.dataset)) return loadPartitionShare(scene);
+    if (isPiecedInput(scene.dataset)) return loadPieceShare(scene);
     // A single input: rank 0 reads it whole and decomposes it; each rank is sent the segments
     // (particles) that reach its region.
     DatasetLoad whole;
@@ -451,8 +631,9 @@ RankShare DataParallel::loadShare(const Scene& scene, std::optional<DatasetLoad>
 void DataParallel::agreeOnBounds(RankShare& share, const DatasetLoad& mine, const Bounds& localBounds,
                                  float localMaxRadius) {
     share.localEmpty = mine.isParticles() ? mine.particles.maxParticles() == 0 : mine.lines.polylineCount() == 0;
-    if (m_inputMode != "partition") return;
-    // The union of the ranks' styled bounds is the whole data's: every segment is on some rank,
+    if (m_inputMode == "scatter") return;
+    // A partitioned set or pieces: the union of the ranks' styled bounds is the whole data's:
+    // every segment is on some rank,
     // and each bound is a min or max over vertices.
     float lo[4] = {localBounds.lo.x, localBounds.lo.y, localBounds.lo.z, 0.0f};
     float hi[4] = {localBounds.hi.x, localBounds.hi.y, localBounds.hi.z, localMaxRadius};

@@ -9,7 +9,10 @@
 //   - the data: a single input is read by rank 0, decomposed and each rank's segments sent to it
 //     (MpiSession::scatterBytes of .tcb bytes, with the source polyline of each run); a
 //     partitioned set (`tubecast partition`, io/partition.h) is read brick by brick, each rank
-//     its own (and its runs); particles are decomposed by rank 0 as lines are, every data frame;
+//     its own (and its runs); a ParaView partitioned file (.pvtp / .pvtu) is read piece by piece,
+//     each rank its share of the pieces, and the segments exchanged all-to-all
+//     (MpiSession::exchangeBytes) after rank 0 decomposed every rank's midpoints; particles are
+//     decomposed by rank 0 as lines are, every data frame;
 //   - the technique: made with TechniqueData::region (the rank's box), the whole data's bounds
 //     and largest radius, and TechniqueHooks::reduceDensity (the AO grid summed over the ranks),
 //     then wrapped so that each frame's render is a phase (a failing rank fails every rank) and
@@ -82,7 +85,7 @@ public:
     // radii the assignment must cover and for the bounds every rank uses; particles are assigned
     // by the largest radius any sphere can have (particleSeriesMaxRadius).
     RankShare loadShare(const Scene& scene, std::optional<DatasetLoad> preloaded);
-    // After styling the share (its bounds and largest radius): a partitioned set's ranks agree on
+    // After styling the share (its bounds and largest radius): a partitioned set's (pieces') ranks agree on
     // the whole data's bounds and radius; notes whether this rank holds nothing.
     void agreeOnBounds(RankShare& share, const DatasetLoad& mine, const Bounds& localBounds, float localMaxRadius);
     // Checks what needs the whole job (a partition's --radius against the styled radii; ambient
@@ -115,13 +118,23 @@ private:
     // the ranks' messages (and `meta`: the tree, the whole data's bounds, largest radius, items).
     RankShare loadPartitionShare(const Scene& scene);
     void decomposeLines(const Scene& scene, const LineSet& lines, nlohmann::json& meta, std::vector<Bytes>& parts);
+    // A .pvtp / .pvtu: each rank reads its share of the pieces (loadPieceShare), then the ranks
+    // agree on the attributes (names; the whole data's ranges, in `lines`), rank 0 builds the tree
+    // from every rank's segment midpoints, and each rank cuts its polylines into the regions'
+    // messages (ids from `first`, the whole data's index of its first polyline; `counts`: per
+    // region its assigned and owned segments of this rank).
+    RankShare loadPieceShare(const Scene& scene);
+    void agreeOnAttributes(const std::string& path, LineSet& lines);
+    void buildTreeFromPieces(const LineSet& lines);
+    std::vector<Bytes> decomposePiece(const Scene& scene, const LineSet& lines, std::uint64_t first,
+                                      std::vector<std::uint64_t>& counts) const;
     void decomposeParticles(const Scene& scene, const ParticleData& data, nlohmann::json& meta,
                             std::vector<Bytes>& parts);
 
     MpiSession m_mpi;
     bool m_quiet;
     KdDecomposition m_tree;
-    std::string m_inputMode;        // "scatter", "partition"
+    std::string m_inputMode;        // "scatter", "partition", "pieces"
     float m_partitionRadius = 0;    // a partitioned set's --radius
     std::string m_partitionIndex;   // and its index.json
     nlohmann::json m_regionCounts;  // rank 0, single input: per region what was assigned

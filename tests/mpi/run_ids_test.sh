@@ -2,8 +2,9 @@
 # What `tubecast render --mpi` says about the whole dataset on RANKS ranks, against one process:
 #   1. the id AOV (the polyline index of the first visible surface, docs/outputs.md) of an opaque
 #      frame equals the single-process id channel bit for bit, rasterized and raytraced, from a
-#      single input (rank 0 scatters the segments) and from a partitioned set (each rank reads
-#      its brick): each rank holds runs of the polylines, renumbered locally, and must give the
+#      single input (rank 0 scatters the segments), from a partitioned set (each rank reads
+#      its brick) and from a .pvtp of three pieces (each rank reads its share of the pieces, against
+#      one process reading the .pvtp whole): each rank holds runs of the polylines, renumbered locally, and must give the
 #      source's polyline ids. The frame shows at least 20 distinct polylines, so a local index
 #      (every rank's runs start at 0) cannot pass with 2 or more ranks;
 #   2. run.json's "dataset" block (source, polylines, vertices, segments) is the whole dataset's,
@@ -70,6 +71,33 @@ same_ids "raytraced, scattered" rt_one rt_many
 "$tubecast" partition scene.json -n "$ranks" -o parts 2>err || fail "partition exited $?"
 mpi parts.json parts_many
 same_ids "rasterized, partitioned set" one parts_many
+
+# A .pvtp of three pieces (tornadoes of seeds 3, 4, 5): each rank reads its share of the pieces
+# and numbers its polylines after the ranks before it.
+for seed in 3 4 5; do
+    "$tubecast" convert scene.json "piece$seed.vtp" --set "dataset.seed=$seed" --set 'dataset.lines=20' \
+        2>err >/dev/null || fail "convert seed $seed exited $?"
+done
+cat >tornado.pvtp <<'EOF'
+<?xml version="1.0"?>
+<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+  <PPolyData GhostLevel="0">
+    <PPointData>
+      <PDataArray type="Float32" Name="speed"/>
+      <PDataArray type="Float32" Name="height"/>
+      <PDataArray type="Float32" Name="arc_length"/>
+    </PPointData>
+    <PPoints><PDataArray type="Float32" Name="Points" NumberOfComponents="3"/></PPoints>
+    <Piece Source="piece3.vtp"/>
+    <Piece Source="piece4.vtp"/>
+    <Piece Source="piece5.vtp"/>
+  </PPolyData>
+</VTKFile>
+EOF
+echo "{\"dataset\": {\"path\": \"tornado.pvtp\"}, $style}" >pieces.json
+"$tubecast" render pieces.json -o pieces_one -q 2>err || fail "single-process render of the .pvtp exited $?"
+mpi pieces.json pieces_many
+same_ids "rasterized, .pvtp pieces" pieces_one pieces_many
 
 # 2. run.json's dataset block describes the whole dataset.
 python3 - one many parts_many <<'PY' || fail "run.json dataset block"

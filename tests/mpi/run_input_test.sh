@@ -6,7 +6,10 @@
 #      stderr names that rank, its host and the missing file, and no frame is written;
 #   3. a technique without region support (voxel_raycast): exit 2 naming the supported ones, no
 #      frame;
-#   4. --resume after a complete run: exit 0, the frame not written again.
+#   4. --resume after a complete run: exit 0, the frame not written again;
+#   5. a ParaView partitioned file (.pvtp of 3 .vtp pieces, written here): each rank reads its
+#      share of the pieces (run.json mpi.input "pieces"); the frame equals the single-process
+#      render of the .pvtp (read whole) bit for bit.
 # Usage: run_input_test.sh RANKS TUBECAST WORK_DIR -- MPIEXEC [ARGS...]   (files in WORK_DIR/npRANKS)
 # Exit 0 pass, 1 fail.
 set -uo pipefail
@@ -70,4 +73,46 @@ grep -qF 'render.technique: "voxel_raycast" does not support data-parallel rende
     fail "voxel_raycast: stderr lacks the refusal"
 [[ -z $(find vrc -type f 2>/dev/null) ]] || fail "voxel_raycast: files were written"
 echo "ok: voxel_raycast is refused with exit 2 and the supported techniques"
+# 5. A .pvtp of three pieces: three tornadoes of the source's size (seeds 5, 6, 7).
+for seed in 5 6 7; do
+    "$tubecast" convert source.json "piece$seed.vtp" --set "dataset.seed=$seed" 2>err >/dev/null ||
+        fail "convert seed $seed exited $?"
+done
+cat >tornado.pvtp <<'EOF'
+<?xml version="1.0"?>
+<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+  <PPolyData GhostLevel="0">
+    <PPointData>
+      <PDataArray type="Float32" Name="speed"/>
+      <PDataArray type="Float32" Name="height"/>
+      <PDataArray type="Float32" Name="arc_length"/>
+    </PPointData>
+    <PPoints><PDataArray type="Float32" Name="Points" NumberOfComponents="3"/></PPoints>
+    <Piece Source="piece5.vtp"/>
+    <Piece Source="piece6.vtp"/>
+    <Piece Source="piece7.vtp"/>
+  </PPolyData>
+</VTKFile>
+EOF
+# Coloured by an attribute, so that every rank must map the whole data's range.
+piecestyle='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": {"attribute": "height"}},
+ "render": {"technique": "rasterized", "transparency": "opaque"}, "output": {"formats": ["png"]}'
+echo "{\"dataset\": {\"path\": \"tornado.pvtp\"}, $piecestyle}" >pieces.json
+"$tubecast" render pieces.json -o pieces-one -q 2>err || fail "single-process render of the .pvtp exited $?"
+mpi pieces.json pieces-many
+[[ $rc -eq 0 ]] || fail "pieces: exit $rc"
+python3 -c "import json,sys; assert json.load(open('pieces-many/run.json'))['mpi']['input'] == 'pieces'" ||
+    fail "run.json: mpi.input is not pieces"
+python3 -c "
+import json
+one, many = (json.load(open(d + '/run.json'))['dataset'] for d in ('pieces-one', 'pieces-many'))
+assert [one[k] for k in ('polylines', 'segments')] == [many[k] for k in ('polylines', 'segments')], (one, many)" ||
+    fail "pieces: run.json dataset counts differ from one process's"
+for f in pieces-one/frame.0000*; do
+    g=pieces-many/${f#pieces-one/}
+    [[ -f $g ]] || fail "pieces: $g missing"
+    maxerr=$("$tubecast" compare "$f" "$g" | awk '$1 == "max_error" { print $2 }')
+    [[ $maxerr == 0 ]] || fail "pieces: $g: max error $maxerr against one process"
+done
+echo "ok: a .pvtp of 3 pieces, each rank reading its share, renders the single-process frame exactly"
 echo PASS
