@@ -287,12 +287,15 @@ float hardShadowVisibility(vec3 pos) {
 }
 #endif
 
-// The accepted hits of the current voxel, sorted by t, in VRC_SLOTS named slots (hT0, hN0, ...;
-// the farthest drops out when all are full). Named variables, not arrays: llvmpipe keeps a local
-// array in memory and pays every access per lane, also with constant indices; an insertion sort
-// and compositing loop over arrays was about half of the semi-transparent frame
-// (docs/performance.md, "Design notes"). The colour is kept with the hit: re-reading and decoding
-// the piece after sorting costs another per-lane SSBO gather.
+// The accepted hits of the current voxel, sorted by (t, piece index), in VRC_SLOTS named slots
+// (hT0, hN0, ...). Named variables, not arrays: llvmpipe keeps a local array in memory and pays
+// every access per lane, also with constant indices; an insertion sort and compositing loop over
+// arrays was about half of the semi-transparent frame (docs/performance.md, "Design notes"). The
+// colour is kept with the hit: re-reading and decoding the piece after sorting costs another
+// per-lane SSBO gather. A voxel whose ray interval holds more hits than slots is composited in
+// batches (main): each batch re-tests the voxel and keeps the VRC_SLOTS nearest hits past the last
+// one blended, so every hit is blended, in order, however many tubes cross the voxel (Kanzler et
+// al. 2019, Sec. 4: the intersections of a voxel are sorted in place, all of them).
 #ifdef TRANSPARENT
 #define VRC_SLOTS 8
 #else
@@ -313,15 +316,16 @@ float hardShadowVisibility(vec3 pos) {
 // The hit piece's axis ends and radii (x0, r0), (x1, r1) in hE, hF: its own tube is excluded from
 // the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
-#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k; VRC_SLOT_A(k)
-// Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one.
-#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; VRC_CX_A(k) }
+#define VRC_SLOT(k) float hT##k; uint hI##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k; VRC_SLOT_A(k)
+// Compare-exchange of slot k with the carried hit (cT, cI, ...): the slot keeps the smaller key
+// (t, piece index).
+#define VRC_CX(k) if (cT < hT##k || (cT == hT##k && cI < hI##k)) { float t_ = hT##k; hT##k = cT; cT = t_; uint i_ = hI##k; hI##k = cI; cI = i_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; VRC_CX_A(k) }
 // Slot k takes slot k + 1 (k1); a later hit of `line` becomes kNoLine.
-#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1; VRC_SHIFT_A(k, k1)
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hI##k = hI##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1; VRC_SHIFT_A(k, k1)
 #else
-#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; VRC_SLOT_A(k)
-#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; VRC_CX_A(k) }
-#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; VRC_SHIFT_A(k, k1)
+#define VRC_SLOT(k) float hT##k; uint hI##k; vec3 hN##k; vec4 hC##k; uint hL##k; VRC_SLOT_A(k)
+#define VRC_CX(k) if (cT < hT##k || (cT == hT##k && cI < hI##k)) { float t_ = hT##k; hT##k = cT; cT = t_; uint i_ = hI##k; hI##k = cI; cI = i_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; VRC_CX_A(k) }
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hI##k = hI##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; VRC_SHIFT_A(k, k1)
 #endif
 VRC_SLOT(0)
 #if VRC_SLOTS > 1
@@ -330,6 +334,7 @@ VRC_SLOT(1) VRC_SLOT(2) VRC_SLOT(3) VRC_SLOT(4) VRC_SLOT(5) VRC_SLOT(6) VRC_SLOT
 #if VRC_SLOTS != 1 && VRC_SLOTS != 8
 #error "VRC_SLOTS: 1 or 8"
 #endif
+// Hits that passed the batch's filter, also those that did not fit the slots.
 int hitCount = 0;
 
 void clearHits() {
@@ -341,10 +346,11 @@ void clearHits() {
 #endif
 }
 
-// Carries the new hit through the sorted slots (ties keep the earlier hit first, as a stable
-// insertion sort); what is carried out of the last slot drops out.
-void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone, float alpha) {
+// Carries the new hit (t, piece index `piece`) through the sorted slots; what is carried out of
+// the last slot waits for the next batch (main).
+void insertHit(float t, uint piece, vec3 n, vec4 color, uint line, RoundedCone cone, float alpha) {
     float cT = t;
+    uint cI = piece;
     vec3 cN = n;
     vec4 cC = color;
     uint cL = line;
@@ -358,7 +364,7 @@ void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone, float a
 #if VRC_SLOTS > 1
     VRC_CX(1) VRC_CX(2) VRC_CX(3) VRC_CX(4) VRC_CX(5) VRC_CX(6) VRC_CX(7)
 #endif
-    hitCount = min(hitCount + 1, VRC_SLOTS);
+    ++hitCount;
 }
 
 // Removes slot 0 (the line `line` was blended) and marks the later hits of that line (each line is
@@ -367,6 +373,21 @@ void popHit(uint line) {
 #if VRC_SLOTS > 1
     VRC_SHIFT(0, 1) VRC_SHIFT(1, 2) VRC_SHIFT(2, 3) VRC_SHIFT(3, 4) VRC_SHIFT(4, 5) VRC_SHIFT(5, 6) VRC_SHIFT(6, 7)
     hT7 = uintBitsToFloat(0x7F800000u);
+#endif
+}
+
+// A later batch of the same voxel: a line with a hit at or before the floor (blended in an earlier
+// batch) is not blended again.
+void markBlendedLine(uint line) {
+    if (hL0 == line) hL0 = kNoLine;
+#if VRC_SLOTS > 1
+    if (hL1 == line) hL1 = kNoLine;
+    if (hL2 == line) hL2 = kNoLine;
+    if (hL3 == line) hL3 = kNoLine;
+    if (hL4 == line) hL4 = kNoLine;
+    if (hL5 == line) hL5 = kNoLine;
+    if (hL6 == line) hL6 = kNoLine;
+    if (hL7 == line) hL7 = kNoLine;
 #endif
 }
 
@@ -384,14 +405,17 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 }
 #endif
 
-// Tests the pieces of voxel v against the ray; keeps hits in [tEnter, tExit) (the current voxel).
+// Tests the pieces of voxel v against the ray; takes hits in [tEnter, tExit) (the current voxel).
+// A hit's key is (t, piece index). Collecting (mark false): hits with a key past the floor
+// (floorT, floorI) go into the slots. Marking (mark true): the line of a hit with a key at or before
+// the floor is struck from the slots (markBlendedLine).
 // Two passes per chunk of 32 pieces: the capsule pre-test of every piece records the passing ones
 // in a bit mask, then the exact intersector and the hit path run for those only. On llvmpipe's
 // 8-wide SIMD a branch runs whenever one lane takes it: with the pre-test inside the piece loop
 // the intersector ran for ~35 % of the pieces (any of 8 lanes passing) although ~5 % pass
 // (brain_2m: 427 pieces tested, 22.6 passing, 9.7 hits per ray); now it runs max-over-lanes of
 // the candidates (docs/performance.md, "Design notes").
-void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
+void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, float floorT, uint floorI, bool mark) {
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize))) return;
     uvec2 h = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x];
     uint count = h.y & kVrcCountMask;
@@ -406,7 +430,8 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
         while (candidates != 0u) {
             uint k = uint(findLSB(candidates));
             candidates &= candidates - 1u;
-            VrcPiece p = vrcPiece(h.x + base + k, v);
+            uint piece = h.x + base + k;
+            VrcPiece p = vrcPiece(piece, v);
             ConeInterval iv = intersectRoundedCone(ray, p.cone);
             if (!iv.hit) continue;
             // The visible surface rule of the opaque path (shaders/visible_hit.glsl): the entry, or
@@ -429,13 +454,30 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
                 if ((y < p.cone.r0 * sinAlpha && !p.vertexA) || (y > len + p.cone.r1 * sinAlpha && !p.vertexB)) continue;
             }
 #endif
+            bool pastFloor = t > floorT || (t == floorT && piece > floorI);
+            if (mark) {
+                if (!pastFloor) markBlendedLine(p.line);
+                continue;
+            }
+            if (!pastFloor) continue;
 #if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
-            insertHit(t, n, p.color, p.line, p.cone, pathLengthAlpha(p.color.a, iv, p.cone));
+            insertHit(t, piece, n, p.color, p.line, p.cone, pathLengthAlpha(p.color.a, iv, p.cone));
 #else
-            insertHit(t, n, p.color, p.line, p.cone, p.color.a);
+            insertHit(t, piece, n, p.color, p.line, p.cone, p.color.a);
 #endif
         }
     }
+}
+
+// testVoxel over the current voxel, or with NEIGHBORS over its 3x3x3 block.
+void testVoxels(Ray ray, ivec3 v, float tEnter, float tExit, float floorT, uint floorI, bool mark) {
+#ifdef NEIGHBORS
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) testVoxel(ray, v + ivec3(dx, dy, dz), tEnter, tExit, floorT, floorI, mark);
+#else
+    testVoxel(ray, v, tEnter, tExit, floorT, floorI, mark);
+#endif
 }
 
 // end0, end1: the hit piece's (x0, r0), (x1, r1) (its own tube is excluded from the AO and
@@ -536,53 +578,60 @@ void main() {
             bool occupied = (header & kVrcCountMask) != 0u;
 #endif
             if (occupied) {
-                clearHits();
-#ifdef NEIGHBORS
-                for (int dz = -1; dz <= 1; ++dz)
-                    for (int dy = -1; dy <= 1; ++dy)
-                        for (int dx = -1; dx <= 1; ++dx) testVoxel(ray, v + ivec3(dx, dy, dz), tEnter, tExit);
-#else
-                testVoxel(ray, v, tEnter, tExit);
-#endif
-                // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks a
-                // farther hit of a line already blended in this voxel.
-                int hits = hitCount;
-                for (int i = 0; i < hits; ++i) {
-                    uint line = hL0;
-                    if (line != kNoLine) {
-                        vec4 base = hC0;
-                        float ao;
+                // Batches of at most VRC_SLOTS hits in (t, piece) order; the floor is the key of
+                // the last hit of the previous batch (t = 0 first: every hit has t > 0).
+                float floorT = 0.0;
+                uint floorI = 0u;
+                bool firstBatch = true, moreHits = true;
+                while (moreHits) {
+                    clearHits();
+                    testVoxels(ray, v, tEnter, tExit, floorT, floorI, false);
+                    if (!firstBatch && hitCount > 0) testVoxels(ray, v, tEnter, tExit, floorT, floorI, true);
+                    // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks
+                    // a farther hit of a line already blended in this voxel.
+                    int hits = min(hitCount, VRC_SLOTS);
+                    for (int i = 0; i < hits; ++i) {
+                        uint line = hL0;
+                        floorT = hT0;
+                        floorI = hI0;
+                        if (line != kNoLine) {
+                            vec4 base = hC0;
+                            float ao;
 #ifdef VRC_HIT_CONE
-                        vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
+                            vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
 #else
-                        vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
+                            vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
 #endif
-                        if (firstLine == kNoLine) {
-                            firstDepth = viewDepth(ray, hT0);
-                            firstNormal = hN0;
-                            firstLine = line;
-                            firstAo = ao;
-                        }
+                            if (firstLine == kNoLine) {
+                                firstDepth = viewDepth(ray, hT0);
+                                firstNormal = hN0;
+                                firstLine = line;
+                                firstAo = ao;
+                            }
 #ifdef TRANSPARENT
-                        // As every transparent path: shaded colour clamped to [0, 1], blended "under".
+                            // As every transparent path: shaded colour clamped to [0, 1], blended "under".
 #ifdef VRC_PATH_LENGTH_OPACITY
-                        float a = hA0;
+                            float a = hA0;
 #else
-                        float a = base.a;
+                            float a = base.a;
 #endif
-                        accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
-                        accum.a += (1.0 - accum.a) * a;
+                            accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
+                            accum.a += (1.0 - accum.a) * a;
 #else
-                        accum = vec4(rgb, 1.0);
+                            accum = vec4(rgb, 1.0);
 #endif
+                        }
+                        popHit(line);
                     }
-                    popHit(line);
-                }
+                    firstBatch = false;
 #ifdef TRANSPARENT
-                done = accum.a >= uOpacityThreshold;
+                    done = accum.a >= uOpacityThreshold;
+                    moreHits = hitCount > VRC_SLOTS && !done;
 #else
-                done = hitCount > 0;
+                    done = hitCount > 0;
+                    moreHits = false;
 #endif
+                }
             }
             // Next voxel.
             if (tMax.x <= tMax.y && tMax.x <= tMax.z) {
