@@ -117,6 +117,21 @@ TEST_F(GlTest, vrc_model_voxel_size_exceeds_the_test_tubes_radii) {
     EXPECT_GT(m.pieceCount(), 6u * 10u);  // every tube is cut into many pieces
 }
 
+TEST_F(GlTest, vrc_run_json_reports_the_largest_tube_radius_in_voxels) {
+    // Tubes wider than a voxel are cut one voxel out (docs/scene-spec.md, vrc.neighbors):
+    // max_radius_voxels says whether a model is in the exact regime (< 1).
+    const StyledLines lines = straightTubes(1.0f);
+    for (int resolution : {24, 128}) {
+        Scene scene = vrcScene(16, 16, false, 32, false);
+        scene.render.vrc.resolution = resolution;
+        const std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
+        const nlohmann::json d = t->describe();
+        const double expected = double(lines.maxRadius) / d.at("voxel_size").get<double>();
+        EXPECT_NEAR(d.at("max_radius_voxels").get<double>(), expected, 1e-6 * expected);
+        EXPECT_EQ(d.at("max_radius_voxels").get<double>() < 1.0, resolution == 24) << resolution;
+    }
+}
+
 TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_straight_tubes) {
     const int w = 128, h = 96;
     const StyledLines lines = straightTubes(1.0f);
