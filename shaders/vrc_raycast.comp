@@ -287,8 +287,10 @@ float hardShadowVisibility(vec3 pos) {
 }
 #endif
 
-// The accepted hits of the current voxel, sorted by (t, piece index), in VRC_SLOTS named slots
-// (hT0, hN0, ...). Named variables, not arrays: llvmpipe keeps a local array in memory and pays
+// The accepted hits of the current voxel, sorted by t, in VRC_SLOTS named slots (hT0, hN0, ...).
+// Hits are tested in increasing piece index (the piece array is in voxel index order, and
+// NEIGHBORS visits the 27 voxels in that order too), so equal t keep index order: the order of a
+// hit is its key (t, piece index). Named variables, not arrays: llvmpipe keeps a local array in memory and pays
 // every access per lane, also with constant indices; an insertion sort and compositing loop over
 // arrays was about half of the semi-transparent frame (docs/performance.md, "Design notes"). The
 // colour is kept with the hit: re-reading and decoding the piece after sorting costs another
@@ -316,16 +318,16 @@ float hardShadowVisibility(vec3 pos) {
 // The hit piece's axis ends and radii (x0, r0), (x1, r1) in hE, hF: its own tube is excluded from
 // the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
-#define VRC_SLOT(k) float hT##k; uint hI##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k; VRC_SLOT_A(k)
-// Compare-exchange of slot k with the carried hit (cT, cI, ...): the slot keeps the smaller key
-// (t, piece index).
-#define VRC_CX(k) if (cT < hT##k || (cT == hT##k && cI < hI##k)) { float t_ = hT##k; hT##k = cT; cT = t_; uint i_ = hI##k; hI##k = cI; cI = i_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; VRC_CX_A(k) }
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k; VRC_SLOT_A(k)
+// Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one (ties
+// keep the earlier hit first, as a stable insertion sort).
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; VRC_CX_A(k) }
 // Slot k takes slot k + 1 (k1); a later hit of `line` becomes kNoLine.
-#define VRC_SHIFT(k, k1) hT##k = hT##k1; hI##k = hI##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1; VRC_SHIFT_A(k, k1)
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1; VRC_SHIFT_A(k, k1)
 #else
-#define VRC_SLOT(k) float hT##k; uint hI##k; vec3 hN##k; vec4 hC##k; uint hL##k; VRC_SLOT_A(k)
-#define VRC_CX(k) if (cT < hT##k || (cT == hT##k && cI < hI##k)) { float t_ = hT##k; hT##k = cT; cT = t_; uint i_ = hI##k; hI##k = cI; cI = i_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; VRC_CX_A(k) }
-#define VRC_SHIFT(k, k1) hT##k = hT##k1; hI##k = hI##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; VRC_SHIFT_A(k, k1)
+#define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; VRC_SLOT_A(k)
+#define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; VRC_CX_A(k) }
+#define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; VRC_SHIFT_A(k, k1)
 #endif
 VRC_SLOT(0)
 #if VRC_SLOTS > 1
@@ -336,6 +338,11 @@ VRC_SLOT(1) VRC_SLOT(2) VRC_SLOT(3) VRC_SLOT(4) VRC_SLOT(5) VRC_SLOT(6) VRC_SLOT
 #endif
 // Hits that passed the batch's filter, also those that did not fit the slots.
 int hitCount = 0;
+// The floor of a batch (main): the t of the last hit blended in this voxel and how many hits at
+// exactly that t were blended (the first ones in test order); floorSeen counts the hits at the
+// floor's t met by the current scan.
+float floorT = 0.0;
+uint floorCount = 0u, floorSeen = 0u;
 
 void clearHits() {
     hitCount = 0;
@@ -346,11 +353,10 @@ void clearHits() {
 #endif
 }
 
-// Carries the new hit (t, piece index `piece`) through the sorted slots; what is carried out of
-// the last slot waits for the next batch (main).
-void insertHit(float t, uint piece, vec3 n, vec4 color, uint line, RoundedCone cone, float alpha) {
+// Carries the new hit through the sorted slots (ties keep the earlier hit first, as a stable
+// insertion sort); what is carried out of the last slot waits for the next batch (main).
+void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone, float alpha) {
     float cT = t;
-    uint cI = piece;
     vec3 cN = n;
     vec4 cC = color;
     uint cL = line;
@@ -406,16 +412,15 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 #endif
 
 // Tests the pieces of voxel v against the ray; takes hits in [tEnter, tExit) (the current voxel).
-// A hit's key is (t, piece index). Collecting (mark false): hits with a key past the floor
-// (floorT, floorI) go into the slots. Marking (mark true): the line of a hit with a key at or before
-// the floor is struck from the slots (markBlendedLine).
+// Collecting (mark false): hits past the floor (floorT, floorCount) go into the slots. Marking
+// (mark true): the line of a hit at or before the floor is struck from the slots (markBlendedLine).
 // Two passes per chunk of 32 pieces: the capsule pre-test of every piece records the passing ones
 // in a bit mask, then the exact intersector and the hit path run for those only. On llvmpipe's
 // 8-wide SIMD a branch runs whenever one lane takes it: with the pre-test inside the piece loop
 // the intersector ran for ~35 % of the pieces (any of 8 lanes passing) although ~5 % pass
 // (brain_2m: 427 pieces tested, 22.6 passing, 9.7 hits per ray); now it runs max-over-lanes of
 // the candidates (docs/performance.md, "Design notes").
-void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, float floorT, uint floorI, bool mark) {
+void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize))) return;
     uvec2 h = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x];
     uint count = h.y & kVrcCountMask;
@@ -430,8 +435,7 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, float floorT, uint f
         while (candidates != 0u) {
             uint k = uint(findLSB(candidates));
             candidates &= candidates - 1u;
-            uint piece = h.x + base + k;
-            VrcPiece p = vrcPiece(piece, v);
+            VrcPiece p = vrcPiece(h.x + base + k, v);
             ConeInterval iv = intersectRoundedCone(ray, p.cone);
             if (!iv.hit) continue;
             // The visible surface rule of the opaque path (shaders/visible_hit.glsl): the entry, or
@@ -454,29 +458,30 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, float floorT, uint f
                 if ((y < p.cone.r0 * sinAlpha && !p.vertexA) || (y > len + p.cone.r1 * sinAlpha && !p.vertexB)) continue;
             }
 #endif
-            bool pastFloor = t > floorT || (t == floorT && piece > floorI);
+            bool pastFloor = t > floorT || (t == floorT && floorSeen++ >= floorCount);
             if (mark) {
                 if (!pastFloor) markBlendedLine(p.line);
                 continue;
             }
             if (!pastFloor) continue;
 #if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
-            insertHit(t, piece, n, p.color, p.line, p.cone, pathLengthAlpha(p.color.a, iv, p.cone));
+            insertHit(t, n, p.color, p.line, p.cone, pathLengthAlpha(p.color.a, iv, p.cone));
 #else
-            insertHit(t, piece, n, p.color, p.line, p.cone, p.color.a);
+            insertHit(t, n, p.color, p.line, p.cone, p.color.a);
 #endif
         }
     }
 }
 
 // testVoxel over the current voxel, or with NEIGHBORS over its 3x3x3 block.
-void testVoxels(Ray ray, ivec3 v, float tEnter, float tExit, float floorT, uint floorI, bool mark) {
+void testVoxels(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
+    floorSeen = 0u;
 #ifdef NEIGHBORS
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) testVoxel(ray, v + ivec3(dx, dy, dz), tEnter, tExit, floorT, floorI, mark);
+            for (int dx = -1; dx <= 1; ++dx) testVoxel(ray, v + ivec3(dx, dy, dz), tEnter, tExit, mark);
 #else
-    testVoxel(ray, v, tEnter, tExit, floorT, floorI, mark);
+    testVoxel(ray, v, tEnter, tExit, mark);
 #endif
 }
 
@@ -536,6 +541,11 @@ void main() {
         }
         float tEnter = tNear;
         bool done = false;
+        // The batches of the current voxel (see below): the floor (t = 0 before the first batch:
+        // every hit has t > 0), and the marking visit.
+        floorT = 0.0;
+        floorCount = 0u;
+        bool marking = false;
 #ifdef BRICK_SKIP
         ivec3 curBrick = ivec3(-1);
         bool curBrickEmpty = false;
@@ -578,61 +588,63 @@ void main() {
             bool occupied = (header & kVrcCountMask) != 0u;
 #endif
             if (occupied) {
-                // Batches of at most VRC_SLOTS hits in (t, piece) order; the floor is the key of
-                // the last hit of the previous batch (t = 0 first: every hit has t > 0).
-                float floorT = 0.0;
-                uint floorI = 0u;
-                bool firstBatch = true, moreHits = true;
-                while (moreHits) {
-                    clearHits();
-                    testVoxels(ray, v, tEnter, tExit, floorT, floorI, false);
-                    if (!firstBatch && hitCount > 0) testVoxels(ray, v, tEnter, tExit, floorT, floorI, true);
-                    // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks
-                    // a farther hit of a line already blended in this voxel.
-                    int hits = min(hitCount, VRC_SLOTS);
-                    for (int i = 0; i < hits; ++i) {
-                        uint line = hL0;
-                        floorT = hT0;
-                        floorI = hI0;
-                        if (line != kNoLine) {
-                            vec4 base = hC0;
-                            float ao;
-#ifdef VRC_HIT_CONE
-                            vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
-#else
-                            vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
-#endif
-                            if (firstLine == kNoLine) {
-                                firstDepth = viewDepth(ray, hT0);
-                                firstNormal = hN0;
-                                firstLine = line;
-                                firstAo = ao;
-                            }
-#ifdef TRANSPARENT
-                            // As every transparent path: shaded colour clamped to [0, 1], blended "under".
-#ifdef VRC_PATH_LENGTH_OPACITY
-                            float a = hA0;
-#else
-                            float a = base.a;
-#endif
-                            accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
-                            accum.a += (1.0 - accum.a) * a;
-#else
-                            accum = vec4(rgb, 1.0);
-#endif
-                        }
-                        popHit(line);
-                    }
-                    firstBatch = false;
-#ifdef TRANSPARENT
-                    done = accum.a >= uOpacityThreshold;
-                    moreHits = hitCount > VRC_SLOTS && !done;
-#else
-                    done = hitCount > 0;
-                    moreHits = false;
-#endif
+                // Batches of at most VRC_SLOTS hits in (t, piece index) order: a voxel with more
+                // hits is visited again (continue without stepping) with the floor at the last hit
+                // blended; a later batch takes a second visit (marking) that strikes the lines
+                // blended in earlier batches before it is composited. One call site of testVoxels
+                // (each call site inlines the whole intersection loop).
+                if (!marking) clearHits();
+                testVoxels(ray, v, tEnter, tExit, marking);
+                if (!marking && floorT > 0.0 && hitCount > 0) {
+                    marking = true;
+                    continue;
                 }
+                marking = false;
+                // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks a
+                // farther hit of a line already blended in this voxel.
+                int hits = min(hitCount, VRC_SLOTS);
+                for (int i = 0; i < hits; ++i) {
+                    uint line = hL0;
+                    floorCount = hT0 == floorT ? floorCount + 1u : 1u;
+                    floorT = hT0;
+                    if (line != kNoLine) {
+                        vec4 base = hC0;
+                        float ao;
+#ifdef VRC_HIT_CONE
+                        vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
+#else
+                        vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
+#endif
+                        if (firstLine == kNoLine) {
+                            firstDepth = viewDepth(ray, hT0);
+                            firstNormal = hN0;
+                            firstLine = line;
+                            firstAo = ao;
+                        }
+#ifdef TRANSPARENT
+                        // As every transparent path: shaded colour clamped to [0, 1], blended "under".
+#ifdef VRC_PATH_LENGTH_OPACITY
+                        float a = hA0;
+#else
+                        float a = base.a;
+#endif
+                        accum.rgb += (1.0 - accum.a) * a * clamp(rgb, 0.0, 1.0);
+                        accum.a += (1.0 - accum.a) * a;
+#else
+                        accum = vec4(rgb, 1.0);
+#endif
+                    }
+                    popHit(line);
+                }
+#ifdef TRANSPARENT
+                done = accum.a >= uOpacityThreshold;
+                if (hitCount > VRC_SLOTS && !done) continue;  // the next batch of this voxel
+#else
+                done = hitCount > 0;
+#endif
             }
+            floorT = 0.0;
+            floorCount = 0u;
             // Next voxel.
             if (tMax.x <= tMax.y && tMax.x <= tMax.z) {
                 v.x += stepDir.x;

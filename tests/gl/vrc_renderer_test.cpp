@@ -336,6 +336,87 @@ TEST_F(GlTest, vrc_transparent_blends_every_hit_of_a_voxel_crossed_by_more_tubes
     }
 }
 
+// A polyline is blended once per voxel, at its nearest entry (Kanzler et al. 2019, Sec. 4.1: an
+// intersection of the same line is considered only once), also when its hits fall into different
+// batches of a voxel with more hits than hit slots. The stack of the test above with the first
+// tube's polyline bent back at x = 1 into the place of the last tube of the same voxel (the nearer
+// ten tubes fill one voxel, the farther ten the next): along the middle rays its second leg is the
+// tenth hit of its voxel, in the second batch, and is skipped. The image is depth peeling of the
+// stack without that leg (a straight tube in the first leg's place, 19 tubes).
+TEST_F(GlTest, vrc_transparent_blends_a_polyline_once_per_voxel_across_hit_batches) {
+    const int w = 48, h = 40, tubes = 20;
+    const float r = 0.015f, spacing = 0.032f, a = 0.2f;
+    auto zOf = [&](int k) { return (float(k) - 0.5f * float(tubes - 1)) * spacing; };
+    auto colorOf = [&](int k) {
+        return glm::vec4(0.1f + 0.8f * float(k) / float(tubes - 1), 0.9f - 0.8f * float(k % 5) / 4.0f,
+                         0.2f + 0.6f * float(k % 3) / 2.0f, a);
+    };
+    // Tubes 0..9 have z < 0 (the farther voxel from a camera on +z), 10..19 z > 0.
+    std::vector<TestPolyline> bent, reference;
+    for (int k = 1; k < tubes; ++k) {
+        if (k == 9) {
+            bent.push_back({{{-1.0f, 0.0f, zOf(9)}, r, colorOf(9)},
+                            {{1.0f, 0.0f, zOf(9)}, r, colorOf(9)},
+                            {{1.0f, 0.0f, zOf(0)}, r, colorOf(9)},
+                            {{-1.0f, 0.0f, zOf(0)}, r, colorOf(9)}});
+        } else {
+            bent.push_back({{{-1.0f, 0.0f, zOf(k)}, r, colorOf(k)}, {{1.0f, 0.0f, zOf(k)}, r, colorOf(k)}});
+        }
+        reference.push_back({{{-1.0f, 0.0f, zOf(k)}, r, colorOf(k)}, {{1.0f, 0.0f, zOf(k)}, r, colorOf(k)}});
+    }
+    const StyledLines bentLines = makeStyledLines(bent), referenceLines = makeStyledLines(reference);
+    Camera cam;
+    cam.eye = {0.013f, 0.0f, 3.0f};
+    cam.target = {0.013f, 0.0f, 0.0f};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 0.1f;
+
+    VrcBuildOptions o;
+    o.resolution = 3;
+    o.quantization = 0;
+    const VrcModel model = buildVrcModel(bentLines, o);
+    const glm::ivec3 front = glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(10)) - model.origin) / model.voxelSize));
+    const glm::ivec3 back = glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(9)) - model.origin) / model.voxelSize));
+    ASSERT_EQ(front - back, glm::ivec3(0, 0, 1)) << "the premise: ten tubes in each of two voxels along the rays";
+    ASSERT_EQ(back.z, int(std::floor((zOf(0) - model.origin.z) / model.voxelSize)));
+
+    Scene peel;
+    peel.image.width = w;
+    peel.image.height = h;
+    peel.render.transparency = Transparency::DepthPeeling;
+    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+    const FrameImages ref = render(peel, referenceLines, cam);
+    for (bool neighbors : {true, false}) {
+        SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+        Scene scene = vrcScene(w, h, true, 0, neighbors);
+        scene.render.vrc.resolution = 3;
+        const FrameImages vrc = render(scene, bentLines, cam);
+        std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
+        double worstAlpha = 0, worstColor = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                const Ray ray = pixelRay(cam, w, h, float(x), float(y));
+                if (std::abs(ray.origin.y) > 0.6f * r) continue;
+                ++stackPixels;
+                EXPECT_NEAR(ref.rgba[4 * i + 3], 1.0 - std::pow(1.0 - a, tubes - 1), 1e-5) << x << "," << y;
+                const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
+                worstAlpha = std::max(worstAlpha, da);
+                alphaOff += da > 1e-5;
+                for (int c = 0; c < 3; ++c) {
+                    const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                    worstColor = std::max(worstColor, dc);
+                    colorOff += dc > 2e-4;
+                }
+            }
+        std::printf("vrc bent polyline across batches vs depth peeling: %zu px, worst alpha %.3g, worst colour %.3g\n",
+                    stackPixels, worstAlpha, worstColor);
+        EXPECT_GT(stackPixels, std::size_t(4 * w));
+        EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
+        EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+    }
+}
+
 // render.vrc.path_length_opacity: a straight horizontal tube seen side-on with an orthographic
 // camera. Every pixel ray crosses the axis at right angles, so its chord through the tube is
 // 2 sqrt(r^2 - d^2) at the ray's distance d from the axis, and its alpha is
