@@ -455,6 +455,8 @@ nlohmann::json VrcRenderer::describe() const {
         {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
         {"grid", {m_size.x, m_size.y, m_size.z}},
         {"voxel_size", m_voxelSize},
+        // Above 1 tubes are cut one voxel out of their axis' voxels (docs/scene-spec.md, vrc.neighbors).
+        {"max_radius_voxels", m_voxelSize > 0 ? m_maxRadius / m_voxelSize : 0.0f},
         {"quantization", m_quantization},
         {"neighbors", m_spec.neighbors},
         {"opacity_threshold", m_spec.opacityThreshold},

@@ -287,12 +287,17 @@ float hardShadowVisibility(vec3 pos) {
 }
 #endif
 
-// The accepted hits of the current voxel, sorted by t, in VRC_SLOTS named slots (hT0, hN0, ...;
-// the farthest drops out when all are full). Named variables, not arrays: llvmpipe keeps a local
-// array in memory and pays every access per lane, also with constant indices; an insertion sort
-// and compositing loop over arrays was about half of the semi-transparent frame
-// (docs/performance.md, "Design notes"). The colour is kept with the hit: re-reading and decoding
-// the piece after sorting costs another per-lane SSBO gather.
+// The accepted hits of the current voxel, sorted by t, in VRC_SLOTS named slots (hT0, hN0, ...).
+// Hits are tested in increasing piece index (the piece array is in voxel index order, and
+// NEIGHBORS visits the 27 voxels in that order too), so equal t keep index order: the order of a
+// hit is its key (t, piece index). Named variables, not arrays: llvmpipe keeps a local array in memory and pays
+// every access per lane, also with constant indices; an insertion sort and compositing loop over
+// arrays was about half of the semi-transparent frame (docs/performance.md, "Design notes"). The
+// colour is kept with the hit: re-reading and decoding the piece after sorting costs another
+// per-lane SSBO gather. A voxel whose ray interval holds more hits than slots is composited in
+// batches (main): each batch re-tests the voxel and keeps the VRC_SLOTS nearest hits past the last
+// one blended, so every hit is blended, in order, however many tubes cross the voxel (Kanzler et
+// al. 2019, Sec. 4: the intersections of a voxel are sorted in place, all of them).
 #ifdef TRANSPARENT
 #define VRC_SLOTS 8
 #else
@@ -314,7 +319,8 @@ float hardShadowVisibility(vec3 pos) {
 // the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
 #define VRC_SLOT(k) float hT##k; vec3 hN##k; vec4 hC##k; uint hL##k; vec4 hE##k; vec4 hF##k; VRC_SLOT_A(k)
-// Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one.
+// Compare-exchange of slot k with the carried hit (cT, ...): the slot keeps the nearer one (ties
+// keep the earlier hit first, as a stable insertion sort).
 #define VRC_CX(k) if (cT < hT##k) { float t_ = hT##k; hT##k = cT; cT = t_; vec3 n_ = hN##k; hN##k = cN; cN = n_; vec4 c_ = hC##k; hC##k = cC; cC = c_; uint l_ = hL##k; hL##k = cL; cL = l_; vec4 e_ = hE##k; hE##k = cE; cE = e_; vec4 f_ = hF##k; hF##k = cF; cF = f_; VRC_CX_A(k) }
 // Slot k takes slot k + 1 (k1); a later hit of `line` becomes kNoLine.
 #define VRC_SHIFT(k, k1) hT##k = hT##k1; hN##k = hN##k1; hC##k = hC##k1; hL##k = hL##k1 == line ? kNoLine : hL##k1; hE##k = hE##k1; hF##k = hF##k1; VRC_SHIFT_A(k, k1)
@@ -330,7 +336,13 @@ VRC_SLOT(1) VRC_SLOT(2) VRC_SLOT(3) VRC_SLOT(4) VRC_SLOT(5) VRC_SLOT(6) VRC_SLOT
 #if VRC_SLOTS != 1 && VRC_SLOTS != 8
 #error "VRC_SLOTS: 1 or 8"
 #endif
+// Hits that passed the batch's filter, also those that did not fit the slots.
 int hitCount = 0;
+// The floor of a batch (main): the t of the last hit blended in this voxel and how many hits at
+// exactly that t were blended (the first ones in test order); floorSeen counts the hits at the
+// floor's t met by the current scan.
+float floorT = 0.0;
+uint floorCount = 0u, floorSeen = 0u;
 
 void clearHits() {
     hitCount = 0;
@@ -342,7 +354,7 @@ void clearHits() {
 }
 
 // Carries the new hit through the sorted slots (ties keep the earlier hit first, as a stable
-// insertion sort); what is carried out of the last slot drops out.
+// insertion sort); what is carried out of the last slot waits for the next batch (main).
 void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone, float alpha) {
     float cT = t;
     vec3 cN = n;
@@ -358,7 +370,7 @@ void insertHit(float t, vec3 n, vec4 color, uint line, RoundedCone cone, float a
 #if VRC_SLOTS > 1
     VRC_CX(1) VRC_CX(2) VRC_CX(3) VRC_CX(4) VRC_CX(5) VRC_CX(6) VRC_CX(7)
 #endif
-    hitCount = min(hitCount + 1, VRC_SLOTS);
+    ++hitCount;
 }
 
 // Removes slot 0 (the line `line` was blended) and marks the later hits of that line (each line is
@@ -367,6 +379,21 @@ void popHit(uint line) {
 #if VRC_SLOTS > 1
     VRC_SHIFT(0, 1) VRC_SHIFT(1, 2) VRC_SHIFT(2, 3) VRC_SHIFT(3, 4) VRC_SHIFT(4, 5) VRC_SHIFT(5, 6) VRC_SHIFT(6, 7)
     hT7 = uintBitsToFloat(0x7F800000u);
+#endif
+}
+
+// A later batch of the same voxel: a line with a hit at or before the floor (blended in an earlier
+// batch) is not blended again.
+void markBlendedLine(uint line) {
+    if (hL0 == line) hL0 = kNoLine;
+#if VRC_SLOTS > 1
+    if (hL1 == line) hL1 = kNoLine;
+    if (hL2 == line) hL2 = kNoLine;
+    if (hL3 == line) hL3 = kNoLine;
+    if (hL4 == line) hL4 = kNoLine;
+    if (hL5 == line) hL5 = kNoLine;
+    if (hL6 == line) hL6 = kNoLine;
+    if (hL7 == line) hL7 = kNoLine;
 #endif
 }
 
@@ -384,14 +411,16 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 }
 #endif
 
-// Tests the pieces of voxel v against the ray; keeps hits in [tEnter, tExit) (the current voxel).
+// Tests the pieces of voxel v against the ray; takes hits in [tEnter, tExit) (the current voxel).
+// Collecting (mark false): hits past the floor (floorT, floorCount) go into the slots. Marking
+// (mark true): the line of a hit at or before the floor is struck from the slots (markBlendedLine).
 // Two passes per chunk of 32 pieces: the capsule pre-test of every piece records the passing ones
 // in a bit mask, then the exact intersector and the hit path run for those only. On llvmpipe's
 // 8-wide SIMD a branch runs whenever one lane takes it: with the pre-test inside the piece loop
 // the intersector ran for ~35 % of the pieces (any of 8 lanes passing) although ~5 % pass
 // (brain_2m: 427 pieces tested, 22.6 passing, 9.7 hits per ray); now it runs max-over-lanes of
 // the candidates (docs/performance.md, "Design notes").
-void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
+void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize))) return;
     uvec2 h = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x];
     uint count = h.y & kVrcCountMask;
@@ -429,6 +458,12 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
                 if ((y < p.cone.r0 * sinAlpha && !p.vertexA) || (y > len + p.cone.r1 * sinAlpha && !p.vertexB)) continue;
             }
 #endif
+            bool pastFloor = t > floorT || (t == floorT && floorSeen++ >= floorCount);
+            if (mark) {
+                if (!pastFloor) markBlendedLine(p.line);
+                continue;
+            }
+            if (!pastFloor) continue;
 #if defined(TRANSPARENT) && defined(VRC_PATH_LENGTH_OPACITY)
             insertHit(t, n, p.color, p.line, p.cone, pathLengthAlpha(p.color.a, iv, p.cone));
 #else
@@ -436,6 +471,18 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
 #endif
         }
     }
+}
+
+// testVoxel over the current voxel, or with NEIGHBORS over its 3x3x3 block.
+void testVoxels(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
+    floorSeen = 0u;
+#ifdef NEIGHBORS
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) testVoxel(ray, v + ivec3(dx, dy, dz), tEnter, tExit, mark);
+#else
+    testVoxel(ray, v, tEnter, tExit, mark);
+#endif
 }
 
 // end0, end1: the hit piece's (x0, r0), (x1, r1) (its own tube is excluded from the AO and
@@ -494,6 +541,11 @@ void main() {
         }
         float tEnter = tNear;
         bool done = false;
+        // The batches of the current voxel (see below): the floor (t = 0 before the first batch:
+        // every hit has t > 0), and the marking visit.
+        floorT = 0.0;
+        floorCount = 0u;
+        bool marking = false;
 #ifdef BRICK_SKIP
         ivec3 curBrick = ivec3(-1);
         bool curBrickEmpty = false;
@@ -536,19 +588,25 @@ void main() {
             bool occupied = (header & kVrcCountMask) != 0u;
 #endif
             if (occupied) {
-                clearHits();
-#ifdef NEIGHBORS
-                for (int dz = -1; dz <= 1; ++dz)
-                    for (int dy = -1; dy <= 1; ++dy)
-                        for (int dx = -1; dx <= 1; ++dx) testVoxel(ray, v + ivec3(dx, dy, dz), tEnter, tExit);
-#else
-                testVoxel(ray, v, tEnter, tExit);
-#endif
+                // Batches of at most VRC_SLOTS hits in (t, piece index) order: a voxel with more
+                // hits is visited again (continue without stepping) with the floor at the last hit
+                // blended; a later batch takes a second visit (marking) that strikes the lines
+                // blended in earlier batches before it is composited. One call site of testVoxels
+                // (each call site inlines the whole intersection loop).
+                if (!marking) clearHits();
+                testVoxels(ray, v, tEnter, tExit, marking);
+                if (!marking && floorT > 0.0 && hitCount > 0) {
+                    marking = true;
+                    continue;
+                }
+                marking = false;
                 // Slot 0 is the nearest remaining hit (popHit shifts the slots); kNoLine marks a
                 // farther hit of a line already blended in this voxel.
-                int hits = hitCount;
+                int hits = min(hitCount, VRC_SLOTS);
                 for (int i = 0; i < hits; ++i) {
                     uint line = hL0;
+                    floorCount = hT0 == floorT ? floorCount + 1u : 1u;
+                    floorT = hT0;
                     if (line != kNoLine) {
                         vec4 base = hC0;
                         float ao;
@@ -580,10 +638,13 @@ void main() {
                 }
 #ifdef TRANSPARENT
                 done = accum.a >= uOpacityThreshold;
+                if (hitCount > VRC_SLOTS && !done) continue;  // the next batch of this voxel
 #else
                 done = hitCount > 0;
 #endif
             }
+            floorT = 0.0;
+            floorCount = 0u;
             // Next voxel.
             if (tMax.x <= tMax.y && tMax.x <= tMax.z) {
                 v.x += stepDir.x;

@@ -117,6 +117,21 @@ TEST_F(GlTest, vrc_model_voxel_size_exceeds_the_test_tubes_radii) {
     EXPECT_GT(m.pieceCount(), 6u * 10u);  // every tube is cut into many pieces
 }
 
+TEST_F(GlTest, vrc_run_json_reports_the_largest_tube_radius_in_voxels) {
+    // Tubes wider than a voxel are cut one voxel out (docs/scene-spec.md, vrc.neighbors):
+    // max_radius_voxels says whether a model is in the exact regime (< 1).
+    const StyledLines lines = straightTubes(1.0f);
+    for (int resolution : {24, 128}) {
+        Scene scene = vrcScene(16, 16, false, 32, false);
+        scene.render.vrc.resolution = resolution;
+        const std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
+        const nlohmann::json d = t->describe();
+        const double expected = double(lines.maxRadius) / d.at("voxel_size").get<double>();
+        EXPECT_NEAR(d.at("max_radius_voxels").get<double>(), expected, 1e-6 * expected);
+        EXPECT_EQ(d.at("max_radius_voxels").get<double>() < 1.0, resolution == 24) << resolution;
+    }
+}
+
 TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_straight_tubes) {
     const int w = 128, h = 96;
     const StyledLines lines = straightTubes(1.0f);
@@ -241,6 +256,162 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
             "colour %.3g\n",
             compared, multi, worstAlpha, worstColor);
         EXPECT_GT(multi, 20u);
+        EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
+        EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+    }
+}
+
+// Kanzler et al. 2019, Sec. 4: every intersection in a voxel is composited in order. A stack of
+// 20 parallel tubes one behind the other along the view direction, all in the voxels of one
+// column (resolution 3: voxels ~1 wide, the stack 0.64 deep, so at least 10 tubes share a voxel
+// on every ray through the stack): more hits per voxel than the ray caster's 8 hit slots.
+// Transparent VRC must blend all 20, as depth peeling does (alpha 1 - 0.8^20 = 0.988 on the
+// stack; 8 per voxel would give 1 - 0.8^16 = 0.972 at best).
+TEST_F(GlTest, vrc_transparent_blends_every_hit_of_a_voxel_crossed_by_more_tubes_than_hit_slots) {
+    const int w = 48, h = 40, tubes = 20;
+    const float r = 0.015f, spacing = 0.032f, a = 0.2f;
+    std::vector<TestPolyline> stack;
+    for (int k = 0; k < tubes; ++k) {
+        const float z = (float(k) - 0.5f * float(tubes - 1)) * spacing;
+        // A different colour per tube: the order of compositing shows in the colour.
+        const glm::vec4 color(0.1f + 0.8f * float(k) / float(tubes - 1), 0.9f - 0.8f * float(k % 5) / 4.0f,
+                              0.2f + 0.6f * float(k % 3) / 2.0f, a);
+        stack.push_back({{{-1.0f, 0.0f, z}, r, color}, {{1.0f, 0.0f, z}, r, color}});
+    }
+    const StyledLines lines = makeStyledLines(stack);
+    Camera cam;
+    cam.eye = {0.013f, 0.0f, 3.0f};
+    cam.target = {0.013f, 0.0f, 0.0f};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 0.1f;  // 2.5 mm pixels: 12 rows across the stack
+
+    VrcBuildOptions o;
+    o.resolution = 3;
+    o.quantization = 0;
+    const VrcModel model = buildVrcModel(lines, o);
+    std::uint32_t mostPieces = 0;
+    for (const VrcVoxel& v : model.voxels) mostPieces = std::max(mostPieces, v.count & kCountMask);
+    ASSERT_GE(mostPieces, 10u) << "the premise: a voxel holds more tubes than the 8 hit slots";
+
+    Scene peel;
+    peel.image.width = w;
+    peel.image.height = h;
+    peel.render.transparency = Transparency::DepthPeeling;
+    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+    const FrameImages ref = render(peel, lines, cam);
+    for (bool neighbors : {true, false}) {
+        {
+            // Exact ends: snapped to bins of ~1/32 voxel, tubes 0.03 voxel wide would move off the rows.
+            SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+            Scene scene = vrcScene(w, h, true, 0, neighbors);
+            scene.render.vrc.resolution = 3;
+            const FrameImages vrc = render(scene, lines, cam);
+            ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
+            std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
+            double worstAlpha = 0, worstColor = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const std::size_t i = std::size_t(y) * w + x;
+                    const Ray ray = pixelRay(cam, w, h, float(x), float(y));
+                    // Rays well inside the tubes' silhouette (rays are parallel to z; the axes at y = 0).
+                    if (std::abs(ray.origin.y) > 0.6f * r) continue;
+                    ++stackPixels;
+                    EXPECT_NEAR(ref.rgba[4 * i + 3], 1.0 - std::pow(1.0 - a, tubes), 1e-5) << x << "," << y;
+                    const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
+                    worstAlpha = std::max(worstAlpha, da);
+                    alphaOff += da > 1e-5;
+                    for (int c = 0; c < 3; ++c) {
+                        const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                        worstColor = std::max(worstColor, dc);
+                        // As the straight-tube test above: float noise of the hit point (2e-4).
+                        colorOff += dc > 2e-4;
+                    }
+                }
+            std::printf("vrc %d stacked tubes vs depth peeling: %zu px, worst alpha %.3g, worst colour %.3g\n", tubes,
+                        stackPixels, worstAlpha, worstColor);
+            EXPECT_GT(stackPixels, std::size_t(4 * w));
+            EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
+            EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+        }
+    }
+}
+
+// A polyline is blended once per voxel, at its nearest entry (Kanzler et al. 2019, Sec. 4.1: an
+// intersection of the same line is considered only once), also when its hits fall into different
+// batches of a voxel with more hits than hit slots. The stack of the test above with the first
+// tube's polyline bent back at x = 1 into the place of the last tube of the same voxel (the nearer
+// ten tubes fill one voxel, the farther ten the next): along the middle rays its second leg is the
+// tenth hit of its voxel, in the second batch, and is skipped. The image is depth peeling of the
+// stack without that leg (a straight tube in the first leg's place, 19 tubes).
+TEST_F(GlTest, vrc_transparent_blends_a_polyline_once_per_voxel_across_hit_batches) {
+    const int w = 48, h = 40, tubes = 20;
+    const float r = 0.015f, spacing = 0.032f, a = 0.2f;
+    auto zOf = [&](int k) { return (float(k) - 0.5f * float(tubes - 1)) * spacing; };
+    auto colorOf = [&](int k) {
+        return glm::vec4(0.1f + 0.8f * float(k) / float(tubes - 1), 0.9f - 0.8f * float(k % 5) / 4.0f,
+                         0.2f + 0.6f * float(k % 3) / 2.0f, a);
+    };
+    // Tubes 0..9 have z < 0 (the farther voxel from a camera on +z), 10..19 z > 0.
+    std::vector<TestPolyline> bent, reference;
+    for (int k = 1; k < tubes; ++k) {
+        if (k == 9) {
+            bent.push_back({{{-1.0f, 0.0f, zOf(9)}, r, colorOf(9)},
+                            {{1.0f, 0.0f, zOf(9)}, r, colorOf(9)},
+                            {{1.0f, 0.0f, zOf(0)}, r, colorOf(9)},
+                            {{-1.0f, 0.0f, zOf(0)}, r, colorOf(9)}});
+        } else {
+            bent.push_back({{{-1.0f, 0.0f, zOf(k)}, r, colorOf(k)}, {{1.0f, 0.0f, zOf(k)}, r, colorOf(k)}});
+        }
+        reference.push_back({{{-1.0f, 0.0f, zOf(k)}, r, colorOf(k)}, {{1.0f, 0.0f, zOf(k)}, r, colorOf(k)}});
+    }
+    const StyledLines bentLines = makeStyledLines(bent), referenceLines = makeStyledLines(reference);
+    Camera cam;
+    cam.eye = {0.013f, 0.0f, 3.0f};
+    cam.target = {0.013f, 0.0f, 0.0f};
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = 0.1f;
+
+    VrcBuildOptions o;
+    o.resolution = 3;
+    o.quantization = 0;
+    const VrcModel model = buildVrcModel(bentLines, o);
+    const glm::ivec3 front = glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(10)) - model.origin) / model.voxelSize));
+    const glm::ivec3 back = glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(9)) - model.origin) / model.voxelSize));
+    ASSERT_EQ(front - back, glm::ivec3(0, 0, 1)) << "the premise: ten tubes in each of two voxels along the rays";
+    ASSERT_EQ(back.z, int(std::floor((zOf(0) - model.origin.z) / model.voxelSize)));
+
+    Scene peel;
+    peel.image.width = w;
+    peel.image.height = h;
+    peel.render.transparency = Transparency::DepthPeeling;
+    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+    const FrameImages ref = render(peel, referenceLines, cam);
+    for (bool neighbors : {true, false}) {
+        SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
+        Scene scene = vrcScene(w, h, true, 0, neighbors);
+        scene.render.vrc.resolution = 3;
+        const FrameImages vrc = render(scene, bentLines, cam);
+        std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
+        double worstAlpha = 0, worstColor = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                const Ray ray = pixelRay(cam, w, h, float(x), float(y));
+                if (std::abs(ray.origin.y) > 0.6f * r) continue;
+                ++stackPixels;
+                EXPECT_NEAR(ref.rgba[4 * i + 3], 1.0 - std::pow(1.0 - a, tubes - 1), 1e-5) << x << "," << y;
+                const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
+                worstAlpha = std::max(worstAlpha, da);
+                alphaOff += da > 1e-5;
+                for (int c = 0; c < 3; ++c) {
+                    const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                    worstColor = std::max(worstColor, dc);
+                    colorOff += dc > 2e-4;
+                }
+            }
+        std::printf("vrc bent polyline across batches vs depth peeling: %zu px, worst alpha %.3g, worst colour %.3g\n",
+                    stackPixels, worstAlpha, worstColor);
+        EXPECT_GT(stackPixels, std::size_t(4 * w));
         EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
         EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
     }
