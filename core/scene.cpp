@@ -471,6 +471,9 @@ void readRender(SpecReader r, RenderSpec& rs) {
     rs.billboards = billboards == "vertex"     ? BillboardPath::Vertex
                     : billboards == "geometry" ? BillboardPath::Geometry
                                                : BillboardPath::Compute;
+    rs.billboardShape = r.getEnum("billboard_shape", "gross2020", {"gross2020", "rectangle"}) == "rectangle"
+                            ? BillboardShape::Rectangle
+                            : BillboardShape::Gross2020;
     if (r.has("kbuffer")) {
         SpecReader k = r.child("kbuffer");
         rs.kbufferK = k.getInt("k", rs.kbufferK, 1, 16);

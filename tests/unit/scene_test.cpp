@@ -371,6 +371,14 @@ TEST(Scene, AoCacheDefaultsToPrecomputedAndTakesNone) {
               "scene.json: render.ao.cache: expected one of \"precomputed\", \"none\", got \"vertex\"");
 }
 
+TEST(Scene, BillboardShapeDefaultsToTheGross2020QuadAndTakesRectangle) {
+    EXPECT_EQ(parseScene(kMinimal, "scene.json").render.billboardShape, BillboardShape::Gross2020);
+    EXPECT_EQ(parseScene(kMinimal, "scene.json", {"render.billboard_shape=rectangle"}).render.billboardShape,
+              BillboardShape::Rectangle);
+    EXPECT_EQ(errorOf(with(R"({"render": {"billboard_shape": "box"}})")),
+              "scene.json: render.billboard_shape: expected one of \"gross2020\", \"rectangle\", got \"box\"");
+}
+
 TEST(Scene, Gross2020PresetSetsThePapersConfigurationAndExplicitKeysWin) {
     // Without the preset: k = 8, no culling, cached AO.
     Scene plain = parseScene(with(R"({"render": {"ao": {}}})"), "scene.json");
