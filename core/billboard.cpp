@@ -205,8 +205,8 @@ Billboard computeBillboard(const RoundedCone& c, const glm::mat4& viewProj, cons
 
 Billboard computeBillboard(const RoundedCone& cone, const glm::mat4& viewProj, const Camera& camera,
                            BillboardShape shape) {
-    return computeBillboard(cone, viewProj, camera.eye, camera.projection == Projection::Orthographic,
-                            camera.forward(), shape);
+    return computeBillboard(cone, viewProj, camera.eye, camera.projection == Projection::Orthographic, camera.forward(),
+                            shape);
 }
 
 }  // namespace tc

@@ -56,7 +56,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, const StyledLines& lines,
                                                          const std::vector<float>* vertexAttribute, SystemSink sink) {
-    std::unique_ptr<OpacityRenderer> r(new OpacityRenderer(LineGeometry::create(lines, scene.render.billboards, {}, scene.render.billboardShape)));
+    std::unique_ptr<OpacityRenderer> r(
+        new OpacityRenderer(LineGeometry::create(lines, scene.render.billboards, {}, scene.render.billboardShape)));
     const RenderSpec& rs = scene.render;
     r->m_spec = rs.opacity;
     r->m_capClipping = rs.capClipping;

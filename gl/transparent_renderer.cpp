@@ -22,8 +22,8 @@ void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
 
 std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& scene, const StyledLines& lines,
                                                                  const RegionSetup& region) {
-    std::unique_ptr<TransparentRenderer> r(
-        new TransparentRenderer(LineGeometry::create(lines, scene.render.billboards, region, scene.render.billboardShape)));
+    std::unique_ptr<TransparentRenderer> r(new TransparentRenderer(
+        LineGeometry::create(lines, scene.render.billboards, region, scene.render.billboardShape)));
     const RenderSpec& rs = scene.render;
     r->m_mode = rs.transparency;
     r->m_k = rs.kbufferK;

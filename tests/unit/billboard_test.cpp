@@ -4,17 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <random>
+#include <vector>
 
 #include "core/animation.h"
 #include "core/generators.h"
 #include "core/scene.h"
 #include "core/styling.h"
-
-#include <algorithm>
-#include <cmath>
-#include <random>
-#include <vector>
 
 namespace tc {
 namespace {
@@ -142,8 +141,9 @@ void checkContainment(const RoundedCone& c, const Camera& cam, std::mt19937& rng
         glm::vec4 clip = vp * glm::vec4(p, 1.0f);
         glm::vec2 ndc = glm::vec2(clip) / clip.w;
         projected.push_back(ndc);
-        ASSERT_TRUE(insideQuad(b, ndc, eps)) << shapeName(shape) << ": sample " << ndc.x << "," << ndc.y << " outside quad (" << b.ndc[0].x
-                                             << "," << b.ndc[0].y << ") (" << b.ndc[3].x << "," << b.ndc[3].y << ")";
+        ASSERT_TRUE(insideQuad(b, ndc, eps))
+            << shapeName(shape) << ": sample " << ndc.x << "," << ndc.y << " outside quad (" << b.ndc[0].x << ","
+            << b.ndc[0].y << ") (" << b.ndc[3].x << "," << b.ndc[3].y << ")";
     }
     ++st.quads;
     auto corners = polygon(b);
@@ -344,10 +344,11 @@ TEST(Billboard, contains_cones_with_r0_above_r1_along_the_view_and_next_to_the_e
         }
     }
     for (int s = 0; s < 2; ++s)
-        std::printf("%s: r0 > r1 %d quads (mean ratio %.3f); along the view %d quads (%.3f); eye next to the tube %d "
-                    "quads, %d full screen\n",
-                    shapeName(kShapes[s]), swapped[s].quads, swapped[s].ratioSum / swapped[s].quads, along[s].quads,
-                    along[s].ratioSum / along[s].quads, near[s].quads, near[s].fullscreen);
+        std::printf(
+            "%s: r0 > r1 %d quads (mean ratio %.3f); along the view %d quads (%.3f); eye next to the tube %d "
+            "quads, %d full screen\n",
+            shapeName(kShapes[s]), swapped[s].quads, swapped[s].ratioSum / swapped[s].quads, along[s].quads,
+            along[s].ratioSum / along[s].quads, near[s].quads, near[s].fullscreen);
     EXPECT_EQ(swapped[0].quads, 200);
     EXPECT_EQ(along[0].quads, 120);
     EXPECT_GT(near[0].quads, 50);
@@ -381,8 +382,8 @@ TEST(Billboard, gross2020_covers_fewer_pixels_than_the_rectangle_on_the_propelle
         std::vector<std::string> set;
         if (mapped) set.push_back(R"(style.radius={"attribute": "speed", "radius_range": [0.002, 0.008]})");
         Scene scene = loadScene(config.string(), set);
-        LineSet lines = generateDataset(scene.dataset.generate, scene.dataset.lines, scene.dataset.points,
-                                        scene.dataset.seed);
+        LineSet lines =
+            generateDataset(scene.dataset.generate, scene.dataset.lines, scene.dataset.points, scene.dataset.seed);
         StyledLines styled = styleLines(lines, scene.style, scene.file);
         const float aspect = float(scene.image.width) / float(scene.image.height);
         Camera cam = fitCamera(scene.camera, lines.bounds, aspect);
@@ -402,8 +403,8 @@ TEST(Billboard, gross2020_covers_fewer_pixels_than_the_rectangle_on_the_propelle
         }
         const double toPixels = 0.25 * scene.image.width * scene.image.height;
         std::printf("propeller_120k%s, %zu segments: billboard pixels gross2020 %.0f, rectangle %.0f, ratio %.3f\n",
-                    mapped ? " (radius from speed)" : "", styled.segmentCount(), area[0] * toPixels,
-                    area[1] * toPixels, area[0] / area[1]);
+                    mapped ? " (radius from speed)" : "", styled.segmentCount(), area[0] * toPixels, area[1] * toPixels,
+                    area[0] / area[1]);
         EXPECT_LT(area[0], 0.95 * area[1]);
     }
 }

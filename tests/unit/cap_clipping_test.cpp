@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <vector>
 
 #include "core/generators.h"
@@ -308,9 +308,10 @@ TEST(CapClipping, eq11_chord_planes_agree_with_the_bisector_planes_on_the_bench_
         std::sort(deltas.begin(), deltas.end());
         const double toDeg = 180.0 / kPi;
         double p99 = deltas[deltas.size() * 99 / 100], max = deltas.back();
-        std::printf("%s: %zu joints, Eq. 11 vs bisector normal: median %.2g deg, 99th percentile %.2g deg, max %.2g "
-                    "deg (rim offset max %.2g r)\n",
-                    name, deltas.size(), deltas[deltas.size() / 2] * toDeg, p99 * toDeg, max * toDeg, std::tan(max));
+        std::printf(
+            "%s: %zu joints, Eq. 11 vs bisector normal: median %.2g deg, 99th percentile %.2g deg, max %.2g "
+            "deg (rim offset max %.2g r)\n",
+            name, deltas.size(), deltas[deltas.size() / 2] * toDeg, p99 * toDeg, max * toDeg, std::tan(max));
         EXPECT_LT(worstFormula, 1e-3) << name;
         // docs/scene-spec.md, render.cap_clipping, states this bound.
         EXPECT_LT(max * toDeg, 0.2) << name;
