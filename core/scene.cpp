@@ -442,6 +442,16 @@ void readRender(SpecReader r, RenderSpec& rs) {
         rs.technique.name().find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
         r.fail("technique",
                "expected a technique name (tubecast techniques lists them), got \"" + rs.technique.name() + "\"");
+    // A preset only changes defaults: the keys below still override what it sets.
+    if (r.getEnum("preset", "none", {"none", "gross2020"}) == "gross2020") {
+        // Groß & Gumhold 2020, Sect. 6: "all measurements for transparent rendering were
+        // conducted with k = 4", culling in 10 depth slices (Sect. 4.3; the slice count and the
+        // 0.95 opacity threshold are the defaults already), ambient occlusion cone traced for
+        // every produced fragment (Sect. 5.3, 6.1), not interpolated from a per-segment cache.
+        rs.kbufferK = 4;
+        rs.culling.enabled = true;
+        rs.ao.cache = AoSpec::Cache::None;
+    }
     if (r.has("vrc")) readVrc(r.child("vrc"), rs.vrc);
     if (r.has("spheres")) readSpheres(r.child("spheres"), rs.spheres);
     if (r.has("raytraced")) {
@@ -461,6 +471,9 @@ void readRender(SpecReader r, RenderSpec& rs) {
     rs.billboards = billboards == "vertex"     ? BillboardPath::Vertex
                     : billboards == "geometry" ? BillboardPath::Geometry
                                                : BillboardPath::Compute;
+    rs.billboardShape = r.getEnum("billboard_shape", "gross2020", {"gross2020", "rectangle"}) == "rectangle"
+                            ? BillboardShape::Rectangle
+                            : BillboardShape::Gross2020;
     if (r.has("kbuffer")) {
         SpecReader k = r.child("kbuffer");
         rs.kbufferK = k.getInt("k", rs.kbufferK, 1, 16);
@@ -497,8 +510,9 @@ void readRender(SpecReader r, RenderSpec& rs) {
                            ? AoSpec::Method::RayTraced
                            : AoSpec::Method::ConeTraced;
         rs.ao.samples = a.getInt("samples", rs.ao.samples, 1, 1024);
-        rs.ao.cache = a.getEnum("cache", "precomputed", {"precomputed", "none"}) == "none" ? AoSpec::Cache::None
-                                                                                           : AoSpec::Cache::Precomputed;
+        const char* cache = rs.ao.cache == AoSpec::Cache::None ? "none" : "precomputed";
+        rs.ao.cache = a.getEnum("cache", cache, {"precomputed", "none"}) == "none" ? AoSpec::Cache::None
+                                                                                   : AoSpec::Cache::Precomputed;
         a.finish();
     }
     if (r.has("opacity")) readOpacityOptimization(r.child("opacity"), rs.opacity);

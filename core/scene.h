@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/billboard.h"
 #include "core/camera.h"
 #include "core/colormap.h"
 
@@ -243,6 +244,7 @@ struct RenderSpec {
     RenderTechnique technique = RenderTechnique::Rasterized;
     Transparency transparency = Transparency::Opaque;
     BillboardPath billboards = BillboardPath::Compute;
+    BillboardShape billboardShape = BillboardShape::Gross2020;  // render.billboard_shape (core/billboard.h)
     int kbufferK = 8;                    // render.kbuffer.k, 1..16
     bool capClipping = true;             // render.cap_clipping (Groß & Gumhold 2020, Sect. 5.4)
     int maxPeelLayers = 0;               // render.depth_peeling.max_layers; 0 = until a pass produces nothing

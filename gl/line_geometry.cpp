@@ -29,9 +29,11 @@ std::size_t LineGeometry::uploadBytes(const StyledLines& lines) {
            bytes(lines.segmentVertices);
 }
 
-LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path, const RegionSetup& region) {
+LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path, const RegionSetup& region,
+                                  BillboardShape shape) {
     LineGeometry g;
     g.m_path = path;
+    g.m_shape = shape;
     g.m_segmentCount = lines.segmentCount();
     g.m_maxRadius = region.maxRadiusOr(lines.maxRadius);
     g.m_bounds = region.boundsOr(lines.bounds);
@@ -44,7 +46,7 @@ LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path, 
     if (path == BillboardPath::Compute) {
         g.m_billboardCorners = makeBuffer(lines.segmentCount() * 2 * sizeof(glm::vec4));
         g.m_segmentRecords = makeBuffer(lines.segmentCount() * 6 * sizeof(glm::vec4));
-        g.m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}});
+        g.m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, g.billboardDefines());
     }
     g.m_emptyVao = VertexArray::create();
     return g;
@@ -95,6 +97,7 @@ void LineGeometry::setFrame(const FrameSetup& setup, const LightingSpec& lightin
 
 Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {
     if (!m_region.unbounded()) defines.push_back("REGION_CLIP");
+    for (const std::string& d : billboardDefines()) defines.push_back(d);
     switch (m_path) {
         case BillboardPath::Compute:
             defines.push_back("BILLBOARDS_PRECOMPUTED");

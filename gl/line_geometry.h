@@ -20,15 +20,27 @@ public:
     // buffer. Needs a current context. `region` (data-parallel rendering, core/region.h): with a
     // box, every draw program clips fragments to it (REGION_CLIP); the depth range comes from its
     // data bounds.
-    static LineGeometry create(const StyledLines& lines, BillboardPath path, const RegionSetup& region = {});
+    // `shape`: the billboard construction of every program of this geometry (core/billboard.h).
+    static LineGeometry create(const StyledLines& lines, BillboardPath path, const RegionSetup& region = {},
+                               BillboardShape shape = BillboardShape::Gross2020);
     // Bytes create() uploads for `lines` besides the per-frame billboard buffers: positions +
     // radius, colours, polyline ids and flags per vertex, two vertex indices per segment.
     static std::size_t uploadBytes(const StyledLines& lines);
 
     std::size_t segmentCount() const { return m_segmentCount; }
     BillboardPath billboardPath() const { return m_path; }
+    // Defines selecting the billboard shape, for every program that builds billboards
+    // (shaders/billboard.glsl): BILLBOARD_RECTANGLE for BillboardShape::Rectangle.
+    std::vector<std::string> billboardDefines() const {
+        return m_shape == BillboardShape::Rectangle ? std::vector<std::string>{"BILLBOARD_RECTANGLE"}
+                                                    : std::vector<std::string>{};
+    }
     // Where billboards are built, for run.json.
     const char* describeBillboards() const;
+    // render.billboard_shape's value, for run.json.
+    const char* describeBillboardShape() const {
+        return m_shape == BillboardShape::Rectangle ? "rectangle" : "gross2020";
+    }
 
     const Buffer& positionRadiusBuffer() const { return m_positionRadius; }
     const Buffer& segmentVerticesBuffer() const { return m_segmentVertices; }
@@ -69,6 +81,7 @@ private:
     LineGeometry() = default;
 
     BillboardPath m_path = BillboardPath::Compute;
+    BillboardShape m_shape = BillboardShape::Gross2020;
     std::size_t m_segmentCount = 0;
     float m_maxRadius = 0;  // of the whole dataset (RegionSetup::maxRadiusOr): the depth range
     bool m_capClipping = false;

@@ -56,7 +56,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, const StyledLines& lines,
                                                          const std::vector<float>* vertexAttribute, SystemSink sink) {
-    std::unique_ptr<OpacityRenderer> r(new OpacityRenderer(LineGeometry::create(lines, scene.render.billboards)));
+    std::unique_ptr<OpacityRenderer> r(
+        new OpacityRenderer(LineGeometry::create(lines, scene.render.billboards, {}, scene.render.billboardShape)));
     const RenderSpec& rs = scene.render;
     r->m_spec = rs.opacity;
     r->m_capClipping = rs.capClipping;
@@ -437,6 +438,7 @@ nlohmann::json OpacityRenderer::describe() const {
         {"transparency", "opacity_optimization"},
         {"cap_clipping", m_capClipping},
         {"billboards", m_geometry.describeBillboards()},
+        {"billboard_shape", m_geometry.describeBillboardShape()},
         {"parts", m_parts.partCount()},
         {"segments_per_line", m_spec.segmentsPerLine},
         {"weights", {{"p", m_spec.p}, {"q", m_spec.q}, {"r", m_spec.r}, {"s", m_spec.s}, {"lambda", m_spec.lambda}}},

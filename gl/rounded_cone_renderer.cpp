@@ -10,7 +10,7 @@ namespace tc::gl {
 
 std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& scene, const StyledLines& lines,
                                                                  const RegionSetup& region) {
-    LineGeometry geometry = LineGeometry::create(lines, scene.render.billboards, region);
+    LineGeometry geometry = LineGeometry::create(lines, scene.render.billboards, region, scene.render.billboardShape);
     std::optional<HierarchicalCulling> culling;
     if (scene.render.culling.enabled)
         culling = HierarchicalCulling::create(HierarchicalCulling::Target::MaxDepth, scene.render.culling, geometry);
@@ -85,6 +85,7 @@ nlohmann::json RoundedConeRenderer::describe() const {
     nlohmann::json j = {{"technique", "rasterized"},
                         {"transparency", "opaque"},
                         {"billboards", m_geometry.describeBillboards()},
+                        {"billboard_shape", m_geometry.describeBillboardShape()},
                         {"shading", "deferred"},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)},
                         {"culling", m_culling ? m_culling->describe() : nlohmann::json(false)}};

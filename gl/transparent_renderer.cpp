@@ -22,8 +22,8 @@ void clearBuffer64(const Buffer& buffer, std::uint64_t value) {
 
 std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& scene, const StyledLines& lines,
                                                                  const RegionSetup& region) {
-    std::unique_ptr<TransparentRenderer> r(
-        new TransparentRenderer(LineGeometry::create(lines, scene.render.billboards, region)));
+    std::unique_ptr<TransparentRenderer> r(new TransparentRenderer(
+        LineGeometry::create(lines, scene.render.billboards, region, scene.render.billboardShape)));
     const RenderSpec& rs = scene.render;
     r->m_mode = rs.transparency;
     r->m_k = rs.kbufferK;
@@ -299,6 +299,7 @@ nlohmann::json TransparentRenderer::describe() const {
                         {"transparency", std::string(transparencyName(m_mode))},
                         {"cap_clipping", m_capClipping},
                         {"billboards", m_geometry.describeBillboards()},
+                        {"billboard_shape", m_geometry.describeBillboardShape()},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)},
                         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_mode == Transparency::KBuffer) j["k"] = m_k;

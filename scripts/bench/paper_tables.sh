@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The performance tables of Groß & Gumhold 2020 (Tables 1-3) reproduced on this machine with the
 # four generated stand-ins in configs/bench/ (sparse propeller 120k, convection 1M, brain 2M,
-# turbulence 5M segments). Every configuration renders an 8-frame orbit (360 degrees about z,
+# turbulence 5M segments), in the paper's configuration (render.preset=gross2020: k = 4, culling
+# in 10 slices, AO cone traced per fragment; the columns without culling switch it off). Every configuration renders an 8-frame orbit (360 degrees about z,
 # 45 degrees per frame); times are medians of the frames after the first (the first includes
 # shader compilation and the first sort).
 #   scripts/install-deps.sh --bench && scripts/build.sh && scripts/bench/paper_tables.sh [OPTIONS] [OUTDIR]
@@ -55,6 +56,8 @@ declare -A near_camera=(
   [turbulence_5m]='camera.eye=[0.98,0.13,0.7] camera.target=[0.5,0.5,0.5]'
 )
 
+"$tc" validate configs/bench/propeller_120k.json --set render.preset=gross2020 >/dev/null 2>&1 ||
+  { echo "paper_tables.sh: $tc does not take render.preset=gross2020 (rebuild)" >&2; exit 2; }
 mkdir -p "$out/runs"
 if [ "$culling" = auto ]; then
   if "$tc" validate configs/bench/propeller_120k.json --set render.culling.enabled=true >/dev/null 2>&1; then
@@ -86,7 +89,7 @@ run() {
     echo "$set,-,$view,$mode,$k,$cull,$ao,$frames,-,-,skipped" >> "$out/results.csv"
     return
   fi
-  local args=(--set "animation.frames=$frames" --set "image.width=$width" --set "image.height=$height"
+  local args=(--set render.preset=gross2020 --set "animation.frames=$frames" --set "image.width=$width" --set "image.height=$height"
               --set 'output.name="f.####"' --set 'output.formats=["png"]' --set 'output.aovs=[]')
   [ "$quick" = 1 ] && args+=(--set "dataset.lines=${quick_lines[$set]}")
   if [ "$view" = near ]; then
@@ -98,7 +101,7 @@ run() {
   else
     args+=(--set render.transparency=opaque)
   fi
-  [ "$cull" = 1 ] && args+=(--set render.culling.enabled=true)
+  [ "$cull" = 0 ] && args+=(--set render.culling.enabled=false)
   [ "$ao" = 1 ] && args+=(--set render.ao.enabled=true)
   rm -rf "$dir"; mkdir -p "$dir"
   local t0; t0=$(date +%s)
@@ -122,14 +125,14 @@ load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for set in $sets; do
   [ -f "configs/bench/$set.json" ] || { echo "paper_tables.sh: no configs/bench/$set.json" >&2; exit 2; }
   for mode in opaque kbuffer; do
-    k=0; [ "$mode" = kbuffer ] && k=8
+    k=0; [ "$mode" = kbuffer ] && k=4  # the paper's k for all transparent measurements
     for view in far near; do  # columns A-C, D-F
       run "$set" "$view" "$mode" "$k" 0 0
       run "$set" "$view" "$mode" "$k" 1 0
       run "$set" "$view" "$mode" "$k" 1 1
     done
   done
-  for k in 2 4 16; do  # Table 3 (k = 8 is in Table 2b)
+  for k in 2 8 16; do  # Table 3 (k = 4 is in Table 2b)
     run "$set" far kbuffer "$k" 0 0
     run "$set" far kbuffer "$k" 1 0
   done
@@ -141,8 +144,8 @@ renderer=$(sed -n 's/.*"renderer": *"\([^"]*\)".*/\1/p' "$out"/runs/*/run.json 2
   echo "resolution: ${width}x${height} ($(awk -v w="$width" -v h="$height" 'BEGIN { printf "%.3g", w * h / (1920 * 1080) }') x the pixels of 1920x1080)$([ "$quick" = 1 ] && echo ', --quick: data sets shrunk to ~10-20k segments')"
   echo "scale: data sets of 0.12-5M segments (the paper's are larger; this is a 2-core CPU rasterizer)"
   echo "orbit: $frames frames over 360 degrees about z; ms = median wall time (timings.csv \`frame\`, cpu_ms) of frames 1-$((frames - 1))"
-  echo "transparency: k-buffer, style.opacity 0.3; AO: render.ao defaults"
-  echo "culling: $([ "$culling" = 1 ] && echo 'render.culling.enabled=true (slices and threshold at their defaults)' || echo 'not run (n/a)')"
+  echo "configuration: render.preset=gross2020 (k = 4, culling, AO cache none); transparency: k-buffer, style.opacity 0.3; AO: render.ao defaults otherwise"
+  echo "culling: $([ "$culling" = 1 ] && echo 'the preset'"'"'s (10 slices, threshold 0.95); off with render.culling.enabled=false in columns A and D' || echo 'not run (n/a)')"
   echo "machine: $(nproc) cores, ${renderer:-unknown GL renderer}; load average before/after: $load_before / $(cut -d' ' -f1-3 /proc/loadavg) (shared machine)"
   echo "date: $(date -u '+%Y-%m-%d %H:%M UTC'), total run time $((elapsed / 60)) min $((elapsed % 60)) s"
   echo "command: scripts/bench/paper_tables.sh $([ "$quick" = 1 ] && echo '--quick ')$([ "$culling" = 0 ] && echo '--no-culling ')$out"
@@ -156,7 +159,7 @@ if command -v gnuplot >/dev/null; then
   awk -F, 'NR > 1 && $11 == "ok"' "$out/results.csv" > "$out/ok.csv"
   for mode in opaque kbuffer; do
     awk -F, -v m="$mode" '
-      $4 == m && ($5 == 0 || $5 == 8) { t[$1 "|" $3 "|" $6 "|" $7] = $9; if (!($1 in seen)) { seen[$1] = 1; o[++n] = $1 } }
+      $4 == m && ($5 == 0 || $5 == 4) { t[$1 "|" $3 "|" $6 "|" $7] = $9; if (!($1 in seen)) { seen[$1] = 1; o[++n] = $1 } }
       END { print "set A B C D E F"
             for (i = 1; i <= n; i++) { s = o[i]; line = s
               for (v = 1; v <= 2; v++) { view = (v == 1) ? "far" : "near"
@@ -165,7 +168,7 @@ if command -v gnuplot >/dev/null; then
               print line } }' "$out/ok.csv" > "$out/chart_$mode.dat"
   done
   awk -F, '$4 == "kbuffer" && $3 == "far" && $7 == 0 { print $1, $6, $5, $9 }' "$out/ok.csv" | sort -k1,1 -k2,2n -k3,3n > "$out/chart_k.dat"
-  awk -F, '$4 == "kbuffer" && $5 == 8 && $3 == "far" && $6 == 0 && $7 == 0 { print $1, $10 }' "$out/ok.csv" > "$out/chart_sort.dat"
+  awk -F, '$4 == "kbuffer" && $5 == 4 && $3 == "far" && $6 == 0 && $7 == 0 { print $1, $10 }' "$out/ok.csv" > "$out/chart_sort.dat"
   if gnuplot > "$out/gnuplot.log" 2>&1 <<EOF
 set terminal pngcairo size 1600,1000 font ",10" noenhanced
 set output "$out/tables.png"
@@ -178,7 +181,7 @@ set key outside right top
 set ylabel "ms per frame"
 set title "Table 2a: opaque (A far, B +culling, C +culling+AO, D near, E +culling, F +culling+AO)"
 plot for [c=2:7] "$out/chart_opaque.dat" using c:xtic(1) title columnheader(c)
-set title "Table 2b: k-buffer k=8, opacity 0.3"
+set title "Table 2b: k-buffer k=4, opacity 0.3"
 plot for [c=2:7] "$out/chart_kbuffer.dat" using c:xtic(1) title columnheader(c)
 unset style
 set style data linespoints
@@ -195,7 +198,7 @@ unset xlabel
 set style data histograms
 set style fill solid 0.8 border -1
 set ylabel "ms"
-set title "Table 1: sort (GPU radix sort, k-buffer k=8, far)"
+set title "Table 1: sort (GPU radix sort, k-buffer k=4, far)"
 plot "$out/chart_sort.dat" using 2:xtic(1) notitle
 unset multiplot
 EOF

@@ -53,21 +53,21 @@ NR == 1 { next }
 END {
   print "## Table 1: sorting time per data set"
   print ""
-  print "GPU radix sort of the per-segment depth keys (`sort` stage, ms, median), k-buffer k = 8 without culling."
+  print "GPU radix sort of the per-segment depth keys (`sort` stage, ms, median), k-buffer k = 4 without culling."
   print ""
   print "| data set | segments | sort, far (ms) | sort, near (ms) |"
   print "|---|---:|---:|---:|"
   for (i = 1; i <= nsets; i++) {
     s = order[i]
-    f = s "|far|kbuffer|8|0|0"; n = s "|near|kbuffer|8|0|0"
+    f = s "|far|kbuffer|4|0|0"; n = s "|near|kbuffer|4|0|0"
     printf "| %s | %s | %s | %s |\n", s, seg(segments[s]), (f in status && status[f] == "ok") ? sortms[f] : cell(f),
            (n in status && status[n] == "ok") ? sortms[n] : cell(n)
   }
   for (t = 1; t <= 2; t++) {
-    mode = (t == 1) ? "opaque" : "kbuffer"; k = (t == 1) ? 0 : 8
+    mode = (t == 1) ? "opaque" : "kbuffer"; k = (t == 1) ? 0 : 4
     print ""
     if (t == 1) print "## Table 2a: opaque rendering, ms per frame"
-    else print "## Table 2b: transparent rendering (k-buffer, k = 8), ms per frame"
+    else print "## Table 2b: transparent rendering (k-buffer, k = 4), ms per frame"
     print ""
     print "A far, B far + culling, C far + culling + AO, D near, E near + culling, F near + culling + AO; speed-up of culling = A/B and D/E."
     print ""

@@ -15,9 +15,11 @@ namespace {
 
 class BillboardPaths : public test::GlTest {};
 
-FrameImages renderWith(const StyledLines& lines, BillboardPath path, Transparency transparency) {
+FrameImages renderWith(const StyledLines& lines, BillboardPath path, Transparency transparency,
+                       BillboardShape shape = BillboardShape::Gross2020) {
     Scene scene;
     scene.render.billboards = path;
+    scene.render.billboardShape = shape;
     scene.render.transparency = transparency;
     scene.output.aovId = true;
     auto technique = gl::createTechnique(scene, lines);
@@ -56,6 +58,28 @@ TEST_F(BillboardPaths, ComputeAndGeometryPathsRenderIdenticalKBufferImages) {
     FrameImages compute = renderWith(lines, BillboardPath::Compute, Transparency::KBuffer);
     FrameImages geometry = renderWith(lines, BillboardPath::Geometry, Transparency::KBuffer);
     EXPECT_EQ(compute.rgba, geometry.rgba);
+}
+
+// Both billboard shapes contain every cone's silhouette (tests/unit/billboard_test.cpp), and a
+// pixel's colour does not depend on which quad produced its fragment: the images are identical,
+// on every path. A shape that cut a silhouette would lose pixels here.
+TEST_F(BillboardPaths, Gross2020AndRectangleBillboardsRenderIdenticalImagesOnEveryPath) {
+    test::RandomSceneOptions options;
+    options.polylines = 8;
+    StyledLines lines = test::randomLineScene(13, options);
+    for (BillboardPath path : {BillboardPath::Compute, BillboardPath::Vertex, BillboardPath::Geometry}) {
+        FrameImages paper = renderWith(lines, path, Transparency::Opaque, BillboardShape::Gross2020);
+        FrameImages rectangle = renderWith(lines, path, Transparency::Opaque, BillboardShape::Rectangle);
+        EXPECT_EQ(paper.rgba, rectangle.rgba);
+        EXPECT_EQ(paper.depth, rectangle.depth);
+        EXPECT_EQ(paper.id, rectangle.id);
+        std::size_t covered = 0;
+        for (auto id : paper.id) covered += id != kBackgroundId;
+        EXPECT_GT(covered, paper.id.size() / 20);
+    }
+    for (auto& c : lines.color) c.w = 0.4f;
+    EXPECT_EQ(renderWith(lines, BillboardPath::Compute, Transparency::KBuffer, BillboardShape::Gross2020).rgba,
+              renderWith(lines, BillboardPath::Compute, Transparency::KBuffer, BillboardShape::Rectangle).rgba);
 }
 
 }  // namespace

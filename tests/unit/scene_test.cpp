@@ -371,6 +371,51 @@ TEST(Scene, AoCacheDefaultsToPrecomputedAndTakesNone) {
               "scene.json: render.ao.cache: expected one of \"precomputed\", \"none\", got \"vertex\"");
 }
 
+TEST(Scene, BillboardShapeDefaultsToTheGross2020QuadAndTakesRectangle) {
+    EXPECT_EQ(parseScene(kMinimal, "scene.json").render.billboardShape, BillboardShape::Gross2020);
+    EXPECT_EQ(parseScene(kMinimal, "scene.json", {"render.billboard_shape=rectangle"}).render.billboardShape,
+              BillboardShape::Rectangle);
+    EXPECT_EQ(errorOf(with(R"({"render": {"billboard_shape": "box"}})")),
+              "scene.json: render.billboard_shape: expected one of \"gross2020\", \"rectangle\", got \"box\"");
+}
+
+TEST(Scene, Gross2020PresetSetsThePapersConfigurationAndExplicitKeysWin) {
+    // Without the preset: k = 8, no culling, cached AO.
+    Scene plain = parseScene(with(R"({"render": {"ao": {}}})"), "scene.json");
+    EXPECT_EQ(plain.render.kbufferK, 8);
+    EXPECT_FALSE(plain.render.culling.enabled);
+    EXPECT_EQ(plain.render.ao.cache, AoSpec::Cache::Precomputed);
+
+    // Groß & Gumhold 2020, Sect. 6: k = 4, culling, AO cone traced per fragment.
+    Scene paper = parseScene(with(R"({"render": {"preset": "gross2020", "ao": {}}})"), "scene.json");
+    EXPECT_EQ(paper.render.kbufferK, 4);
+    EXPECT_TRUE(paper.render.culling.enabled);
+    EXPECT_EQ(paper.render.culling.slices, 10);
+    EXPECT_EQ(paper.render.ao.cache, AoSpec::Cache::None);
+    EXPECT_TRUE(paper.render.ao.enabled);  // the ao block enables AO, the preset does not
+    EXPECT_FALSE(parseScene(with(R"({"render": {"preset": "gross2020"}})"), "scene.json").render.ao.enabled);
+
+    // Keys given in the file or with --set override the preset, in either order of keys.
+    Scene file = parseScene(with(R"({"render": {"kbuffer": {"k": 16}, "preset": "gross2020",
+                                                "culling": {"enabled": false}, "ao": {"cache": "precomputed"}}})"),
+                            "scene.json");
+    EXPECT_EQ(file.render.kbufferK, 16);
+    EXPECT_FALSE(file.render.culling.enabled);
+    EXPECT_EQ(file.render.ao.cache, AoSpec::Cache::Precomputed);
+    Scene set = parseScene(kMinimal, "scene.json",
+                           {"render.preset=gross2020", "render.kbuffer.k=2", "render.culling.enabled=false"});
+    EXPECT_EQ(set.render.kbufferK, 2);
+    EXPECT_FALSE(set.render.culling.enabled);
+    EXPECT_EQ(set.render.ao.cache, AoSpec::Cache::None);
+    Scene slices = parseScene(kMinimal, "scene.json", {"render.preset=gross2020", "render.culling.slices=4"});
+    EXPECT_TRUE(slices.render.culling.enabled);
+    EXPECT_EQ(slices.render.culling.slices, 4);
+
+    EXPECT_EQ(errorOf(kMinimal, {"render.preset=gross"}),
+              "--set render.preset: expected one of \"none\", \"gross2020\", got \"gross\"");
+    EXPECT_EQ(parseScene(with(R"({"render": {"preset": "none"}})"), "scene.json").render.kbufferK, 8);
+}
+
 // ---- attribute mappings ----------------------------------------------------------------------
 
 TEST(Scene, AttributeMappingsRequireTheAttribute) {
