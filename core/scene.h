@@ -210,7 +210,7 @@ enum class SphereDensity { Constant, L2, HollowConstant, HollowL2 };
 struct SpheresSpec {
     SphereDensity density = SphereDensity::Constant;
     float innerRadius = 0.5f;       // hollow models: inner radius as a fraction of the radius, [0, 0.99]
-    float alphaRv = 0.5f;           // Eq. 2: weight of the surface (Blinn-Phong) term vs. volume emission
+    float alphaRv = 0.5f;           // Eq. 2: weight of the volume emission (colour) vs. the surface term
     float alphaA = 0.5f;            // Eq. 7: weight of the coloured ambient light L_A (with render.ao)
     int chunks = 20;                // Sect. 5.2: early-z chunks of the sorted particles; 1 = off
     float earlyZThreshold = 0.99f;  // pixels with alpha above this are skipped by later chunks

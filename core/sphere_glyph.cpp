@@ -83,7 +83,9 @@ float sphereRayOpacity(SphereDensity model, float k, float thetaMax, const Ray& 
 glm::vec3 sphereEmission(glm::vec3 base, glm::vec3 n, glm::vec3 dir, glm::vec3 lightDir, const LightingSpec& light,
                          float alphaRv, float alphaA, float ao, glm::vec3 ambientLight) {
     glm::vec3 surface = shadeBlinnPhong(base, n, dir, lightDir, light);
-    glm::vec3 c = ao * ((1.0f - alphaRv) * base + alphaRv * surface) + alphaA * ambientLight;
+    // Staib et al. 2015, Eq. 2: L_RV = Theta ((1 - alpha_RV) L_R + alpha_RV c) (Theta: the caller's
+    // premultiplication), then Eq. 7: A_O L_RV + alpha_A L_A.
+    glm::vec3 c = ao * ((1.0f - alphaRv) * surface + alphaRv * base) + alphaA * ambientLight;
     return glm::clamp(c, glm::vec3(0.0f), glm::vec3(1.0f));
 }
 

@@ -50,7 +50,8 @@ float sphereRayOpacity(SphereDensity model, float innerRatio, float thetaMax, co
 
 // Emission of a particle at a ray's entry point (Eq. 2 and 7): the Blinn-Phong surface term
 // (core/shading.h, normal n at the entry) mixed with the volume emission `base` by alphaRv,
-// times the ambient occlusion factor ao, plus alphaA times the coloured ambient light. Clamped to
+// (1 - alphaRv) surface + alphaRv base (alphaRv = 0: the surface alone, 1: the particle colour
+// alone), times the ambient occlusion factor ao, plus alphaA times the coloured ambient light. Clamped to
 // [0, 1] like every blended colour. All linear RGB, not premultiplied.
 glm::vec3 sphereEmission(glm::vec3 base, glm::vec3 n, glm::vec3 dir, glm::vec3 lightDir, const LightingSpec& light,
                          float alphaRv, float alphaA, float ao, glm::vec3 ambientLight);
