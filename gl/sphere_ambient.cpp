@@ -62,7 +62,7 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
             glTextureParameteri(m_volume.id(), wrap, GL_CLAMP_TO_BORDER);
         const float border[4] = {0, 0, 0, 0};
         glTextureParameterfv(m_volume.id(), GL_TEXTURE_BORDER_COLOR, border);
-        m_accumulator = makeBuffer(voxels * 4 * sizeof(GLuint));
+        m_accumulator = makeBuffer(voxels * 8 * sizeof(GLuint));  // shaders/sphere_voxelize.comp
         const GLuint zero = 0;
         glClearNamedBufferData(m_accumulator.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     }

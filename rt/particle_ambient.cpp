@@ -49,9 +49,14 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
     m_voxelSize = voxel;
     const std::size_t voxels = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
 
-    // shaders/sphere_voxelize.comp: integer coverage sums with atomic adds (associative, so the
-    // grid does not depend on the thread count or schedule).
-    std::vector<std::uint32_t> acc(4 * voxels, 0u);
+    // shaders/sphere_voxelize.comp: the overlap weight of Staib et al. 2015, Sect. 5.1 (a sphere
+    // inside one voxel: its volume fraction; a voxel inside the sphere: 1; else 3x3x3 sub-samples)
+    // in fixed point, summed in 64-bit integers with atomic adds (associative, so the grid does not
+    // depend on the thread count or schedule).
+    constexpr std::uint32_t kUnitsPerSample = 65536u;
+    constexpr std::uint32_t kFullCoverage = 27u * kUnitsPerSample;
+    constexpr float kSphereVolume = 4.18879020f;  // 4/3 pi
+    std::vector<std::uint64_t> acc(4 * voxels, 0u);
     const glm::vec3 origin = m_origin;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, particles.size(), 1024), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -74,34 +79,38 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
                         const glm::vec3 nearest = glm::clamp(c, vlo, vhi) - c;
                         if (glm::dot(nearest, nearest) >= r2) continue;
                         const glm::vec3 farthest = glm::max(glm::abs(vlo - c), glm::abs(vhi - c));
-                        std::uint32_t n = 27u;
-                        if (glm::dot(farthest, farthest) > r2) {
-                            n = 0u;
+                        std::uint32_t w = kFullCoverage;
+                        if (glm::all(glm::greaterThanEqual(c - r, vlo)) && glm::all(glm::lessThanEqual(c + r, vhi))) {
+                            // nearbyint: round half to even, as GLSL roundEven.
+                            w = std::uint32_t(std::nearbyint(kSphereVolume * r * r * r * float(kFullCoverage)));
+                        } else if (glm::dot(farthest, farthest) > r2) {
+                            std::uint32_t n = 0u;
                             for (int k = 0; k < 27; ++k) {
                                 const glm::vec3 s =
                                     vlo + (glm::vec3(float(k % 3), float((k / 3) % 3), float(k / 9)) + 0.5f) / 3.0f - c;
                                 n += glm::dot(s, s) < r2 ? 1u : 0u;
                             }
-                            if (n == 0u) continue;
+                            w = n * kUnitsPerSample;
                         }
+                        if (w == 0u) continue;
                         const std::size_t v =
                             4 * (std::size_t(x) +
                                  std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z)));
-                        const std::uint32_t w = n * opacity;
-                        std::atomic_ref<std::uint32_t>(acc[v + 0]).fetch_add(w * rgb.x, std::memory_order_relaxed);
-                        std::atomic_ref<std::uint32_t>(acc[v + 1]).fetch_add(w * rgb.y, std::memory_order_relaxed);
-                        std::atomic_ref<std::uint32_t>(acc[v + 2]).fetch_add(w * rgb.z, std::memory_order_relaxed);
-                        std::atomic_ref<std::uint32_t>(acc[v + 3]).fetch_add(w, std::memory_order_relaxed);
+                        const std::uint64_t wo = std::uint64_t(w) * opacity;
+                        std::atomic_ref<std::uint64_t>(acc[v + 0]).fetch_add(wo * rgb.x, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint64_t>(acc[v + 1]).fetch_add(wo * rgb.y, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint64_t>(acc[v + 2]).fetch_add(wo * rgb.z, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint64_t>(acc[v + 3]).fetch_add(wo, std::memory_order_relaxed);
                     }
         }
     });
-    // shaders/sphere_volume_resolve.comp.
+    // shaders/sphere_volume_resolve.comp: the quotient in double, rounded to float.
+    const double rgbScale = double(kFullCoverage) * 255.0 * 255.0, alphaScale = double(kFullCoverage) * 255.0;
     std::vector<glm::vec4> level0(voxels);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels, 4096), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v)
-            level0[v] = glm::vec4(
-                float(acc[4 * v]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 1]) / (27.0f * 255.0f * 255.0f),
-                float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
+            level0[v] = glm::vec4(float(double(acc[4 * v]) / rgbScale), float(double(acc[4 * v + 1]) / rgbScale),
+                                  float(double(acc[4 * v + 2]) / rgbScale), float(double(acc[4 * v + 3]) / alphaScale));
     });
     acc = {};
     if (region.reduceDensity) {

@@ -3,8 +3,8 @@
 // Staib, Grottel & Gumhold 2015, Eq. 2 and 7), the two render.ao.method variants:
 // - "cone_traced": the CPU twin of gl::SphereAmbient (gl/sphere_ambient.h), so the ray-traced
 //   spheres look like the GL `spheres` technique's: the spheres voxelized into an RGBA grid exactly
-//   as shaders/sphere_voxelize.comp + sphere_volume_resolve.comp do (3x3x3 sub-sample coverage in
-//   integer 27ths x opacity255 x colour255, the same grid placement), the mip pyramid of
+//   as shaders/sphere_voxelize.comp + sphere_volume_resolve.comp do (the overlap weight of
+//   Sect. 5.1 in fixed point x opacity255 x colour255, 64-bit sums, the same grid placement), the mip pyramid of
 //   shaders/density_mip.comp on four channels, and the cones of shaders/sphere_ambient.glsl
 //   (sphereAmbient) ported line by line. With render.ao.cache "precomputed" (the default, as on
 //   the GL side) a sphere's six axis-normal points are traced into an ambient cube quantised like
