@@ -22,8 +22,9 @@ namespace tc::gl {
 class SphereAmbient {
 public:
     // Compiles the voxelization and mip programs (and the cache build when `cached`). Needs a
-    // current context.
-    static SphereAmbient create(const AoSpec& spec, bool cached);
+    // current context. `transfer`: the ambient transfer functions (render.spheres.ambient_*) that
+    // classify each sphere as it is voxelized.
+    static SphereAmbient create(const AoSpec& spec, bool cached, const AmbientTransfer& transfer = {});
     bool cached() const { return m_cached; }
 
     // Voxelizes the spheres into a grid of spec.resolution voxels along the longest axis of
@@ -58,8 +59,10 @@ private:
     SphereAmbient() = default;
 
     void buildCache(const Buffer& centerRadius, std::size_t count);
+    void setTransferUniforms(GLuint program) const;
 
     AoSpec m_spec;
+    AmbientTransfer m_transfer;
     bool m_cached = false;
     Program m_voxelize, m_voxelizeOwned, m_resolve, m_mip, m_cacheBuild;
     Buffer m_cache;  // 6 uint per sphere

@@ -35,7 +35,8 @@ const glm::vec3 kFaceNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0},
 
 // --- SphereVolume ------------------------------------------------------------------------------
 
-SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region) {
+SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region,
+                           const AmbientTransfer& transfer) {
     // The grid of gl::SphereAmbient::voxelize: spec.resolution cubic voxels along the longest axis
     // of the spheres' bounds, from bounds.lo.
     const Bounds& bounds = region.boundsOr(particles.bounds);
@@ -62,7 +63,9 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const glm::vec4 cr = particles.centerRadius[i];
             if (!owner.contains(glm::vec3(cr))) continue;
-            const glm::vec4 color = glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f));
+            const glm::vec4 color = glm::clamp(
+                ambientClassify(transfer, glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f))),
+                glm::vec4(0.0f), glm::vec4(1.0f));
             const std::uint32_t opacity = std::uint32_t(std::round(color.w * 255.0f));
             if (opacity == 0u) continue;
             const glm::uvec3 rgb(glm::round(glm::vec3(color) * 255.0f));
@@ -137,7 +140,7 @@ ParticleAmbient::ParticleAmbient(const AoSpec& spec, const SpheresSpec& spheres,
     const glm::vec3 extent = b.empty() ? glm::vec3(1.0f) : glm::max(b.extent(), glm::vec3(1e-6f));
     m_distance = spec.distance * glm::length(extent);  // as gl::SphereAmbient
     if (spec.method == AoSpec::Method::ConeTraced) {
-        m_volume = std::make_unique<SphereVolume>(spec, particles, region);
+        m_volume = std::make_unique<SphereVolume>(spec, particles, region, spheres.ambient);
         // gl::SphereAmbient::apply: the shaded sphere deposited itself around the point.
         m_startOffset = 1.5f * m_volume->voxelSize();
         if (spec.cache == AoSpec::Cache::Precomputed) {
@@ -247,7 +250,8 @@ AmbientTerms ParticleAmbient::rayTraced(const glm::vec3& p, const glm::vec3& n, 
     traceHemisphereRays(m_scene, origin, n, pixel, m, m_distance, [&](const RTCRayHit& rh, const glm::vec3& dir) {
         const std::uint32_t s = rh.hit.primID;
         const glm::vec4 cr = m_particles.centerRadius[s];
-        const glm::vec4 col = m_particles.color[s];
+        // The ambient transfer functions give the sphere's opacity and colour for these rays.
+        const glm::vec4 col = ambientClassify(m_spheres.ambient, m_particles.color[s]);
         float a = col.w;
         if (!m_opaque) {
             const SphereInterval iv = intersectSphere(Ray{origin, dir}, glm::vec3(cr), cr.w);
@@ -276,6 +280,7 @@ nlohmann::json ParticleAmbient::describe() const {
             {"aperture_deg", m_spec.apertureDeg},
             {"distance_world", m_distance},
             {"strength", m_spec.strength},
+            {"ambient_transfer", describeAmbientTransfer(m_spheres.ambient)},
             {"cache", m_cube ? "ambient cube per sphere, filled when a ray first hits the sphere" : "none"},
             {"voxelize_and_mips_ms", m_buildMs},
             {"volume_mb", double(m_volume->bytes()) / (1024.0 * 1024.0)}};

@@ -14,7 +14,8 @@
 // - "ray_traced": m x m stratified cosine-weighted hemisphere rays per shaded point against the
 //   particle BVH (as rt/ray_traced_ao.h for tubes; deterministic per pixel), each blocked by the
 //   first sphere it meets with that sphere's opacity along the ray (the density model's, or the
-//   particle opacity when the spheres are drawn opaque). A_O = (1 - mean blocked)^strength; L_A =
+//   particle opacity when the spheres are drawn opaque), opacity and colour classified by the
+//   ambient transfer functions (render.spheres.ambient_*, core/sphere_glyph.h ambientClassify). A_O = (1 - mean blocked)^strength; L_A =
 //   the mean of blocked x sphere colour (the light the occluders reflect, as the cones gather it).
 // Keep in lock-step with the shaders named above.
 #include <embree3/rtcore.h>
@@ -39,7 +40,9 @@ public:
     // `region` (data-parallel rendering): the grid of region.boundsOr(particles.bounds); with
     // region.reduceDensity only the spheres whose centre lies in region.box deposit and level 0
     // is replaced by the sum over all ranks before the mips (as gl::SphereAmbient::voxelize).
-    SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region = {});
+    // `transfer`: the ambient transfer functions (render.spheres.ambient_*) classify each sphere.
+    SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region = {},
+                 const AmbientTransfer& transfer = {});
 
     int levels() const { return m_mip.levels(); }
     const glm::ivec3& size() const { return m_mip.size(); }

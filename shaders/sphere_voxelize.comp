@@ -31,6 +31,36 @@ uniform vec3 uOwnerLo;
 uniform vec3 uOwnerHi;
 #endif
 
+// The ambient transfer functions (Staib et al. 2015, Sect. 3.2; core/scene.h AmbientTransfer):
+// piecewise linear over the particle opacity; a count of 0 is the identity.
+const int kMaxAmbientPoints = 16;
+uniform int uAmbientOpacityCount;
+uniform vec2 uAmbientOpacity[kMaxAmbientPoints];
+uniform int uAmbientEmissionCount;
+uniform vec2 uAmbientEmission[kMaxAmbientPoints];
+
+// The transfer function's value at t (ambientTransferAt of core/sphere_glyph.cpp, same order).
+float ambientTransferAt(vec2 points[kMaxAmbientPoints], int count, float t) {
+    if (t <= points[0].x) return points[0].y;
+    for (int i = 1; i < count; ++i)
+        if (t <= points[i].x) {
+            precise float w = points[i].x - points[i - 1].x;
+            if (!(w > 0.0)) return points[i].y;
+            precise float s = (t - points[i - 1].x) / w;
+            precise float v = points[i - 1].y * (1.0 - s) + points[i].y * s;
+            return v;
+        }
+    return points[count - 1].y;
+}
+
+// tc::ambientClassify: the colour x e_A(Theta), the opacity Theta_A(Theta), Theta = color.a.
+vec4 ambientClassify(vec4 color) {
+    vec4 c = color;
+    if (uAmbientEmissionCount > 0) c.rgb = color.rgb * ambientTransferAt(uAmbientEmission, uAmbientEmissionCount, color.a);
+    if (uAmbientOpacityCount > 0) c.a = ambientTransferAt(uAmbientOpacity, uAmbientOpacityCount, color.a);
+    return c;
+}
+
 const uint kUnitsPerSample = 65536u;
 const uint kFullCoverage = 27u * kUnitsPerSample;
 const float kSphereVolume = 4.18879020;  // 4/3 pi
@@ -50,7 +80,7 @@ void main() {
 #ifdef DENSITY_OWNER
     if (!(all(greaterThanEqual(cr.xyz, uOwnerLo)) && all(lessThan(cr.xyz, uOwnerHi)))) return;
 #endif
-    vec4 color = clamp(colors[i], vec4(0.0), vec4(1.0));
+    vec4 color = clamp(ambientClassify(clamp(colors[i], vec4(0.0), vec4(1.0))), vec4(0.0), vec4(1.0));
     uint opacity = uint(round(color.a * 255.0));
     if (opacity == 0u) return;
     uvec3 rgb = uvec3(round(color.rgb * 255.0));

@@ -257,29 +257,35 @@ TEST_F(SphereAmbientTest, gpu_voxelization_matches_the_cpu_twin) {
     }
     AoSpec spec;
     spec.resolution = 32;
-    gl::SphereAmbient ambient = gl::SphereAmbient::create(spec, /*cached=*/false);
-    ambient.voxelize(p, p.bounds);
-    const std::vector<glm::vec4> v = ambient.readLevel0();
-    const rt::SphereVolume cpu(spec, p);
-    ASSERT_EQ(cpu.size(), ambient.size());
-    const glm::ivec3 n = ambient.size();
-    std::size_t equal = 0, nonzero = 0;
-    float worst = 0;
-    for (int z = 0; z < n.z; ++z)
-        for (int y = 0; y < n.y; ++y)
-            for (int x = 0; x < n.x; ++x) {
-                const glm::vec4 g = v[std::size_t(x + n.x * (y + n.y * z))], c = cpu.fetch(0, x, y, z);
-                equal += g == c ? 1 : 0;
-                nonzero += g.w > 0.0f ? 1 : 0;
-                for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(g[k] - c[k]));
-            }
-    std::printf("[ info ] %zu of %zu voxels bit-identical (%zu non-empty), worst |diff| %.2e\n", equal, v.size(),
-                nonzero, worst);
-    EXPECT_GT(nonzero, v.size() / 10);
-    // A sub-sample or containment test decided differently by an ulp of c or r (llvmpipe's
-    // division) moves at most one sub-sample: 1/27 of a voxel.
-    EXPECT_LE(worst, 1.0f / 27.0f);
-    EXPECT_GE(double(equal), 0.999 * double(v.size()));
+    // The primary transfer function, and ambient ones (render.spheres.ambient_*) with a step.
+    AmbientTransfer shaped;
+    shaped.opacity = {{0.0f, 0.1f}, {0.5f, 0.9f}, {0.5f, 0.4f}, {1.0f, 0.2f}};
+    shaped.emission = {{0.0f, 1.0f}, {0.7f, 0.3f}, {1.0f, 0.0f}};
+    for (const AmbientTransfer& transfer : {AmbientTransfer{}, shaped}) {
+        gl::SphereAmbient ambient = gl::SphereAmbient::create(spec, /*cached=*/false, transfer);
+        ambient.voxelize(p, p.bounds);
+        const std::vector<glm::vec4> v = ambient.readLevel0();
+        const rt::SphereVolume cpu(spec, p, {}, transfer);
+        ASSERT_EQ(cpu.size(), ambient.size());
+        const glm::ivec3 n = ambient.size();
+        std::size_t equal = 0, nonzero = 0;
+        float worst = 0;
+        for (int z = 0; z < n.z; ++z)
+            for (int y = 0; y < n.y; ++y)
+                for (int x = 0; x < n.x; ++x) {
+                    const glm::vec4 g = v[std::size_t(x + n.x * (y + n.y * z))], c = cpu.fetch(0, x, y, z);
+                    equal += g == c ? 1 : 0;
+                    nonzero += g.w > 0.0f ? 1 : 0;
+                    for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(g[k] - c[k]));
+                }
+        std::printf("[ info ] %zu of %zu voxels bit-identical (%zu non-empty), worst |diff| %.2e\n", equal, v.size(),
+                    nonzero, worst);
+        EXPECT_GT(nonzero, v.size() / 10);
+        // A sub-sample or containment test decided differently by an ulp of c or r (llvmpipe's
+        // division) moves at most one sub-sample: 1/27 of a voxel.
+        EXPECT_LE(worst, 1.0f / 27.0f);
+        EXPECT_GE(double(equal), 0.999 * double(v.size()));
+    }
 }
 
 class SphereAmbientModes : public GlTest, public ::testing::WithParamInterface<AoSpec::Cache> {};
@@ -377,6 +383,73 @@ TEST_P(SphereAmbientModes, ambient_occlusion_darkens_a_sphere_among_others) {
     const float inner = lum(0.5f + 0.09f), outer = lum(1.0f + 0.09f);
     EXPECT_GT(outer, 0.0f);
     EXPECT_LT(inner, outer * 0.97f) << inner << " vs " << outer;
+}
+
+// Staib et al. 2015, Sect. 3.2: the ambient transfer functions tau_A and e_A
+// (render.spheres.ambient_opacity / ambient_emission) act on the ambient terms and only on them.
+// Transparent spheres with AO and coloured ambient light on a dense cluster:
+//   - ambient opacity 0 empties the volume: A_O = 1, L_A = 0, the image without AO;
+//   - ambient emission 0 keeps A_O and removes L_A: the image with alpha_a = 0;
+//   - a partial ambient opacity changes the image; the identity functions give the default image;
+//   - without AO the functions change nothing.
+TEST_F(SphereAmbientTest, ambient_transfer_functions_change_the_ambient_terms_and_only_them) {
+    std::mt19937 rng(8);
+    auto u = [&](float lo, float hi) { return lo + (hi - lo) * float(rng() >> 8) / 16777216.0f; };
+    std::vector<glm::vec4> cr;
+    for (int i = 0; i < 400; ++i) cr.push_back(glm::vec4(u(0, 1), u(0, 1), u(0, 1), u(0.03f, 0.07f)));
+    StyledParticles p = spheres(cr);
+    for (std::size_t i = 0; i < p.size(); ++i) p.color[i] = glm::vec4(u(0.2f, 1), u(0.2f, 1), u(0.2f, 1), u(0.3f, 1));
+    Camera cam;
+    cam.eye = {0.5f, -1.6f, 1.2f};
+    cam.target = {0.5f, 0.5f, 0.5f};
+    cam.up = {0, 0, 1};
+    const int w = 96, h = 72;
+    auto render = [&](bool ao, float alphaA, const AmbientTransfer& transfer) {
+        Scene scene;
+        scene.render.technique = RenderTechnique::Spheres;
+        scene.render.transparency = Transparency::ObjectOrder;
+        scene.render.spheres.chunks = 1;
+        scene.render.ao.enabled = ao;
+        scene.render.ao.resolution = 48;
+        scene.render.spheres.alphaA = alphaA;
+        scene.render.spheres.ambient = transfer;
+        scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+        auto renderer = gl::SphereRenderer::create(scene, p);
+        FrameImages img;
+        gl::StageTimer timer;
+        renderer->render(tc::FrameSetup{0, cam, w, h}, img, timer);
+        timer.collect();
+        return img.rgba;
+    };
+    auto maxDiff = [](const std::vector<float>& a, const std::vector<float>& b) {
+        float m = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+        return m;
+    };
+    const std::vector<glm::vec2> zero{{0.0f, 0.0f}, {1.0f, 0.0f}};
+    AmbientTransfer noOpacity, noEmission, half, identity;
+    noOpacity.opacity = zero;
+    noEmission.emission = zero;
+    half.opacity = {{0.0f, 0.0f}, {1.0f, 0.5f}};
+    identity.opacity = {{0.0f, 0.0f}, {1.0f, 1.0f}};
+    identity.emission = {{0.0f, 1.0f}, {1.0f, 1.0f}};
+
+    const std::vector<float> base = render(true, 0.6f, {});
+    const std::vector<float> noAo = render(false, 0.6f, {});
+    const std::vector<float> noLight = render(true, 0.0f, {});
+    ASSERT_GT(maxDiff(base, noAo), 0.05f);     // AO and L_A show in this scene ...
+    ASSERT_GT(maxDiff(base, noLight), 0.05f);  // ... and L_A alone too
+    // The programs with and without AMBIENT_OCCLUSION are compiled differently (llvmpipe contracts
+    // other multiply-adds; measured 2.5e-5), hence not 0.
+    EXPECT_LE(maxDiff(render(true, 0.6f, noOpacity), noAo), 1e-4f);
+    EXPECT_LE(maxDiff(render(true, 0.6f, noEmission), noLight), 1e-6f);
+    const float halfDiff = maxDiff(render(true, 0.6f, half), base);
+    const float identityDiff = maxDiff(render(true, 0.6f, identity), base);
+    std::printf("[ info ] ambient opacity x 0.5: max |diff| %.3f; identity functions: %.2e\n", halfDiff, identityDiff);
+    EXPECT_GT(halfDiff, 0.02f);
+    EXPECT_LE(identityDiff, 1e-6f);
+    EXPECT_EQ(render(false, 0.6f, noOpacity), noAo);
+    EXPECT_EQ(render(false, 0.6f, half), noAo);
 }
 
 INSTANTIATE_TEST_SUITE_P(ExactAndCached, SphereAmbientModes,
