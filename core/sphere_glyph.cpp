@@ -109,7 +109,8 @@ float ambientTransferAt(const std::vector<glm::vec2>& points, float t) {
 
 glm::vec4 ambientClassify(const AmbientTransfer& transfer, const glm::vec4& color) {
     glm::vec4 c = color;
-    if (!transfer.emission.empty()) c = glm::vec4(glm::vec3(color) * ambientTransferAt(transfer.emission, color.w), c.w);
+    if (!transfer.emission.empty())
+        c = glm::vec4(glm::vec3(color) * ambientTransferAt(transfer.emission, color.w), c.w);
     if (!transfer.opacity.empty()) c.w = ambientTransferAt(transfer.opacity, color.w);
     return c;
 }

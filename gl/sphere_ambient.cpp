@@ -145,8 +145,7 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
 void SphereAmbient::setTransferUniforms(GLuint p) const {
     const auto set = [p](const std::vector<glm::vec2>& points, const char* count, const char* array) {
         glProgramUniform1i(p, uniformLocation(p, count), GLint(points.size()));
-        if (!points.empty())
-            glProgramUniform2fv(p, uniformLocation(p, array), GLsizei(points.size()), &points[0][0]);
+        if (!points.empty()) glProgramUniform2fv(p, uniformLocation(p, array), GLsizei(points.size()), &points[0][0]);
     };
     set(m_transfer.opacity, "uAmbientOpacityCount", "uAmbientOpacity");
     set(m_transfer.emission, "uAmbientEmissionCount", "uAmbientEmission");

@@ -63,9 +63,9 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const glm::vec4 cr = particles.centerRadius[i];
             if (!owner.contains(glm::vec3(cr))) continue;
-            const glm::vec4 color = glm::clamp(
-                ambientClassify(transfer, glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f))),
-                glm::vec4(0.0f), glm::vec4(1.0f));
+            const glm::vec4 color =
+                glm::clamp(ambientClassify(transfer, glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f))),
+                           glm::vec4(0.0f), glm::vec4(1.0f));
             const std::uint32_t opacity = std::uint32_t(std::round(color.w * 255.0f));
             if (opacity == 0u) continue;
             const glm::uvec3 rgb(glm::round(glm::vec3(color) * 255.0f));

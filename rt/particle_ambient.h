@@ -15,8 +15,9 @@
 //   particle BVH (as rt/ray_traced_ao.h for tubes; deterministic per pixel), each blocked by the
 //   first sphere it meets with that sphere's opacity along the ray (the density model's, or the
 //   particle opacity when the spheres are drawn opaque), opacity and colour classified by the
-//   ambient transfer functions (render.spheres.ambient_*, core/sphere_glyph.h ambientClassify). A_O = (1 - mean blocked)^strength; L_A =
-//   the mean of blocked x sphere colour (the light the occluders reflect, as the cones gather it).
+//   ambient transfer functions (render.spheres.ambient_*, core/sphere_glyph.h ambientClassify).
+//   A_O = (1 - mean blocked)^strength; L_A = the mean of blocked x sphere colour (the light the
+//   occluders reflect, as the cones gather it).
 // Keep in lock-step with the shaders named above.
 #include <embree3/rtcore.h>
 

@@ -191,7 +191,8 @@ double overlapVolume(const glm::vec4& s, glm::vec3 lo) {
 // A sphere straddling voxels (Sect. 5.1's partial overlaps, 3x3x3 sub-samples) splits its volume
 // among them: each voxel within its sampling bound (sub-cells the surface cuts / 27) of the exact
 // overlap, and in total within 8 % of 4/3 pi r^3 (measured: 5.4 % for r = 0.9 voxel over 16
-// voxels, 0.4 % for r = 1.7 over 59: the sampling error shrinks with the radius). Voxels the sphere misses get 0, and the CPU twin deposits the same.
+// voxels, 0.4 % for r = 1.7 over 59: the sampling error shrinks with the radius). Voxels the sphere misses get 0, and
+// the CPU twin deposits the same.
 TEST_F(SphereAmbientTest, a_sphere_straddling_voxels_splits_its_volume) {
     for (const glm::vec4& s : {glm::vec4(2.3f, 2.05f, 1.6f, 0.9f), glm::vec4(3.1f, 2.6f, 2.95f, 1.7f)}) {
         StyledParticles p = spheres({s});

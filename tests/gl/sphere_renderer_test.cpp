@@ -254,7 +254,8 @@ TEST_F(SphereRendererTest, alpha_rv_weights_the_volume_emission_as_eq2_and_match
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y * w + x);
-            if (plain.rgba[4 * i + 3] < 1.0f || plainRef.rgba[4 * i + 3] < 1.0f || grazing(p, cam, w, h, x, y)) continue;
+            if (plain.rgba[4 * i + 3] < 1.0f || plainRef.rgba[4 * i + 3] < 1.0f || grazing(p, cam, w, h, x, y))
+                continue;
             ++covered;
             // The first sphere along the ray (the reference's id) is opaque: its colour alone.
             const glm::vec4& c = p.color[plainRef.id[i]];
@@ -273,7 +274,8 @@ TEST_F(SphereRendererTest, alpha_rv_weights_the_volume_emission_as_eq2_and_match
             if (grazing(p, cam, w, h, x, y)) continue;
             const std::size_t i = std::size_t(y * w + x);
             for (int k = 0; k < 4; ++k)
-                worst = std::max(worst, std::abs(mixed.rgba[4 * i + std::size_t(k)] - mixedRef.rgba[4 * i + std::size_t(k)]));
+                worst = std::max(worst,
+                                 std::abs(mixed.rgba[4 * i + std::size_t(k)] - mixedRef.rgba[4 * i + std::size_t(k)]));
             shading = std::max(shading, std::abs(mixed.rgba[4 * i] - plain.rgba[4 * i] * 0.7f));
         }
     EXPECT_LE(worst, kReferenceTolerance);

@@ -317,8 +317,7 @@ TEST(SceneSpheres, keys_are_validated) {
     Scene a = parseScene(doc, "s.json",
                          {"render.spheres.ambient_opacity=[[0, 0], [0.5, 0.2], [1, 0.4]]",
                           "render.spheres.ambient_emission=[[0, 1], [1, 0.25]]"});
-    EXPECT_EQ(a.render.spheres.ambient.opacity,
-              (std::vector<glm::vec2>{{0.0f, 0.0f}, {0.5f, 0.2f}, {1.0f, 0.4f}}));
+    EXPECT_EQ(a.render.spheres.ambient.opacity, (std::vector<glm::vec2>{{0.0f, 0.0f}, {0.5f, 0.2f}, {1.0f, 0.4f}}));
     EXPECT_EQ(a.render.spheres.ambient.emission, (std::vector<glm::vec2>{{0.0f, 1.0f}, {1.0f, 0.25f}}));
     const glm::vec4 classified = ambientClassify(a.render.spheres.ambient, {0.8f, 0.4f, 0.2f, 0.75f});
     const glm::vec4 expected(0.8f * 0.4375f, 0.4f * 0.4375f, 0.2f * 0.4375f, 0.3f);  // e_A(0.75), Theta_A(0.75)
@@ -328,9 +327,10 @@ TEST(SceneSpheres, keys_are_validated) {
     fails("render.spheres.ambient_opacity=[[0, 0], [1, 1.5]]", "render.spheres.ambient_opacity[1]");
     fails("render.spheres.ambient_emission=[[0.5, 0], [0.2, 1]]", "render.spheres.ambient_emission[1]");
     fails("render.spheres.ambient_emission=[[0, 0], \"x\"]", "render.spheres.ambient_emission[1]");
-    fails("render.spheres.ambient_emission=[[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],"
-          "[0,0],[0,0],[0,0],[0,0],[0,0],[1,0]]",
-          "render.spheres.ambient_emission");
+    fails(
+        "render.spheres.ambient_emission=[[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],"
+        "[0,0],[0,0],[0,0],[0,0],[0,0],[1,0]]",
+        "render.spheres.ambient_emission");
     fails("dataset.lines=5", "dataset.lines");
 }
 
