@@ -1,6 +1,8 @@
 // GPU voxelization of sphere glyphs for AO and ambient light (gl/sphere_ambient.h): the deposited
 // coverage against the spheres' analytic volume within the 3x3x3 sampling bound, exact
-// containment, and the cone traced AO darkening a sphere among others.
+// containment, sub-voxel spheres adding their volume fractions, a straddling sphere's split, the
+// CPU twin's volume, the ambient transfer functions, and the cone traced AO darkening a sphere
+// among others.
 #include "gl/sphere_ambient.h"
 
 #include <gtest/gtest.h>
