@@ -64,7 +64,7 @@ FrameImages renderParticlesReference(const StyledParticles& particles, const Cam
                 float alpha = 1.0f;
                 glm::vec3 e;
                 if (options.opaque) {
-                    e = sphereEmission(glm::vec3(col), n, ray.dir, lightDir, options.lighting, 1.0f, 0.0f, 1.0f,
+                    e = sphereEmission(glm::vec3(col), n, ray.dir, lightDir, options.lighting, 0.0f, 0.0f, 1.0f,
                                        glm::vec3(0.0f));
                 } else {
                     alpha = sphereOpacity(col.w, unitOpticalDepth(sp.density, sp.innerRadius, h.interval, cr.w), P);

@@ -403,6 +403,30 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     o.finish();
 }
 
+// A transfer function of render.spheres.ambient_*: [[Theta, value], ...] with 2..16 points, Theta
+// ascending in [0, 1], values in [0, 1].
+std::vector<glm::vec2> readAmbientTransfer(SpecReader& r, const std::string& key, const std::string& value) {
+    const json& p = r.raw(key);
+    const std::string expected = "expected [[opacity, " + value + "], ...] with 2 to " +
+                                 std::to_string(AmbientTransfer::kMaxPoints) +
+                                 " points, opacity ascending in [0, 1], " + value + " in [0, 1]";
+    if (!p.is_array() || p.size() < 2 || p.size() > std::size_t(AmbientTransfer::kMaxPoints))
+        r.fail(key, expected + ", got " + describeJson(p));
+    std::vector<glm::vec2> points;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::string at = key + "[" + std::to_string(i) + "]";
+        if (!(p[i].is_array() && p[i].size() == 2 && p[i][0].is_number() && p[i][1].is_number()))
+            r.fail(at, "expected [opacity, " + value + "], got " + describeJson(p[i]));
+        const glm::vec2 q{p[i][0].get<float>(), p[i][1].get<float>()};
+        if (!(q.x >= 0 && q.x <= 1)) r.fail(at, "opacity must be in [0, 1], got " + describeJson(p[i][0]));
+        if (!(q.y >= 0 && q.y <= 1)) r.fail(at, value + " must be in [0, 1], got " + describeJson(p[i][1]));
+        if (!points.empty() && q.x < points.back().x)
+            r.fail(at, "opacity must not decrease: " + describeJson(p[i][0]) + " after " + describeJson(p[i - 1][0]));
+        points.push_back(q);
+    }
+    return points;
+}
+
 // render.spheres (Staib, Grottel & Gumhold 2015).
 void readSpheres(SpecReader r, SpheresSpec& s) {
     std::string density = r.getEnum("density", "constant", {"constant", "l2", "hollow_constant", "hollow_l2"});
@@ -417,6 +441,8 @@ void readSpheres(SpecReader r, SpheresSpec& s) {
     s.earlyZThreshold = r.getFloat("early_z_threshold", s.earlyZThreshold, 0.0f, 1.0f);
     s.earlyZStats = r.getBool("early_z_stats", s.earlyZStats);
     s.points = r.getEnum("primitive", "points", {"points", "quads"}) == "points";
+    if (r.has("ambient_opacity")) s.ambient.opacity = readAmbientTransfer(r, "ambient_opacity", "ambient opacity");
+    if (r.has("ambient_emission")) s.ambient.emission = readAmbientTransfer(r, "ambient_emission", "emission factor");
     r.finish();
 }
 

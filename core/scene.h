@@ -208,15 +208,28 @@ struct OpacityOptimizationSpec {
 // and their hollow variants with an empty inner sphere (Sect. 4.3).
 enum class SphereDensity { Constant, L2, HollowConstant, HollowL2 };
 
+// render.spheres.ambient_opacity / ambient_emission: the ambient transfer functions of Staib et
+// al. 2015, Sect. 3.2 (absorption tau_A and emission e_A of the rays that gather A_O and L_A,
+// adjustable independently of the primary ones), applied when the spheres are classified into the
+// ambient volume (Sect. 5). Both are piecewise linear over the particle opacity Theta_i (the
+// primary transfer function's only per-particle scale): [[Theta, value], ...], Theta ascending,
+// values in [0, 1]; `opacity` gives the opacity Theta_A the particle deposits, `emission` the factor
+// on its colour. Empty = the primary transfer function (Theta_A = Theta_i, colour unchanged).
+struct AmbientTransfer {
+    static constexpr int kMaxPoints = 16;  // uniform arrays of shaders/sphere_voxelize.comp
+    std::vector<glm::vec2> opacity, emission;
+};
+
 struct SpheresSpec {
     SphereDensity density = SphereDensity::Constant;
     float innerRadius = 0.5f;       // hollow models: inner radius as a fraction of the radius, [0, 0.99]
-    float alphaRv = 0.5f;           // Eq. 2: weight of the surface (Blinn-Phong) term vs. volume emission
+    float alphaRv = 0.5f;           // Eq. 2: weight of the volume emission (colour) vs. the surface term
     float alphaA = 0.5f;            // Eq. 7: weight of the coloured ambient light L_A (with render.ao)
     int chunks = 20;                // Sect. 5.2: early-z chunks of the sorted particles; 1 = off
     float earlyZThreshold = 0.99f;  // pixels with alpha above this are skipped by later chunks
     bool earlyZStats = false;       // count the skipped fragments (an extra rasterization pass)
     bool points = true;             // one point sprite per particle ("points"), else two triangles ("quads")
+    AmbientTransfer ambient;        // Sect. 3.2: tau_A and e_A of the ambient volume
 };
 
 // render.vrc: voxel-based line ray casting (Kanzler, Rautenhaus & Westermann 2019; core/vrc_model.h,

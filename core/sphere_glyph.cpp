@@ -83,8 +83,46 @@ float sphereRayOpacity(SphereDensity model, float k, float thetaMax, const Ray& 
 glm::vec3 sphereEmission(glm::vec3 base, glm::vec3 n, glm::vec3 dir, glm::vec3 lightDir, const LightingSpec& light,
                          float alphaRv, float alphaA, float ao, glm::vec3 ambientLight) {
     glm::vec3 surface = shadeBlinnPhong(base, n, dir, lightDir, light);
-    glm::vec3 c = ao * ((1.0f - alphaRv) * base + alphaRv * surface) + alphaA * ambientLight;
+    // Staib et al. 2015, Eq. 2: L_RV = Theta ((1 - alpha_RV) L_R + alpha_RV c) (Theta: the caller's
+    // premultiplication), then Eq. 7: A_O L_RV + alpha_A L_A.
+    glm::vec3 c = ao * ((1.0f - alphaRv) * surface + alphaRv * base) + alphaA * ambientLight;
     return glm::clamp(c, glm::vec3(0.0f), glm::vec3(1.0f));
+}
+
+namespace {
+
+// evaluateTransferFunction (core/styling.h) in the operation order of the GLSL twin
+// (shaders/sphere_voxelize.comp), so the CPU and GPU volumes agree bit for bit.
+float ambientTransferAt(const std::vector<glm::vec2>& points, float t) {
+    if (t <= points.front().x) return points.front().y;
+    for (std::size_t i = 1; i < points.size(); ++i)
+        if (t <= points[i].x) {
+            const float w = points[i].x - points[i - 1].x;
+            if (!(w > 0.0f)) return points[i].y;
+            const float s = (t - points[i - 1].x) / w;
+            return points[i - 1].y * (1.0f - s) + points[i].y * s;
+        }
+    return points.back().y;
+}
+
+}  // namespace
+
+glm::vec4 ambientClassify(const AmbientTransfer& transfer, const glm::vec4& color) {
+    glm::vec4 c = color;
+    if (!transfer.emission.empty())
+        c = glm::vec4(glm::vec3(color) * ambientTransferAt(transfer.emission, color.w), c.w);
+    if (!transfer.opacity.empty()) c.w = ambientTransferAt(transfer.opacity, color.w);
+    return c;
+}
+
+nlohmann::json describeAmbientTransfer(const AmbientTransfer& transfer) {
+    const auto points = [](const std::vector<glm::vec2>& p) {
+        if (p.empty()) return nlohmann::json("primary");
+        nlohmann::json j = nlohmann::json::array();
+        for (const glm::vec2& q : p) j.push_back({q.x, q.y});
+        return j;
+    };
+    return {{"opacity", points(transfer.opacity)}, {"emission", points(transfer.emission)}};
 }
 
 float powerDistance(const glm::vec3& eye, const glm::vec3& center, float radius) {

@@ -50,10 +50,19 @@ float sphereRayOpacity(SphereDensity model, float innerRatio, float thetaMax, co
 
 // Emission of a particle at a ray's entry point (Eq. 2 and 7): the Blinn-Phong surface term
 // (core/shading.h, normal n at the entry) mixed with the volume emission `base` by alphaRv,
-// times the ambient occlusion factor ao, plus alphaA times the coloured ambient light. Clamped to
+// (1 - alphaRv) surface + alphaRv base (alphaRv = 0: the surface alone, 1: the particle colour
+// alone), times the ambient occlusion factor ao, plus alphaA times the coloured ambient light. Clamped to
 // [0, 1] like every blended colour. All linear RGB, not premultiplied.
 glm::vec3 sphereEmission(glm::vec3 base, glm::vec3 n, glm::vec3 dir, glm::vec3 lightDir, const LightingSpec& light,
                          float alphaRv, float alphaA, float ao, glm::vec3 ambientLight);
+
+// The particle as the ambient volume sees it (Staib et al. 2015, Sect. 3.2 and 5: the ambient
+// transfer functions, applied at voxelization): colour x e_A(Theta) and opacity Theta_A(Theta),
+// Theta = color.a; an empty function is the identity (the primary transfer function). The GLSL
+// twin is ambientClassify in shaders/sphere_voxelize.comp.
+glm::vec4 ambientClassify(const AmbientTransfer& transfer, const glm::vec4& color);
+// For run.json: each function's points, or "primary" when it is the identity.
+nlohmann::json describeAmbientTransfer(const AmbientTransfer& transfer);
 
 // Power distance |c - e|^2 - r^2 of the eye to the sphere: sorting disjoint spheres by it gives
 // the exact visibility order for any radii; negative when the eye is inside the sphere.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/sphere_glyph.h"
 #include "gl/bindings.h"
 #include "gl/density_volume.h"
 #include "gl/gl_util.h"
@@ -24,12 +25,16 @@ GLuint divUp(int n, int d) {
 
 }  // namespace
 
-SphereAmbient SphereAmbient::create(const AoSpec& spec, bool cached) {
+SphereAmbient SphereAmbient::create(const AoSpec& spec, bool cached, const AmbientTransfer& transfer) {
+    TC_CHECK_OP(transfer.opacity.size(), <=, std::size_t(AmbientTransfer::kMaxPoints));
+    TC_CHECK_OP(transfer.emission.size(), <=, std::size_t(AmbientTransfer::kMaxPoints));
     SphereAmbient a;
     a.m_spec = spec;
+    a.m_transfer = transfer;
     a.m_cached = cached;
     if (cached) a.m_cacheBuild = compileProgram({{GL_COMPUTE_SHADER, "sphere_ambient_cache.comp"}});
     a.m_voxelize = compileProgram({{GL_COMPUTE_SHADER, "sphere_voxelize.comp"}});
+    a.setTransferUniforms(a.m_voxelize.id());
     a.m_resolve = compileProgram({{GL_COMPUTE_SHADER, "sphere_volume_resolve.comp"}});
     // The line density volume's mip filter (mean-preserving for any size), on four channels.
     a.m_mip = compileProgram({{GL_COMPUTE_SHADER, "density_mip.comp"}}, {"DENSITY_IMAGE_FORMAT rgba32f", "MIP_RGBA"});
@@ -62,7 +67,7 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
             glTextureParameteri(m_volume.id(), wrap, GL_CLAMP_TO_BORDER);
         const float border[4] = {0, 0, 0, 0};
         glTextureParameterfv(m_volume.id(), GL_TEXTURE_BORDER_COLOR, border);
-        m_accumulator = makeBuffer(voxels * 4 * sizeof(GLuint));
+        m_accumulator = makeBuffer(voxels * 8 * sizeof(GLuint));  // shaders/sphere_voxelize.comp
         const GLuint zero = 0;
         glClearNamedBufferData(m_accumulator.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     }
@@ -72,8 +77,10 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
 
     // Only the owned spheres with a reduction (a variant, so the plain voxelization is unchanged).
     const RegionBox owner = region.densityOwner();
-    if (!owner.unbounded() && !m_voxelizeOwned)
+    if (!owner.unbounded() && !m_voxelizeOwned) {
         m_voxelizeOwned = compileProgram({{GL_COMPUTE_SHADER, "sphere_voxelize.comp"}}, {"DENSITY_OWNER"});
+        setTransferUniforms(m_voxelizeOwned.id());
+    }
     GLuint p = owner.unbounded() ? m_voxelize.id() : m_voxelizeOwned.id();
     if (!owner.unbounded()) {
         glProgramUniform3fv(p, uniformLocation(p, "uOwnerLo"), 1, &owner.lo[0]);
@@ -135,6 +142,15 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     if (m_cached) buildCache(centerRadius, count);
 }
 
+void SphereAmbient::setTransferUniforms(GLuint p) const {
+    const auto set = [p](const std::vector<glm::vec2>& points, const char* count, const char* array) {
+        glProgramUniform1i(p, uniformLocation(p, count), GLint(points.size()));
+        if (!points.empty()) glProgramUniform2fv(p, uniformLocation(p, array), GLsizei(points.size()), &points[0][0]);
+    };
+    set(m_transfer.opacity, "uAmbientOpacityCount", "uAmbientOpacity");
+    set(m_transfer.emission, "uAmbientEmissionCount", "uAmbientEmission");
+}
+
 void SphereAmbient::buildCache(const Buffer& centerRadius, std::size_t count) {
     const std::size_t items = 6 * count;
     if (items == 0) return;
@@ -188,6 +204,7 @@ nlohmann::json SphereAmbient::describe() const {
             {"aperture_deg", m_spec.apertureDeg},
             {"distance", m_distance},
             {"strength", m_spec.strength},
+            {"ambient_transfer", describeAmbientTransfer(m_transfer)},
             {"cache", m_cached ? "ambient cube per sphere (6 traced normals, once per data frame)" : "none"}};
 }
 

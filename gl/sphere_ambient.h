@@ -22,15 +22,17 @@ namespace tc::gl {
 class SphereAmbient {
 public:
     // Compiles the voxelization and mip programs (and the cache build when `cached`). Needs a
-    // current context.
-    static SphereAmbient create(const AoSpec& spec, bool cached);
+    // current context. `transfer`: the ambient transfer functions (render.spheres.ambient_*) that
+    // classify each sphere as it is voxelized.
+    static SphereAmbient create(const AoSpec& spec, bool cached, const AmbientTransfer& transfer = {});
     bool cached() const { return m_cached; }
 
     // Voxelizes the spheres into a grid of spec.resolution voxels along the longest axis of
-    // `bounds` (cubic voxels) and rebuilds the mip pyramid. Per voxel, the coverage w is the
-    // fraction of the voxel inside a sphere: 1 when the voxel lies inside it, 0 when it is
-    // disjoint, else the fraction of 3x3x3 sub-sample points inside; w and w x colour add up over
-    // the spheres. Called once per data frame.
+    // `bounds` (cubic voxels) and rebuilds the mip pyramid. Per voxel, the coverage w of a sphere
+    // follows Staib et al. 2015, Sect. 5.1: the sphere's volume fraction of the voxel when the
+    // voxel contains the whole sphere, 1 when the voxel lies inside the sphere, 0 when they are
+    // disjoint, else the fraction of 3x3x3 sub-sample points inside; w x opacity and
+    // w x opacity x colour add up over the spheres. Called once per data frame.
     // `region` (data-parallel rendering, core/region.h): with region.reduceDensity, only the
     // spheres whose centre lies in region.box deposit (RegionSetup::densityOwner), and level 0 is
     // read back, replaced by the sum over all ranks and uploaded again before the mips are built;
@@ -57,13 +59,15 @@ private:
     SphereAmbient() = default;
 
     void buildCache(const Buffer& centerRadius, std::size_t count);
+    void setTransferUniforms(GLuint program) const;
 
     AoSpec m_spec;
+    AmbientTransfer m_transfer;
     bool m_cached = false;
     Program m_voxelize, m_voxelizeOwned, m_resolve, m_mip, m_cacheBuild;
     Buffer m_cache;  // 6 uint per sphere
     std::size_t m_cacheCount = 0;
-    Buffer m_accumulator;  // 4 uint per voxel: sub-sample counts x colour (fixed point), count
+    Buffer m_accumulator;  // 8 uint per voxel: 64-bit fixed-point sums of coverage x colour (rgb), coverage
     Texture m_volume;
     int m_levels = 0;
     glm::ivec3 m_size{0};

@@ -64,8 +64,8 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
     if (rs.ao.enabled) {
-        r->m_ambient =
-            std::make_unique<SphereAmbient>(SphereAmbient::create(rs.ao, rs.ao.cache != AoSpec::Cache::None));
+        r->m_ambient = std::make_unique<SphereAmbient>(
+            SphereAmbient::create(rs.ao, rs.ao.cache != AoSpec::Cache::None, rs.spheres.ambient));
         r->m_defines.push_back("AMBIENT_OCCLUSION");
         if (r->m_ambient->cached()) r->m_defines.push_back("AMBIENT_CACHE");
     }

@@ -35,7 +35,8 @@ const glm::vec3 kFaceNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0},
 
 // --- SphereVolume ------------------------------------------------------------------------------
 
-SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region) {
+SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region,
+                           const AmbientTransfer& transfer) {
     // The grid of gl::SphereAmbient::voxelize: spec.resolution cubic voxels along the longest axis
     // of the spheres' bounds, from bounds.lo.
     const Bounds& bounds = region.boundsOr(particles.bounds);
@@ -49,15 +50,22 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
     m_voxelSize = voxel;
     const std::size_t voxels = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
 
-    // shaders/sphere_voxelize.comp: integer coverage sums with atomic adds (associative, so the
-    // grid does not depend on the thread count or schedule).
-    std::vector<std::uint32_t> acc(4 * voxels, 0u);
+    // shaders/sphere_voxelize.comp: the overlap weight of Staib et al. 2015, Sect. 5.1 (a sphere
+    // inside one voxel: its volume fraction; a voxel inside the sphere: 1; else 3x3x3 sub-samples)
+    // in fixed point, summed in 64-bit integers with atomic adds (associative, so the grid does not
+    // depend on the thread count or schedule).
+    constexpr std::uint32_t kUnitsPerSample = 65536u;
+    constexpr std::uint32_t kFullCoverage = 27u * kUnitsPerSample;
+    constexpr float kSphereVolume = 4.18879020f;  // 4/3 pi
+    std::vector<std::uint64_t> acc(4 * voxels, 0u);
     const glm::vec3 origin = m_origin;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, particles.size(), 1024), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const glm::vec4 cr = particles.centerRadius[i];
             if (!owner.contains(glm::vec3(cr))) continue;
-            const glm::vec4 color = glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f));
+            const glm::vec4 color =
+                glm::clamp(ambientClassify(transfer, glm::clamp(particles.color[i], glm::vec4(0.0f), glm::vec4(1.0f))),
+                           glm::vec4(0.0f), glm::vec4(1.0f));
             const std::uint32_t opacity = std::uint32_t(std::round(color.w * 255.0f));
             if (opacity == 0u) continue;
             const glm::uvec3 rgb(glm::round(glm::vec3(color) * 255.0f));
@@ -74,34 +82,38 @@ SphereVolume::SphereVolume(const AoSpec& spec, const StyledParticles& particles,
                         const glm::vec3 nearest = glm::clamp(c, vlo, vhi) - c;
                         if (glm::dot(nearest, nearest) >= r2) continue;
                         const glm::vec3 farthest = glm::max(glm::abs(vlo - c), glm::abs(vhi - c));
-                        std::uint32_t n = 27u;
-                        if (glm::dot(farthest, farthest) > r2) {
-                            n = 0u;
+                        std::uint32_t w = kFullCoverage;
+                        if (glm::all(glm::greaterThanEqual(c - r, vlo)) && glm::all(glm::lessThanEqual(c + r, vhi))) {
+                            // nearbyint: round half to even, as GLSL roundEven.
+                            w = std::uint32_t(std::nearbyint(kSphereVolume * r * r * r * float(kFullCoverage)));
+                        } else if (glm::dot(farthest, farthest) > r2) {
+                            std::uint32_t n = 0u;
                             for (int k = 0; k < 27; ++k) {
                                 const glm::vec3 s =
                                     vlo + (glm::vec3(float(k % 3), float((k / 3) % 3), float(k / 9)) + 0.5f) / 3.0f - c;
                                 n += glm::dot(s, s) < r2 ? 1u : 0u;
                             }
-                            if (n == 0u) continue;
+                            w = n * kUnitsPerSample;
                         }
+                        if (w == 0u) continue;
                         const std::size_t v =
                             4 * (std::size_t(x) +
                                  std::size_t(size.x) * (std::size_t(y) + std::size_t(size.y) * std::size_t(z)));
-                        const std::uint32_t w = n * opacity;
-                        std::atomic_ref<std::uint32_t>(acc[v + 0]).fetch_add(w * rgb.x, std::memory_order_relaxed);
-                        std::atomic_ref<std::uint32_t>(acc[v + 1]).fetch_add(w * rgb.y, std::memory_order_relaxed);
-                        std::atomic_ref<std::uint32_t>(acc[v + 2]).fetch_add(w * rgb.z, std::memory_order_relaxed);
-                        std::atomic_ref<std::uint32_t>(acc[v + 3]).fetch_add(w, std::memory_order_relaxed);
+                        const std::uint64_t wo = std::uint64_t(w) * opacity;
+                        std::atomic_ref<std::uint64_t>(acc[v + 0]).fetch_add(wo * rgb.x, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint64_t>(acc[v + 1]).fetch_add(wo * rgb.y, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint64_t>(acc[v + 2]).fetch_add(wo * rgb.z, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint64_t>(acc[v + 3]).fetch_add(wo, std::memory_order_relaxed);
                     }
         }
     });
-    // shaders/sphere_volume_resolve.comp.
+    // shaders/sphere_volume_resolve.comp: the quotient in double, rounded to float.
+    const double rgbScale = double(kFullCoverage) * 255.0 * 255.0, alphaScale = double(kFullCoverage) * 255.0;
     std::vector<glm::vec4> level0(voxels);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels, 4096), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v)
-            level0[v] = glm::vec4(
-                float(acc[4 * v]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 1]) / (27.0f * 255.0f * 255.0f),
-                float(acc[4 * v + 2]) / (27.0f * 255.0f * 255.0f), float(acc[4 * v + 3]) / (27.0f * 255.0f));
+            level0[v] = glm::vec4(float(double(acc[4 * v]) / rgbScale), float(double(acc[4 * v + 1]) / rgbScale),
+                                  float(double(acc[4 * v + 2]) / rgbScale), float(double(acc[4 * v + 3]) / alphaScale));
     });
     acc = {};
     if (region.reduceDensity) {
@@ -128,7 +140,7 @@ ParticleAmbient::ParticleAmbient(const AoSpec& spec, const SpheresSpec& spheres,
     const glm::vec3 extent = b.empty() ? glm::vec3(1.0f) : glm::max(b.extent(), glm::vec3(1e-6f));
     m_distance = spec.distance * glm::length(extent);  // as gl::SphereAmbient
     if (spec.method == AoSpec::Method::ConeTraced) {
-        m_volume = std::make_unique<SphereVolume>(spec, particles, region);
+        m_volume = std::make_unique<SphereVolume>(spec, particles, region, spheres.ambient);
         // gl::SphereAmbient::apply: the shaded sphere deposited itself around the point.
         m_startOffset = 1.5f * m_volume->voxelSize();
         if (spec.cache == AoSpec::Cache::Precomputed) {
@@ -238,7 +250,8 @@ AmbientTerms ParticleAmbient::rayTraced(const glm::vec3& p, const glm::vec3& n, 
     traceHemisphereRays(m_scene, origin, n, pixel, m, m_distance, [&](const RTCRayHit& rh, const glm::vec3& dir) {
         const std::uint32_t s = rh.hit.primID;
         const glm::vec4 cr = m_particles.centerRadius[s];
-        const glm::vec4 col = m_particles.color[s];
+        // The ambient transfer functions give the sphere's opacity and colour for these rays.
+        const glm::vec4 col = ambientClassify(m_spheres.ambient, m_particles.color[s]);
         float a = col.w;
         if (!m_opaque) {
             const SphereInterval iv = intersectSphere(Ray{origin, dir}, glm::vec3(cr), cr.w);
@@ -267,6 +280,7 @@ nlohmann::json ParticleAmbient::describe() const {
             {"aperture_deg", m_spec.apertureDeg},
             {"distance_world", m_distance},
             {"strength", m_spec.strength},
+            {"ambient_transfer", describeAmbientTransfer(m_spheres.ambient)},
             {"cache", m_cube ? "ambient cube per sphere, filled when a ray first hits the sphere" : "none"},
             {"voxelize_and_mips_ms", m_buildMs},
             {"volume_mb", double(m_volume->bytes()) / (1024.0 * 1024.0)}};

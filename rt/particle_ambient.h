@@ -3,8 +3,8 @@
 // Staib, Grottel & Gumhold 2015, Eq. 2 and 7), the two render.ao.method variants:
 // - "cone_traced": the CPU twin of gl::SphereAmbient (gl/sphere_ambient.h), so the ray-traced
 //   spheres look like the GL `spheres` technique's: the spheres voxelized into an RGBA grid exactly
-//   as shaders/sphere_voxelize.comp + sphere_volume_resolve.comp do (3x3x3 sub-sample coverage in
-//   integer 27ths x opacity255 x colour255, the same grid placement), the mip pyramid of
+//   as shaders/sphere_voxelize.comp + sphere_volume_resolve.comp do (the overlap weight of
+//   Sect. 5.1 in fixed point x opacity255 x colour255, 64-bit sums, the same grid placement), the mip pyramid of
 //   shaders/density_mip.comp on four channels, and the cones of shaders/sphere_ambient.glsl
 //   (sphereAmbient) ported line by line. With render.ao.cache "precomputed" (the default, as on
 //   the GL side) a sphere's six axis-normal points are traced into an ambient cube quantised like
@@ -14,8 +14,10 @@
 // - "ray_traced": m x m stratified cosine-weighted hemisphere rays per shaded point against the
 //   particle BVH (as rt/ray_traced_ao.h for tubes; deterministic per pixel), each blocked by the
 //   first sphere it meets with that sphere's opacity along the ray (the density model's, or the
-//   particle opacity when the spheres are drawn opaque). A_O = (1 - mean blocked)^strength; L_A =
-//   the mean of blocked x sphere colour (the light the occluders reflect, as the cones gather it).
+//   particle opacity when the spheres are drawn opaque), opacity and colour classified by the
+//   ambient transfer functions (render.spheres.ambient_*, core/sphere_glyph.h ambientClassify).
+//   A_O = (1 - mean blocked)^strength; L_A = the mean of blocked x sphere colour (the light the
+//   occluders reflect, as the cones gather it).
 // Keep in lock-step with the shaders named above.
 #include <embree3/rtcore.h>
 
@@ -39,7 +41,9 @@ public:
     // `region` (data-parallel rendering): the grid of region.boundsOr(particles.bounds); with
     // region.reduceDensity only the spheres whose centre lies in region.box deposit and level 0
     // is replaced by the sum over all ranks before the mips (as gl::SphereAmbient::voxelize).
-    SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region = {});
+    // `transfer`: the ambient transfer functions (render.spheres.ambient_*) classify each sphere.
+    SphereVolume(const AoSpec& spec, const StyledParticles& particles, const RegionSetup& region = {},
+                 const AmbientTransfer& transfer = {});
 
     int levels() const { return m_mip.levels(); }
     const glm::ivec3& size() const { return m_mip.size(); }

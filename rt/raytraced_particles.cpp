@@ -216,7 +216,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                         ao = amb.ao;
                         // As shaders/sphere.frag (OPAQUE): alpha_A only with AO.
                         const glm::vec3 e =
-                            sphereEmission(glm::vec3(S.color[i]), n, ray.dir, lightDir, m_lighting, 1.0f,
+                            sphereEmission(glm::vec3(S.color[i]), n, ray.dir, lightDir, m_lighting, 0.0f,
                                            m_ambient ? m_spheres.alphaA : 0.0f, amb.ao, amb.light);
                         storePixel(out, pixel, glm::vec4(e, 1.0f), tNear * depthScale, n, S.id[i]);
                         ++hits;

@@ -3,7 +3,7 @@
 // "raytraced" on a particle dataset. One Embree RTC_GEOMETRY_TYPE_SPHERE_POINT geometry
 // (primitive i = particle i), built once per data frame. Per pixel-centre ray:
 // - Opaque: the first sphere hit; depth / normal / id and the Blinn-Phong colour as
-//   core/particle_reference.h's opaque mode (sphereEmission with alpha_rv 1).
+//   core/particle_reference.h's opaque mode (sphereEmission with alpha_rv 0: the surface term alone).
 // - Transparent: every sphere the ray crosses, sorted by its entry distance (clamped to 0 when the
 //   eye is inside it) and composited front to back ("under"), each with the emission-absorption
 //   interior of the sphere glyphs evaluated from the entry / exit pair: opacity from the density

@@ -60,7 +60,7 @@ void main() {
 #ifdef OPAQUE
     float depth = viewDepth(ray, s.tNear);
     gl_FragDepth = depth / uFarDepth;
-    vec3 e = sphereEmission(base.rgb, n, ray.dir, uLightDir, uLightTerms, 1.0, uAlphaA, ao, ambientLight);
+    vec3 e = sphereEmission(base.rgb, n, ray.dir, uLightDir, uLightTerms, 0.0, uAlphaA, ao, ambientLight);
     outColor = vec4(e, 1.0);
     outNormalDepth = vec4(n, depth);
     outId = vId;

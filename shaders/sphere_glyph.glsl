@@ -62,11 +62,14 @@ float sphereOpacity(float thetaMax, float T, float P) {
     return 1.0 - exp2(log2(1.0 - thetaMax) * (T / P));
 }
 
-// Eq. 2 and 7: surface term mixed with the volume emission, times A_O, plus alpha_a L_A.
+// Eq. 2 and 7: surface term mixed with the volume emission by alpha_rv (1 = the volume emission
+// alone), times A_O, plus alpha_a L_A.
 vec3 sphereEmission(vec3 base, vec3 n, vec3 dir, vec3 lightDir, vec4 lightTerms, float alphaRv, float alphaA,
                     float ao, vec3 ambientLight) {
     vec3 surface = shadeBlinnPhong(base, n, dir, lightDir, lightTerms.x, lightTerms.y, lightTerms.z, lightTerms.w);
-    vec3 c = ao * ((1.0 - alphaRv) * base + alphaRv * surface) + alphaA * ambientLight;
+    // Staib et al. 2015, Eq. 2: L_RV = Theta ((1 - alpha_RV) L_R + alpha_RV c) (Theta: the caller's
+    // premultiplication), then Eq. 7: A_O L_RV + alpha_A L_A.
+    vec3 c = ao * ((1.0 - alphaRv) * surface + alphaRv * base) + alphaA * ambientLight;
     return clamp(c, vec3(0.0), vec3(1.0));
 }
 

@@ -234,6 +234,54 @@ TEST_F(SphereRendererTest, opacity_profile_of_one_sphere_matches_closed_form) {
     EXPECT_NEAR(img.rgba[4 * std::size_t(16 * 33 + 16) + 3], 0.6f, 1e-4f);
 }
 
+// Staib et al. 2015, Eq. 2: alpha_rv weights the volume emission. alpha_rv = 1 on opaque-
+// opacity particles draws exactly their colour at every covered pixel; at alpha_rv = 0.2 the
+// image (mostly shading) matches the CPU reference within the reference tolerance.
+TEST_F(SphereRendererTest, alpha_rv_weights_the_volume_emission_as_eq2_and_matches_the_reference) {
+    StyledParticles p = disjointSpheres(5, 12);
+    for (glm::vec4& c : p.color) c.w = 1.0f;
+    Camera cam;
+    cam.eye = {0.4f, 0.7f, 3.2f};
+    const int w = 64, h = 48;
+    Scene scene = sphereScene(Transparency::ObjectOrder, SphereDensity::Constant, 1);
+    scene.render.spheres.alphaRv = 1.0f;
+    const FrameImages plain = renderGpu(scene, p, cam, w, h);
+    ParticleReferenceOptions o;
+    o.spheres = scene.render.spheres;
+    o.lighting = scene.lighting;
+    const FrameImages plainRef = renderParticlesReference(p, cam, w, h, o);
+    int covered = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y * w + x);
+            if (plain.rgba[4 * i + 3] < 1.0f || plainRef.rgba[4 * i + 3] < 1.0f || grazing(p, cam, w, h, x, y))
+                continue;
+            ++covered;
+            // The first sphere along the ray (the reference's id) is opaque: its colour alone.
+            const glm::vec4& c = p.color[plainRef.id[i]];
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(plain.rgba[4 * i + std::size_t(k)], c[k], 1e-6f) << x << " " << y;
+        }
+    EXPECT_GT(covered, 200);
+
+    scene.render.spheres.alphaRv = 0.2f;
+    o.spheres = scene.render.spheres;
+    for (glm::vec4& c : p.color) c.w = 0.7f;
+    const FrameImages mixed = renderGpu(scene, p, cam, w, h);
+    const FrameImages mixedRef = renderParticlesReference(p, cam, w, h, o);
+    float worst = 0, shading = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (grazing(p, cam, w, h, x, y)) continue;
+            const std::size_t i = std::size_t(y * w + x);
+            for (int k = 0; k < 4; ++k)
+                worst = std::max(worst,
+                                 std::abs(mixed.rgba[4 * i + std::size_t(k)] - mixedRef.rgba[4 * i + std::size_t(k)]));
+            shading = std::max(shading, std::abs(mixed.rgba[4 * i] - plain.rgba[4 * i] * 0.7f));
+        }
+    EXPECT_LE(worst, kReferenceTolerance);
+    EXPECT_GT(shading, 0.05f);  // alpha_rv 0.2 is mostly the shaded surface, not the flat colour
+}
+
 TEST_F(SphereRendererTest, early_z_chunks_stay_within_threshold_and_skip_fragments_on_dense_scene) {
     Scene scene = sphereScene(Transparency::ObjectOrder, SphereDensity::Constant, 1);
     scene.style.opacity.constant = 0.5f;

@@ -12,6 +12,7 @@
 #include "core/particle_reference.h"
 #include "core/particle_styling.h"
 #include "core/scene.h"
+#include "core/shading.h"
 #include "core/sort_keys.h"
 #include "core/sphere_glyph.h"
 
@@ -79,6 +80,43 @@ TEST(SphereOpacity, hollow_models_peak_at_theta_max_and_are_empty_inside) {
             SphereInterval full = intersectSphere(rayAtDistance(0.0f), glm::vec3(0.0f), r);
             EXPECT_NEAR(unitOpticalDepth(model, k, s, r), 0.5f * unitOpticalDepth(model, k, full, r), 1e-5f);
         }
+}
+
+// Staib et al. 2015, Eq. 2: L_RV = Theta ((1 - alpha_RV) L_R + alpha_RV c). alpha_rv = 1 is the
+// plain volume emission (the particle colour c, no shading), 0 the Blinn-Phong surface term alone.
+TEST(SphereEmission, alpha_rv_weights_the_volume_emission_as_eq2) {
+    const glm::vec3 c(0.2f, 0.6f, 0.9f);
+    const glm::vec3 n = glm::normalize(glm::vec3(-0.6f, -0.2f, 0.3f)), dir(0.0f, 0.0f, -1.0f);
+    const glm::vec3 lightDir = glm::normalize(glm::vec3(0.5f, 0.2f, 1.0f));
+    const LightingSpec light;
+    const glm::vec3 surface = glm::clamp(shadeBlinnPhong(c, n, dir, lightDir, light), 0.0f, 1.0f);
+    ASSERT_GT(glm::length(surface - c), 0.05f);  // the two terms differ, so the weight shows
+    EXPECT_EQ(sphereEmission(c, n, dir, lightDir, light, 1.0f, 0.0f, 1.0f, glm::vec3(0.0f)), c);
+    const glm::vec3 s0 = sphereEmission(c, n, dir, lightDir, light, 0.0f, 0.0f, 1.0f, glm::vec3(0.0f));
+    for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(s0[k], surface[k]);
+    const glm::vec3 mix = sphereEmission(c, n, dir, lightDir, light, 0.25f, 0.0f, 1.0f, glm::vec3(0.0f));
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(mix[k], 0.75f * surface[k] + 0.25f * c[k], 1e-6f);
+}
+
+// The CPU reference with alpha_rv = 1 and an opaque particle: every covered pixel is the colour.
+TEST(ParticleReference, alpha_rv_one_draws_the_plain_particle_colour) {
+    StyledParticles s;
+    s.centerRadius = {{0, 0, 0, 0.8f}};
+    s.color = {{0.2f, 0.6f, 0.9f, 1.0f}};
+    s.id = {0};
+    Camera cam;
+    cam.eye = {0.5f, 0.3f, 3.0f};
+    ParticleReferenceOptions o;
+    o.spheres.alphaRv = 1.0f;
+    const int W = 33;
+    const FrameImages img = renderParticlesReference(s, cam, W, W, o);
+    int covered = 0;
+    for (std::size_t p = 0; p < std::size_t(W * W); ++p) {
+        if (img.rgba[4 * p + 3] < 1.0f) continue;
+        ++covered;
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(img.rgba[4 * p + std::size_t(k)], s.color[0][k]) << p;
+    }
+    EXPECT_GT(covered, 100);
 }
 
 TEST(SphereSortKey, power_distance_key_preserves_order_with_negative_values_inside) {
@@ -273,6 +311,26 @@ TEST(SceneSpheres, keys_are_validated) {
     fails("render.spheres.inner_radius=1.5", "render.spheres.inner_radius");
     fails("render.spheres.density=\"l3\"", "render.spheres.density");
     fails("render.spheres.primitive=\"triangles\"", "render.spheres.primitive");
+    // The ambient transfer functions (Staib et al. 2015, Sect. 3.2): [[opacity, value], ...].
+    EXPECT_TRUE(s.render.spheres.ambient.opacity.empty());  // default: the primary transfer function
+    EXPECT_TRUE(s.render.spheres.ambient.emission.empty());
+    Scene a = parseScene(doc, "s.json",
+                         {"render.spheres.ambient_opacity=[[0, 0], [0.5, 0.2], [1, 0.4]]",
+                          "render.spheres.ambient_emission=[[0, 1], [1, 0.25]]"});
+    EXPECT_EQ(a.render.spheres.ambient.opacity, (std::vector<glm::vec2>{{0.0f, 0.0f}, {0.5f, 0.2f}, {1.0f, 0.4f}}));
+    EXPECT_EQ(a.render.spheres.ambient.emission, (std::vector<glm::vec2>{{0.0f, 1.0f}, {1.0f, 0.25f}}));
+    const glm::vec4 classified = ambientClassify(a.render.spheres.ambient, {0.8f, 0.4f, 0.2f, 0.75f});
+    const glm::vec4 expected(0.8f * 0.4375f, 0.4f * 0.4375f, 0.2f * 0.4375f, 0.3f);  // e_A(0.75), Theta_A(0.75)
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(classified[k], expected[k], 1e-6f) << k;
+    fails("render.spheres.ambient_opacity=[[0, 0]]", "render.spheres.ambient_opacity");
+    fails("render.spheres.ambient_opacity=0.5", "render.spheres.ambient_opacity");
+    fails("render.spheres.ambient_opacity=[[0, 0], [1, 1.5]]", "render.spheres.ambient_opacity[1]");
+    fails("render.spheres.ambient_emission=[[0.5, 0], [0.2, 1]]", "render.spheres.ambient_emission[1]");
+    fails("render.spheres.ambient_emission=[[0, 0], \"x\"]", "render.spheres.ambient_emission[1]");
+    fails(
+        "render.spheres.ambient_emission=[[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],[0,0],"
+        "[0,0],[0,0],[0,0],[0,0],[0,0],[1,0]]",
+        "render.spheres.ambient_emission");
     fails("dataset.lines=5", "dataset.lines");
 }
 

@@ -135,6 +135,44 @@ TEST(RaytracedParticlesAo, the_centre_of_a_dense_cluster_is_darker_than_its_surf
     }
 }
 
+// Staib et al. 2015, Sect. 3.2: the ambient transfer functions (render.spheres.ambient_*) act on
+// the ambient terms only, in every AO variant of the CPU twin: ambient opacity 0 leaves nothing
+// to occlude (A_O = 1, L_A = 0), ambient emission 0 keeps A_O and removes L_A, and a partial
+// ambient opacity lightens the centre of the cluster (measured: A_O 1.9x to 10x as large).
+TEST(RaytracedParticlesAo, ambient_transfer_functions_set_the_ambient_opacity_and_emission) {
+    const int n = 9;
+    StyledParticles p = lattice(n, 0.04f, 0.1f, {0.2f, 0.6f, 0.9f, 0.8f});
+    SphereScene embree(p);
+    const std::uint32_t centre = std::uint32_t((n / 2 * n + n / 2) * n + n / 2);
+    const glm::vec3 x(1.0f, 0.0f, 0.0f);
+    const std::vector<glm::vec2> zero{{0.0f, 0.0f}, {1.0f, 0.0f}};
+    for (auto [method, cache] : kVariants) {
+        for (bool opaque : {true, false}) {
+            auto at = [&](const AmbientTransfer& transfer) {
+                SpheresSpec spheres;
+                spheres.ambient = transfer;
+                rt::ParticleAmbient amb(aoSpec(method, cache), spheres, opaque, p, embree.scene);
+                const glm::vec4 cr = p.centerRadius[centre];
+                return amb.at(centre, glm::vec3(cr) + cr.w * x, x, 7u);
+            };
+            AmbientTransfer noOpacity, noEmission, half;
+            noOpacity.opacity = zero;
+            noEmission.emission = zero;
+            half.opacity = {{0.0f, 0.0f}, {1.0f, 0.5f}};
+            const rt::AmbientTerms base = at({}), none = at(noOpacity), dark = at(noEmission), light = at(half);
+            const std::string label = std::string(name(method, cache)) + (opaque ? ", opaque" : ", transparent");
+            EXPECT_LT(base.ao, 0.8f) << label;
+            EXPECT_GT(base.light.z, 0.01f) << label;
+            EXPECT_EQ(none.ao, 1.0f) << label;
+            EXPECT_EQ(none.light, glm::vec3(0.0f)) << label;
+            EXPECT_EQ(dark.ao, base.ao) << label;
+            EXPECT_EQ(dark.light, glm::vec3(0.0f)) << label;
+            std::cout << label << ": A_O " << base.ao << ", ambient opacity x 0.5: " << light.ao << "\n";
+            EXPECT_GT(light.ao, 1.5f * base.ao + 0.01f) << label;
+        }
+    }
+}
+
 TEST(RaytracedParticlesAo, images_with_ao_are_identical_with_one_and_two_threads) {
     StyledParticles p = lattice(6, 0.06f, 0.15f, {0.9f, 0.5f, 0.3f, 0.5f});
     for (std::size_t i = 0; i < p.size(); ++i) p.color[i].x = float(i % 7) / 7.0f;  // varied colours
