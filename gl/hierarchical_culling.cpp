@@ -30,8 +30,11 @@ HierarchicalCulling HierarchicalCulling::create(Target target, const CullingSpec
     const std::string define = targetDefine(target);
     c.m_fromSource = compileProgram({{GL_COMPUTE_SHADER, "cull_pyramid.comp"}}, {define, "FROM_SOURCE"});
     c.m_fromLevel = compileProgram({{GL_COMPUTE_SHADER, "cull_pyramid.comp"}}, {define});
-    if (geometry.billboardPath() == BillboardPath::Compute)
-        c.m_billboards = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, c.drawDefines());
+    if (geometry.billboardPath() == BillboardPath::Compute) {
+        std::vector<std::string> defines = c.drawDefines();
+        defines.insert(defines.end(), geometry.haloDefines().begin(), geometry.haloDefines().end());
+        c.m_billboards = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, defines);
+    }
     c.m_counter = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
     return c;
 }
