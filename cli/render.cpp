@@ -365,8 +365,11 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     const OutputSpec& out = scene.output;
     const KeptAovs kept{dp || (out.exr && out.aovDepth), out.exr && out.aovNormal, out.exr && out.aovId};
     const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
+    // A technique whose pixels depend on each other takes image.samples itself (opacity
+    // optimization: one solve per frame, every sample blended with its opacities).
+    const int wrappedSamples = descriptor.composes(scene) ? scene.image.samples : 1;
     t.main = wrapInTiles(empty ? std::make_unique<BackgroundOnly>() : descriptor.create(techniqueScene, input, hooks),
-                         t.tiles, scene.image.samples, kept);
+                         t.tiles, wrappedSamples, kept);
     if (!o.quiet && (t.tiles.tiles.size() > 1 || scene.image.samples > 1))
         std::cerr << "tubecast: " << t.tiles.tiles.size() << " tile(s) (" << t.tiles.nx << "x" << t.tiles.ny
                   << (t.tiles.automatic ? ", for render.memory_budget_mb" : "") << "), largest "

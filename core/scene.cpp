@@ -261,6 +261,28 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
             s.opacity.constant = r.getFloat("opacity", s.opacity.constant, 0.0f, 1.0f);
         }
     }
+    if (r.has("halo")) {
+        const json& v = r.raw("halo");
+        if (v.is_boolean()) {
+            s.halo.enabled = r.getBool("halo", false);
+        } else if (v.is_object()) {
+            SpecReader h = r.child("halo");
+            s.halo.enabled = h.getBool("enabled", true);
+            s.halo.width = h.getFloat("width", s.halo.width, 0.0f, 100.0f);
+            if (!(s.halo.width > 0.0f)) h.fail("width", "expected a number in (0, 100] (tube radii)");
+            s.halo.depth = h.getFloat("depth", s.halo.depth, 0.0f, 1e6f);
+            if (h.has("color")) {
+                if (h.raw("color").is_array() && h.raw("color").size() == 4)
+                    h.fail("color", "expected a colour [r, g, b] with components in [0, 1] (the halo takes the "
+                                    "line's opacity), got " + describeJson(h.raw("color")));
+                s.halo.color = glm::vec3(h.getColor("color", glm::vec4(0.0f)));
+            }
+            h.finish();
+        } else {
+            r.fail("halo", "expected true, false or {\"width\": w, \"depth\": d, \"color\": [r, g, b]}, got " +
+                               describeJson(v));
+        }
+    }
     r.finish();
 }
 
@@ -354,6 +376,9 @@ void readOpacityOptimization(SpecReader o, OpacityOptimizationSpec& op) {
     op.maxIterations = o.getInt("max_iterations", op.maxIterations, 1, 1000000);
     op.dropBelow = o.getFloat("drop_below", op.dropBelow, 0.0f, 1.0f);
     op.dumpDir = o.getString("dump_dir", op.dumpDir);
+    op.pipeline = o.getBool("pipeline", op.pipeline);
+    if (op.pipeline && !op.dumpDir.empty())
+        o.fail("pipeline", "a pipelined solve belongs to no one frame, so render.opacity.dump_dir must be empty");
     op.occlusionScale = o.getFloat("occlusion_scale", op.occlusionScale, 0.0f, 1.0f);
     if (!(op.occlusionScale > 0.0f)) o.fail("occlusion_scale", "expected a number in (0, 1]");
     op.coarseScale = o.getFloat("coarse_scale", op.coarseScale, 0.0f, 1.0f);
@@ -586,6 +611,10 @@ static const std::regex& frameBraces() {
     return braces;
 }
 
+glm::vec3 haloColor(const HaloSpec& halo, const glm::vec4& background) {
+    return halo.color ? *halo.color : glm::vec3(1.0f) - glm::vec3(background);
+}
+
 bool hasFrameToken(const std::string& pattern) {
     return pattern.find('#') != std::string::npos || std::regex_search(pattern, frameBraces());
 }
@@ -653,13 +682,12 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
                            "\" has no frame token ('####' or '{frame:04}') but the animation has " +
                            std::to_string(scene.frameCount()) + " frames");
     }
-    if (scene.render.transparency == Transparency::OpacityOptimization &&
-        (scene.image.tilesX > 0 || scene.image.samples > 1)) {
-        // One optimisation over the whole image's fragments, blended into the next frame's.
+    if (scene.render.transparency == Transparency::OpacityOptimization && scene.image.tilesX > 0) {
+        // One optimisation over the whole image's fragments, blended into the next frame's. Its
+        // image.samples are its own (gl/opacity_renderer.h): one solve, every sample blended.
         SpecReader im(doc.contains("image") ? doc["image"] : json::object(), file, "image", &overridden);
-        im.fail(scene.image.samples > 1 ? "samples" : "tiles",
-                "render.transparency \"opacity_optimization\" renders the whole image at once (one optimisation over "
-                "all its fragments); remove image.tiles and image.samples");
+        im.fail("tiles", "render.transparency \"opacity_optimization\" renders the whole image at once (one "
+                         "optimisation over all its fragments); remove image.tiles");
     }
     if (scene.output.aovAo && !scene.render.ao.enabled) {
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);

@@ -87,11 +87,27 @@ struct OpacitySpec {
     bool pointsFromColormap = false;  // "points": "colormap": the preset's opacity "Points"
 };
 
+// style.halo: depth-dependent halos around the lines (Everts et al. 2009, which Günther, Rössl &
+// Theisel 2013, Sect. 4.2 draw their lines with). The halo is a ring around each tube's
+// silhouette, `width` tube radii wide; its depth grows linearly from the tube's axis depth at the
+// silhouette to `depth` tube radii behind it at the ring's outer edge, so it hides what lies
+// further behind and not a line at about the same depth (a bundle stays one band).
+struct HaloSpec {
+    bool enabled = false;
+    float width = 0.5f;               // ring width, in tube radii (the strip width scales with the line)
+    float depth = 4.0f;               // depth offset at the ring's outer edge, in tube radii
+    std::optional<glm::vec3> color;   // sRGB; unset: the complement of image.background (1 - rgb)
+};
+
 struct StyleSpec {
     RadiusSpec radius;
     ColorSpec color;
     OpacitySpec opacity;
+    HaloSpec halo;
 };
+
+// The halo's sRGB colour: style.halo.color, else the complement of the background's.
+glm::vec3 haloColor(const HaloSpec& halo, const glm::vec4& background);
 
 struct CameraSpec {
     Camera camera;
@@ -201,6 +217,9 @@ struct OpacityOptimizationSpec {
     // this scale (< occlusionScale), itself started from the previous frame's solution. 0: off.
     float coarseScale = 0;
     std::string dumpDir;  // debug: write Q, c, g, bounds and the solution of each frame here
+    // Assemble and solve on a worker thread while frames keep coming; displayed opacities fade
+    // toward the latest finished solution (Günther et al. 2013, Sect. 4.4).
+    bool pipeline = false;
 };
 
 // render.spheres: particles as transparent sphere glyphs (Staib, Grottel & Gumhold 2015).

@@ -90,6 +90,15 @@ std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Sc
         return SpecProblem{"render.ao.method", technique + " takes " + orList(methods) + " ambient occlusion, got " +
                                                    quoted(aoMethodName(r.ao.method))};
     }
+    if (scene.style.halo.enabled) {
+        if (d.halo.empty()) return SpecProblem{"style.halo", technique + " draws no halos"};
+        if (r.transparency != Transparency::Auto && !contains(d.halo, r.transparency)) {
+            std::vector<std::string> modes;
+            for (Transparency t : d.halo) modes.push_back(transparencyName(t));
+            return SpecProblem{"style.halo", technique + " draws halos with render.transparency " + orList(modes) +
+                                                 ", got " + quoted(transparencyName(r.transparency))};
+        }
+    }
     if (d.check) return d.check(scene, kind);
     return std::nullopt;
 }

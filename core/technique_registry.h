@@ -115,6 +115,8 @@ struct TechniqueDescriptor {
     // The transparency modes in which it renders one region of a data-parallel frame
     // (TechniqueData::region, core/region.h; `tubecast render --mpi`); empty: none.
     std::vector<Transparency> regionTransparency;
+    // The transparency modes in which it draws style.halo (depth-dependent halos); empty: none.
+    std::vector<Transparency> halo;
     // Rules beyond the lists above (e.g. no AO with one of its modes); null = none.
     std::function<std::optional<SpecProblem>(const Scene&, DataKind)> check;
     // Per-pixel GPU memory for `scene`; null = none.

@@ -33,6 +33,7 @@ HierarchicalCulling HierarchicalCulling::create(Target target, const CullingSpec
     if (geometry.billboardPath() == BillboardPath::Compute) {
         std::vector<std::string> defines = c.drawDefines();
         for (const std::string& d : geometry.billboardDefines()) defines.push_back(d);
+        defines.insert(defines.end(), geometry.haloDefines().begin(), geometry.haloDefines().end());
         c.m_billboards = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, defines);
     }
     c.m_counter = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);

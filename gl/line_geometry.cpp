@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "gl/bindings.h"
 #include "gl/frame_uniforms.h"
@@ -76,6 +77,29 @@ const char* LineGeometry::describeBillboards() const {
     return "?";
 }
 
+namespace {
+// A GLSL float literal that round-trips the float (exponent form always has the '.' GLSL needs).
+std::string glslFloat(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9e", double(v));
+    return text;
+}
+}  // namespace
+
+void LineGeometry::enableHalo(const HaloSpec& halo, const glm::vec3& linearColor) {
+    m_haloDefines = {"HALO", "HALO_WIDTH " + glslFloat(halo.width), "HALO_DEPTH " + glslFloat(halo.depth),
+                     "HALO_COLOR vec3(" + glslFloat(linearColor.x) + ", " + glslFloat(linearColor.y) + ", " +
+                         glslFloat(linearColor.z) + ")"};
+    // Halo fragments lie up to `depth` radii behind a tube's axis: keep them inside the depth range.
+    m_maxRadius *= 1.0f + std::max(halo.width, halo.depth);
+    if (m_path == BillboardPath::Compute)
+    {
+        std::vector<std::string> defines = m_haloDefines;
+        for (const std::string& d : billboardDefines()) defines.push_back(d);
+        m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, defines);
+    }
+}
+
 float LineGeometry::farDepth(const FrameSetup& setup) const {
     // Beyond everything the data can reach. A 32-bit float depth buffer holding view depth / far
     // keeps ~1e-7 relative precision over the whole range.
@@ -96,6 +120,7 @@ void LineGeometry::setFrame(const FrameSetup& setup, const LightingSpec& lightin
 }
 
 Program LineGeometry::compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines) const {
+    defines.insert(defines.end(), m_haloDefines.begin(), m_haloDefines.end());
     if (!m_region.unbounded()) defines.push_back("REGION_CLIP");
     for (const std::string& d : billboardDefines()) defines.push_back(d);
     switch (m_path) {

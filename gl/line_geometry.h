@@ -51,6 +51,11 @@ public:
     // the planes are built once per segment with the billboard (shaders/segment_varyings.glsl),
     // so every program of this geometry reads uCapClipping of the frame uniforms.
     void setCapClipping(bool enabled) { m_capClipping = enabled; }
+    // Depth-dependent halos (style.halo; shaders/transparent_fragment.glsl): billboards grow by
+    // the halo ring and every program compiled after this call gets the HALO defines (ring width
+    // and depth offset in tube radii, linear RGB colour). Recompiles the billboard pre-pass; call
+    // before compiling the passes' programs. The depth range grows by the halo's depth offset.
+    void enableHalo(const HaloSpec& halo, const glm::vec3& linearColor);
     // Uploads this frame's (or tile's) uniform block: frameUniforms(setup, lighting) with the
     // lines' uViewProj, uFarDepth, uCapClipping and region box, and binds it. Every pass of the frame reads it,
     // so call it first.
@@ -62,6 +67,7 @@ public:
     // geometry's billboard path; `defines` go to every stage, and REGION_CLIP when the geometry
     // has a region box (the fragment shaders then drop what enters the ray outside it).
     Program compileDrawProgram(const char* fragmentShader, std::vector<std::string> defines = {}) const;
+    const std::vector<std::string>& haloDefines() const { return m_haloDefines; }
     // REGION_CLIP when the geometry has a region box, for full-screen passes that test hits.
     std::vector<std::string> regionDefines() const {
         return m_region.unbounded() ? std::vector<std::string>{} : std::vector<std::string>{"REGION_CLIP"};
@@ -87,6 +93,7 @@ private:
     bool m_capClipping = false;
     Bounds m_bounds;  // of the whole dataset (RegionSetup::boundsOr): the depth range
     RegionBox m_region;
+    std::vector<std::string> m_haloDefines;  // enableHalo
     Buffer m_positionRadius, m_colors, m_polylineIds, m_flags, m_segmentVertices, m_billboardCorners;
     Buffer m_segmentRecords;  // BillboardPath::Compute: what the fragment shaders need per segment
     Buffer m_frameUniforms;   // gl/frame_uniforms.h, set per frame

@@ -10,9 +10,12 @@
 #include <iostream>
 #include <limits>
 
+#include "core/color.h"
 #include "core/error.h"
 #include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
+#include "core/stage_sink.h"
+#include "core/tiling.h"
 #include "gl/bindings.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
@@ -62,9 +65,15 @@ std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, con
     r->m_spec = rs.opacity;
     r->m_capClipping = rs.capClipping;
     r->m_geometry.setCapClipping(rs.capClipping);
+    if (scene.style.halo.enabled)
+        r->m_geometry.enableHalo(scene.style.halo, srgbToLinear(haloColor(scene.style.halo, scene.image.background)));
     r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
+    r->m_samples = scene.image.samples;
     r->m_lighting = scene.lighting;
     r->m_sink = std::move(sink);
+    if (r->m_spec.pipeline && r->m_sink)
+        throw InputError(scene.file + ": render.opacity.pipeline: a pipelined solve belongs to no one frame, so the "
+                                      "system cannot be dumped (--dump-system, render.opacity.dump_dir)");
     if (rs.ao.enabled)
         throw InputError(scene.file + ": render.ao: not available with render.transparency \"opacity_optimization\"");
     if (scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId)
@@ -195,37 +204,63 @@ FragmentLists OpacityRenderer::readAndSortLists(int width, int height, std::uint
 
 void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
     resize(setup.width, setup.height);
-    m_geometry.setFrame(setup, m_lighting);
-    m_geometry.computeBillboards(timer);
-    if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
     m_stats = {};
     m_stats.parts = m_parts.partCount();
     m_stats.capacity = m_capacity;
+    // image.samples: the sample positions of core/tiling.h (a centred Hammersley set, box
+    // filter), as every other technique gets them from TiledTechnique, but one optimisation per
+    // frame: the system comes from the lists of the sample nearest the pixel centre, and every
+    // sample is blended with the same displayed opacities (the paper's multi-sampled lines,
+    // Sect. 4.2, share one fragment list per pixel; a solve per sample would also move the
+    // displayed opacities once per sample).
+    const std::vector<glm::vec2> offsets = sampleOffsets(m_samples);
+    const std::size_t centre = nearestToCentre(offsets);
+    auto sampleSetup = [&](std::size_t s) {
+        FrameSetup ss = setup;
+        if (m_samples > 1) ss.window = ImageWindow{setup.width, setup.height, 0, 0, offsets[s]};
+        return ss;
+    };
+    const FrameSetup centreSetup = sampleSetup(centre);
+    m_geometry.setFrame(centreSetup, m_lighting);
+    m_geometry.computeBillboards(timer);
+    if (m_gbuffer) m_gbuffer->render(m_geometry, centreSetup, timer);
 
-    // 1. Fragment lists.
-    const std::uint64_t produced = buildFragmentLists(setup, timer);
-
-    // 2. h_ij from the sorted lists.
-    auto t0 = std::chrono::steady_clock::now();
-    timer.begin("lists_sort");
+    // 1. Fragment lists, 2. h_ij from the sorted lists, 3. the solve: optimise().
     std::vector<std::uint32_t> colors;  // per sorted fragment, packUnorm4x8 straight RGBA
-    const FragmentLists lists =
-        readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity), colors);
-    timer.end();
-    m_stats.readbackMs = msSince(t0);
-    FrameOcclusion occlusion;
-    assembleOcclusion(lists, setup, occlusion, timer);
-
-    // 3. Solve, warm started; displayed opacities follow the solution at rate `blend`.
-    solve(lists, setup, occlusion, timer);
+    const FragmentLists lists = sortedLists(centreSetup, colors, timer);
+    optimise(lists, centreSetup, timer);
 
     // 4. Resolve (on the CPU), then the AOVs.
-    t0 = std::chrono::steady_clock::now();
+    auto t0 = std::chrono::steady_clock::now();
     timer.begin("resolve");
     resolve(lists, colors, setup.width, setup.height, out);
     timer.end();
+    m_stats.resolveMs = msSince(t0);
+    if (m_samples > 1) {
+        // The stats' fragment counts stay those of the lists the system came from.
+        const std::uint64_t fragments = m_stats.fragments, overflow = m_stats.overflow;
+        FrameImages sample;
+        for (std::size_t s = 0; s < offsets.size(); ++s) {
+            if (s == centre) continue;
+            const FrameSetup ss = sampleSetup(s);
+            m_geometry.setFrame(ss, m_lighting);
+            m_geometry.computeBillboards(timer);
+            std::vector<std::uint32_t> sampleColors;
+            const FragmentLists sampleLists = sortedLists(ss, sampleColors, timer);
+            timer.begin("resolve");
+            resolve(sampleLists, sampleColors, setup.width, setup.height, sample);
+            // Sums of the samples, divided once at the end (as TiledTechnique does).
+            for (std::size_t i = 0; i < out.rgba.size(); ++i) out.rgba[i] += sample.rgba[i];
+            timer.end();
+        }
+        m_stats.fragments = fragments;
+        m_stats.overflow = overflow;
+        const float invSamples = 1.0f / float(offsets.size());
+        for (float& v : out.rgba) v *= invSamples;
+    }
     glDepthMask(GL_TRUE);
 
+    t0 = std::chrono::steady_clock::now();
     timer.begin("readback");
     if (m_gbuffer) {
         m_gbuffer->readAovs(out);
@@ -237,7 +272,76 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     }
     out.ao.clear();
     timer.end();
-    m_stats.resolveMs = msSince(t0);
+    m_stats.resolveMs += msSince(t0);
+}
+
+FragmentLists OpacityRenderer::sortedLists(const FrameSetup& setup, std::vector<std::uint32_t>& colors,
+                                           StageSink& timer) {
+    const std::uint64_t produced = buildFragmentLists(setup, timer);
+    const auto t0 = std::chrono::steady_clock::now();
+    timer.begin("lists_sort");
+    FragmentLists lists =
+        readAndSortLists(setup.width, setup.height, std::min<std::uint64_t>(produced, m_capacity), colors);
+    timer.end();
+    m_stats.readbackMs += msSince(t0);
+    return lists;
+}
+
+Eigen::VectorXd OpacityRenderer::displayedAfter(const Eigen::VectorXd& solution) const {
+    if (m_displayed.size() != solution.size()) return solution;
+    return m_displayed + double(m_spec.blend) * (solution - m_displayed);
+}
+
+void OpacityRenderer::optimise(const FragmentLists& lists, const FrameSetup& setup, StageSink& timer) {
+    // The first frame always solves its own system: there is nothing to show before it, and a
+    // single frame is the same with and without render.opacity.pipeline.
+    if (!m_spec.pipeline || m_displayed.size() == 0) {
+        FrameOcclusion occlusion;
+        assembleOcclusion(lists, setup, occlusion, timer, m_stats);
+        solve(lists, setup, occlusion, timer, m_stats, m_solution);
+        // Displayed opacities follow the solution at rate `blend`.
+        m_displayed = displayedAfter(m_solution);
+        m_lastSolve = m_stats;
+        m_lastSolve.solvedFrame = setup.frame;
+        m_stats.solvedFrame = setup.frame;
+        return;
+    }
+    // render.opacity.pipeline (Günther et al. 2013, Sect. 4.4): H is assembled and the system
+    // solved on a worker thread while frames keep coming; each frame fades the displayed
+    // opacities toward the latest finished solution. A finished solve is taken here, and the
+    // worker, when idle, starts on this frame's lists, warm started from the latest solution. One
+    // worker does assembly and solve in turn (the paper runs them on two threads).
+    timer.begin("pipeline");
+    using namespace std::chrono_literals;
+    if (m_pending.valid() && m_pending.wait_for(0s) == std::future_status::ready) {
+        PipelinedSolve done = m_pending.get();
+        m_solution = std::move(done.solution);
+        m_lastSolve = done.stats;
+        m_lastSolve.solvedFrame = done.frame;
+    }
+    if (!m_pending.valid()) {
+        m_pending = std::async(std::launch::async, [this, lists, setup, start = m_solution]() mutable {
+            PipelinedSolve result;
+            result.frame = setup.frame;
+            CpuStageTimer worker;  // the frame's StageSink belongs to the render thread
+            FrameOcclusion occlusion;
+            assembleOcclusion(lists, setup, occlusion, worker, result.stats);
+            solve(lists, setup, occlusion, worker, result.stats, start);
+            result.solution = std::move(start);
+            return result;
+        });
+    }
+    timer.end();
+    // This frame's stats report the latest finished solve (solvedFrame says of which frame).
+    const FrameStats listStats = m_stats;
+    m_stats = m_lastSolve;
+    m_stats.parts = listStats.parts;
+    m_stats.capacity = listStats.capacity;
+    m_stats.fragments = listStats.fragments;
+    m_stats.overflow = listStats.overflow;
+    m_stats.listsMs = listStats.listsMs;
+    m_stats.readbackMs = listStats.readbackMs;
+    m_displayed = displayedAfter(m_solution);
 }
 
 std::uint64_t OpacityRenderer::buildFragmentLists(const FrameSetup& setup, StageSink& timer) {
@@ -293,7 +397,7 @@ OpacityWeights OpacityRenderer::weights() const {
 }
 
 void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
-                                        StageSink& timer) {
+                                        StageSink& timer, FrameStats& stats) {
     // render.opacity.occlusion_scale < 1: H from the lists of a subsample of the pixels, as if
     // rasterized at that fraction of the width and height (core/occlusion_matrix.h,
     // subsampleLists). The resolve still blends all full-size lists: it needs them sorted
@@ -306,16 +410,16 @@ void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameS
     if (occlusion.scaled) occlusion.scaledLists = subsampleLists(lists, setup.height, double(m_spec.occlusionScale));
     const FragmentLists& occlusionLists = occlusion.lists(lists);
     const FragmentLists& scaledLists = occlusion.scaledLists;
-    m_stats.occlusionWidth = occlusion.scaled ? scaledLists.width : setup.width;
-    m_stats.occlusionHeight =
+    stats.occlusionWidth = occlusion.scaled ? scaledLists.width : setup.width;
+    stats.occlusionHeight =
         occlusion.scaled ? int(scaledLists.pixelCount() / std::size_t(scaledLists.width)) : setup.height;
-    m_stats.occlusionFragments = occlusionLists.fragments.size();
+    stats.occlusionFragments = occlusionLists.fragments.size();
     std::uint64_t pairs = 0;
     for (std::size_t p = 0; p < occlusionLists.pixelCount(); ++p) {
         const std::uint64_t length = occlusionLists.offsets[p + 1] - occlusionLists.offsets[p];
         pairs += length > 1 ? length * (length - 1) / 2 : 0;
     }
-    m_stats.pairs = pairs;
+    stats.pairs = pairs;
     // Assembled H costs Algorithm 1's pairs once plus ~its non-zeros per product; from the lists
     // a product costs the fragments. Auto assembles while the pairs are at most
     // kAssembleBelowPairsPerFragment per fragment: at 8k parts (9.8 per fragment) assembling took
@@ -328,7 +432,7 @@ void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameS
                               (m_spec.occlusion == Occlusion::Auto && m_spec.dropBelow == 0 && m_spec.dumpDir.empty() &&
                                double(pairs) > kAssembleBelowPairsPerFragment *
                                                    double(std::max<std::size_t>(1, occlusionLists.fragments.size())));
-    m_stats.fromFragments = occlusion.fromFragments;
+    stats.fromFragments = occlusion.fromFragments;
     if (occlusion.fromFragments) {
         m_assembler.release();
         SparseMatrixF().swap(m_recycledH);
@@ -338,26 +442,26 @@ void OpacityRenderer::assembleOcclusion(const FragmentLists& lists, const FrameS
         // Into the last frame's arrays (Eigen's SparseMatrix has no move assignment; swap is O(1)).
         occlusion.h.swap(m_recycledH);
         m_assembler.assemble(occlusionLists, n, occlusion.h);
-        m_stats.hNonZeros = std::size_t(occlusion.h.nonZeros());
+        stats.hNonZeros = std::size_t(occlusion.h.nonZeros());
     }
-    timer.setItems(occlusion.fromFragments ? occlusionLists.fragments.size() : m_stats.hNonZeros);
+    timer.setItems(occlusion.fromFragments ? occlusionLists.fragments.size() : stats.hNonZeros);
     timer.end();
-    m_stats.assemblyMs = msSince(t0);
-    m_stats.assemblyCpuMs = cpuMsSince(c0);
+    stats.assemblyMs = msSince(t0);
+    stats.assemblyCpuMs = cpuMsSince(c0);
 }
 
 void OpacityRenderer::solve(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
-                            StageSink& timer) {
+                            StageSink& timer, FrameStats& stats, Eigen::VectorXd& solution) {
     const std::size_t n = m_parts.partCount();
     const auto t0 = std::chrono::steady_clock::now();
     const std::clock_t c0 = std::clock();
     timer.begin("solve");
     std::optional<OpacityEnergy>& energy = occlusion.energy;
     if (!energy) energy.emplace(std::move(occlusion.h), m_importance, m_parts, weights(), m_spec.dropBelow);
-    m_stats.energyMs = msSince(t0);
-    m_stats.energyCpuMs = cpuMsSince(c0);
+    stats.energyMs = msSince(t0);
+    stats.energyCpuMs = cpuMsSince(c0);
     const Eigen::VectorXd lo = Eigen::VectorXd::Zero(Eigen::Index(n)), hi = Eigen::VectorXd::Ones(Eigen::Index(n));
-    if (m_solution.size() != Eigen::Index(n)) m_solution = hi;
+    if (solution.size() != Eigen::Index(n)) solution = hi;
     QpSolverOptions options;
     options.tolerance = m_spec.tolerance;
     options.maxIterations = m_spec.maxIterations;
@@ -371,26 +475,25 @@ void OpacityRenderer::solve(const FragmentLists& lists, const FrameSetup& setup,
         const FragmentLists coarseLists = subsampleLists(lists, setup.height, double(m_spec.coarseScale));
         const OpacityEnergy coarse(std::make_shared<const FragmentOcclusion>(coarseLists, n), m_importance, m_parts,
                                    weights());
-        m_stats.coarse = solveBoundedQp(coarse, coarse.linearTerm(), lo, hi, m_solution, options);
-        m_solution = m_stats.coarse.x;
+        stats.coarse = solveBoundedQp(coarse, coarse.linearTerm(), lo, hi, solution, options);
+        solution = stats.coarse.x;
     }
-    m_stats.solve = solveBoundedQp(*energy, energy->linearTerm(), lo, hi, m_solution, options);
-    m_solution = m_stats.solve.x;
-    if (m_displayed.size() != Eigen::Index(n))
-        m_displayed = m_solution;
-    else
-        m_displayed += double(m_spec.blend) * (m_solution - m_displayed);
-    timer.setItems(std::uint64_t(m_stats.solve.iterations));
+    stats.solve = solveBoundedQp(*energy, energy->linearTerm(), lo, hi, solution, options);
+    solution = stats.solve.x;
+    timer.setItems(std::uint64_t(stats.solve.iterations));
     timer.end();
-    m_stats.solveMs = msSince(t0);
-    m_stats.solveCpuMs = cpuMsSince(c0);
-    if (!m_stats.solve.converged)
+    stats.solveMs = msSince(t0);
+    stats.solveCpuMs = cpuMsSince(c0);
+    if (!stats.solve.converged)
         std::cerr << "warning: opacity optimization, frame " << setup.frame << ": solver stopped after "
-                  << m_stats.solve.iterations << " iterations at projected-gradient norm " << m_stats.solve.residual
+                  << stats.solve.iterations << " iterations at projected-gradient norm " << stats.solve.residual
                   << " (render.opacity.tolerance " << m_spec.tolerance << ")\n";
-    if (m_sink)
+    if (m_sink) {
+        // The displayed opacities this solution gives (set by optimise() right after).
+        const Eigen::VectorXd displayed = displayedAfter(solution);
         m_sink({setup.frame, &*energy, occlusion.fromFragments ? nullptr : &energy->occlusion(),
-                &occlusion.lists(lists), &m_parts, &m_importance, &m_solution, &m_displayed, &m_stats.solve});
+                &occlusion.lists(lists), &m_parts, &m_importance, &solution, &displayed, &stats.solve});
+    }
     if (!occlusion.fromFragments) energy->releaseOcclusion(m_recycledH);
 }
 
@@ -455,6 +558,9 @@ nlohmann::json OpacityRenderer::describe() const {
         {"occlusion_scale", m_spec.occlusionScale},
         {"coarse_scale", m_spec.coarseScale},
         {"resolve", "CPU (the sorted lists blended front to back)"},
+        {"pipeline", m_spec.pipeline},
+        {"samples", m_samples},
+        {"halo", !m_geometry.haloDefines().empty()},
         {"aovs_from", m_gbuffer ? "G-buffer pass (first surface of the union of tubes)" : "none"}};
     if (m_spec.importance == OpacityOptimizationSpec::Importance::Attribute)
         j["importance_attribute"] = m_spec.attribute;

@@ -16,12 +16,20 @@
 // render.opacity.blend per frame; (4) "resolve": the same sorted lists are blended front to back
 // on the CPU with alpha = style alpha * lerp(a_i, a_i+1, frac(w)).
 //
+// render.opacity.pipeline: from the second frame on, stages 2 and 3 run on a worker thread on the
+// lists of the frame that was current when it became idle; each frame takes a finished solution
+// and fades the displayed opacities toward it (Günther et al. 2013, Sect. 4.4).
+//
+// image.samples: the lists of every sample position are built, sorted and blended in turn; the
+// system of each frame is solved once, from the sample nearest the pixel centre.
+//
 // Memory: the node pool (20 bytes a node in five 4-byte arrays) gets what render.memory_budget_mb
 // leaves after the colour target and the heads, and at most GL_MAX_SHADER_STORAGE_BLOCK_SIZE / 4
 // nodes (33.5 M on llvmpipe); fragments past it are counted, not stored, and reported
 // (lastStats().overflow, stderr): never a crash.
 #include <Eigen/Core>
 #include <functional>
+#include <future>
 #include <optional>
 
 #include "core/occlusion_matrix.h"
@@ -54,6 +62,10 @@ public:
         QpResult coarse;  // the solve of render.opacity.coarse_scale's lists (0 products: off)
         double listsMs = 0, readbackMs = 0, assemblyMs = 0, solveMs = 0, resolveMs = 0;
         double energyMs = 0;  // of solveMs: building the energy from H (assembled occlusion only)
+        // The frame whose lists the reported solve came from: this frame, or with
+        // render.opacity.pipeline the latest solve the worker finished (the stats above from
+        // h_assembly on are that solve's).
+        int solvedFrame = 0;
         // Process CPU time (all threads) of the same stages: what A/B runs compare on a shared machine.
         double assemblyCpuMs = 0, solveCpuMs = 0, energyCpuMs = 0;
     };
@@ -97,12 +109,19 @@ private:
         std::optional<OpacityEnergy> energy;
         const FragmentLists& lists(const FragmentLists& sorted) const { return scaled ? scaledLists : sorted; }
     };
+    // "fragment_lists" and "lists_sort" of one sample position.
+    FragmentLists sortedLists(const FrameSetup& setup, std::vector<std::uint32_t>& colors, StageSink& timer);
+    // "h_assembly" and "solve" of the frame's lists: the displayed opacities for its resolve.
+    void optimise(const FragmentLists& lists, const FrameSetup& setup, StageSink& timer);
     // "h_assembly": H (or the energy over the lists) from the sorted lists.
     void assembleOcclusion(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion,
-                           StageSink& timer);
-    // "solve": the bounded QP, warm started, and the displayed opacities; hands the system to the
-    // sink.
-    void solve(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion, StageSink& timer);
+                           StageSink& timer, FrameStats& stats);
+    // "solve": the bounded QP, warm started from `solution`, which it overwrites; hands the system
+    // to the sink. Touches no GL (render.opacity.pipeline runs it on a worker thread).
+    void solve(const FragmentLists& lists, const FrameSetup& setup, FrameOcclusion& occlusion, StageSink& timer,
+               FrameStats& stats, Eigen::VectorXd& solution);
+    // The displayed opacities after this frame's fade toward `solution` (render.opacity.blend).
+    Eigen::VectorXd displayedAfter(const Eigen::VectorXd& solution) const;
     // "resolve": blends the sorted lists with the displayed opacities into out.rgba (w x hgt).
     void resolve(const FragmentLists& lists, const std::vector<std::uint32_t>& colors, int w, int hgt,
                  FrameImages& out) const;
@@ -111,6 +130,7 @@ private:
     OpacityOptimizationSpec m_spec;
     bool m_capClipping = true;
     std::size_t m_memoryBudgetBytes = 0;
+    int m_samples = 1;  // image.samples, taken here (the frame loop does not wrap this technique)
     LightingSpec m_lighting;
     SystemSink m_sink;
 
@@ -131,6 +151,16 @@ private:
     std::size_t m_capacity = 0;
     Texture m_color;
     Framebuffer m_framebuffer;
+
+    // render.opacity.pipeline: the solve running on the worker thread, and the stats of the latest
+    // finished one. Last, so it is destroyed (waiting for the worker) before what the worker uses.
+    struct PipelinedSolve {
+        int frame = 0;
+        Eigen::VectorXd solution;
+        FrameStats stats;
+    };
+    FrameStats m_lastSolve;
+    std::future<PipelinedSolve> m_pending;
 };
 
 }  // namespace tc::gl

@@ -44,6 +44,10 @@ TechniqueDescriptor rasterizedTechnique() {
     d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
                       Transparency::DepthPeeling, Transparency::OpacityOptimization};
     d.exactTransparency = Transparency::KBuffer;
+    // Halos are drawn by the transparent fragment shader (shaders/transparent_fragment.glsl); the
+    // opaque path's visibility buffer keeps one segment id per pixel and has no halo fragment.
+    d.halo = {Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling,
+              Transparency::OpacityOptimization};
     d.ao = {AoSpec::Method::ConeTraced};
     d.regionTransparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
                             Transparency::DepthPeeling};

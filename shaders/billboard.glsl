@@ -209,4 +209,15 @@ void computeBillboard(RoundedCone c, mat4 viewProj, vec3 eye, vec3 forward, bool
     corners = bb.ndc;
 }
 
+// The cone a segment's billboard must cover: its rounded cone, grown by the halo ring when the
+// program has HALO (style.halo; transparent_fragment.glsl draws the ring).
+RoundedCone billboardCone(vec4 a, vec4 b) {
+#ifdef HALO
+    const float scale = 1.0 + HALO_WIDTH;
+#else
+    const float scale = 1.0;
+#endif
+    return RoundedCone(a.xyz, a.w * scale, b.xyz, b.w * scale);
+}
+
 #endif  // TC_BILLBOARD_GLSL

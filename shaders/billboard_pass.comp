@@ -25,7 +25,7 @@ void main() {
     uint segment = segmentOfSlot(slot);
     vec4 a = positionRadius[segmentVertices[2u * segment]];
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
-    Billboard bb = computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uOrthographic, uForward);
+    Billboard bb = computeBillboard(billboardCone(a, b), uViewProj, uEye, uOrthographic, uForward);
 #ifdef CULLING
     // Depth slices (Groß & Gumhold 2020, Sect. 4.3): a hidden segment gets the zero-area quad of
     // a culled billboard and rasterizes nothing.

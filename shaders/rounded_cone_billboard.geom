@@ -20,7 +20,7 @@ void main() {
     uint segment = vSegmentIn[0];
     vec4 a = positionRadius[segmentVertices[2u * segment]];
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
-    Billboard bb = computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uOrthographic, uForward);
+    Billboard bb = computeBillboard(billboardCone(a, b), uViewProj, uEye, uOrthographic, uForward);
     if (bb.culled) return;
 #ifdef CULLING
     // Depth slices (Groß & Gumhold 2020, Sect. 4.3): a hidden segment emits nothing.

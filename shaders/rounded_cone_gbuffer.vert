@@ -36,7 +36,7 @@ void main() {
     vec4 a = positionRadius[segmentVertices[2u * segment]];
     vec4 b = positionRadius[segmentVertices[2u * segment + 1u]];
     vec2 corners[4];
-    computeBillboard(RoundedCone(a.xyz, a.w, b.xyz, b.w), uViewProj, uEye, uForward, uOrthographic, corners);
+    computeBillboard(billboardCone(a, b), uViewProj, uEye, uForward, uOrthographic, corners);
 #ifdef CULLING
     // Depth slices: every corner of a hidden segment collapses to one point off screen. The
     // BILLBOARDS_PRECOMPUTED path culls in billboard_pass.comp instead.

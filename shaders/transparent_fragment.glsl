@@ -20,6 +20,44 @@ struct LineFragment {
     vec3 normal;  // outward world normal
 };
 
+#ifdef HALO
+// Depth-dependent halos (Everts et al. 2009), with which Günther, Rössl & Theisel 2013 (Sect. 4.2)
+// draw their lines: a ring HALO_WIDTH tube radii wide around the tube's silhouette, in HALO_COLOR
+// (linear RGB) with the line's alpha. Its depth grows linearly across the ring, from the axis
+// depth at the silhouette (u = 0) to HALO_DEPTH radii behind it at the outer edge (u = 1), as the
+// paper's strips push their halo region back: a line further behind than that is hidden by the
+// whole ring, one at about the same depth (a bundle) shows through it. The ring belongs to the
+// segment whose grown cone the ray enters on its surface after cap clipping, like a tube entry.
+bool haloFragment(Ray ray, vec4 plane0, vec4 plane1, bool clip0, bool clip1, out LineFragment f) {
+    RoundedCone c = varyingCone();
+    const float scale = 1.0 + HALO_WIDTH;
+    RoundedCone outer = RoundedCone(c.x0, c.r0 * scale, c.x1, c.r1 * scale);
+    ConeInterval ring = intersectRoundedCone(ray, outer);
+    float tEntry;
+    vec3 nEntry;
+    if (!segmentFragment(ray, ring, plane0, plane1, clip0, clip1, tEntry, nEntry)) return false;
+    // The ray's closest approach to the axis: the middle of its chord through the grown cone
+    // (exact for a cylinder and for the end spheres).
+    vec3 mid = ray.origin + 0.5 * (ring.tIn + ring.tOut) * ray.dir;
+    vec3 axis = c.x1 - c.x0;
+    float len2 = dot(axis, axis);
+    float s = len2 > 0.0 ? clamp(dot(mid - c.x0, axis) / len2, 0.0, 1.0) : 0.0;
+    vec3 q = c.x0 + s * axis;
+    float radius = mix(c.r0, c.r1, s);
+    float u = (distance(mid, q) - radius) / (HALO_WIDTH * radius);
+    // Within the tube's radius but not this segment's surface: a neighbour's at a joint.
+    if (!(u >= 0.0)) return false;
+    f.depth = dot(q - uEye, uForward) + min(u, 1.0) * HALO_DEPTH * radius;
+    if (!(f.depth > 0.0)) return false;
+#ifdef REGION_CLIP
+    if (!inRegion(ray.origin + tEntry * ray.dir)) return false;
+#endif
+    f.color = vec4(HALO_COLOR, mix(vColor0.a, vColor1.a, s));
+    f.normal = nEntry;
+    return true;
+}
+#endif
+
 bool lineFragment(out LineFragment f) {
 #ifdef CULLING
     // Depth slices: this pixel is already (nearly) opaque; skip the ray casting and shading.
@@ -33,7 +71,13 @@ bool lineFragment(out LineFragment f) {
     vec4 plane0 = vClip0, plane1 = vClip1;
     float t;
     vec3 n;
-    if (!segmentFragment(ray, cone, plane0, plane1, clip0, clip1, t, n)) return false;
+    if (!segmentFragment(ray, cone, plane0, plane1, clip0, clip1, t, n)) {
+#ifdef HALO
+        return haloFragment(ray, plane0, plane1, clip0, clip1, f);
+#else
+        return false;
+#endif
+    }
     f.depth = viewDepth(ray, t);
     if (!(f.depth > 0.0)) return false;
     vec3 p = ray.origin + t * ray.dir;

@@ -58,6 +58,32 @@ TEST_F(TransparencyCli, KbufferOverTheMemoryBudgetIsExit2NamingTheKey) {
     EXPECT_TRUE(fs::exists(dir / "ok" / "f.0000.exr"));
 }
 
+// style.halo is drawn by the rasterized transparent modes only: every other technique and the
+// opaque rasterized path refuse it with exit 2 naming the key and the technique; a bad value
+// names the sub-key.
+TEST_F(TransparencyCli, HaloIsRefusedByTechniquesThatDoNotDrawItAndAcceptedByTheTransparentModes) {
+    writeScene(R"("technique": "rasterized", "transparency": "depth_peeling")", 8, 32, 24, 1.0f);
+    RunResult ok = run("render scene.json --set style.halo.width=1 -o ok");
+    EXPECT_EQ(ok.code, 0) << ok.err;
+    EXPECT_TRUE(fs::exists(dir / "ok" / "f.0000.exr"));
+    struct Refused {
+        std::string set, expected;
+    };
+    for (const Refused& c : std::vector<Refused>{
+             {"--set style.halo=true --set 'render.technique=\"raytraced\"'",
+              "style.halo: technique \"raytraced\" draws no halos"},
+             {"--set style.halo=true --set 'render.transparency=\"opaque\"'",
+              "style.halo: technique \"rasterized\" draws halos with render.transparency \"object_order\", "
+              "\"kbuffer\", \"depth_peeling\" or \"opacity_optimization\", got \"opaque\""},
+             {"--set style.halo.width=0", "style.halo.width: expected a number in (0, 100]"},
+             {"--set style.halo.colour=[0,0,0]", "style.halo.colour"},
+         }) {
+        RunResult r = run("render scene.json " + c.set + " -o refused");
+        EXPECT_EQ(r.code, 2) << c.set << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.set << "\n" << r.err;
+    }
+}
+
 // Both backends run the same llvmpipe and the k-buffer's per-pixel order is deterministic there
 // (llvmpipe bins by tile and one thread shades a tile's primitives in submission order): the
 // images must agree exactly, AOVs included.

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "core/scene.h"
 #include "core/technique.h"
@@ -252,6 +254,136 @@ TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_fai
     EXPECT_GT(s.overflow, 0u);
     EXPECT_EQ(s.fragments, s.capacity + s.overflow);
     EXPECT_EQ(im.rgba.size(), 4u * 220 * 220);
+}
+
+// style.halo (Everts et al. 2009, as Günther et al. 2013, Sect. 4.2 draw their lines): 1 px =
+// 2/64 world units, radius 0.08 = 2.56 px, a ring of one radius. Rows 27 and 28 (pixel centres at
+// y = 0.141 and 0.109) lie outside the front line's silhouette (|y| < 0.08) and inside its ring
+// (|y| < 0.16), as rows 35 and 36 below it; row 25 (y = 0.203) lies outside both. Column 44
+// (x = 0.39) is far from the back line, columns 31, 32 (x = -+0.016) lie on it. q = 0: every
+// opacity is 1, so the lines are opaque. The ring's depth reaches 4 radii (0.32) behind the front
+// line's axis; the back line lies 0.5 behind it, or at the same depth.
+TEST_F(GlTest, halo_rings_a_tube_and_hides_a_line_behind_it_but_not_one_at_the_same_depth) {
+    const glm::vec3 green{0.0f, 1.0f, 0.0f};
+    for (Transparency mode : {Transparency::OpacityOptimization, Transparency::DepthPeeling}) {
+        SCOPED_TRACE(transparencyName(mode));
+        for (bool equalDepth : {false, true}) {
+            SCOPED_TRACE(equalDepth ? "both lines at z = 0" : "front line 0.5 in front of the back line");
+            TestPolyline front, back;
+            for (int k = 0; k <= 8; ++k) {
+                const float t = float(k) / 8.0f;
+                front.push_back({{-0.5f + t, 0.0f, equalDepth ? 0.0f : 0.5f}, 0.08f, kFrontColor});
+                back.push_back({{0.0f, -0.9f + 1.8f * t, 0.0f}, 0.08f, kBackColor});
+            }
+            const StyledLines lines = makeStyledLines({front, back});
+            Scene scene = opacityScene(0.0f);
+            scene.render.transparency = mode;
+            auto plainTechnique = gl::createTechnique(scene, lines);
+            scene.style.halo.enabled = true;
+            scene.style.halo.width = 1.0f;
+            scene.style.halo.depth = 4.0f;
+            scene.style.halo.color = green;
+            auto haloTechnique = gl::createTechnique(scene, lines);
+            FrameImages plain, haloed;
+            gl::StageTimer timer;
+            plainTechnique->render(tc::FrameSetup{0, topCamera(), kSize, kSize}, plain, timer);
+            haloTechnique->render(tc::FrameSetup{0, topCamera(), kSize, kSize}, haloed, timer);
+            timer.collect();
+            // Just outside the silhouette, over the background: the halo's colour, opaque; before
+            // (no halo) the background.
+            for (int row : {27, 28, 35, 36}) {
+                SCOPED_TRACE(row);
+                EXPECT_EQ(pixel(plain, 44, row), glm::vec4(0.0f));
+                const glm::vec4 h = pixel(haloed, 44, row);
+                EXPECT_NEAR(h.x, 0.0f, 1e-3f);
+                EXPECT_NEAR(h.y, 1.0f, 1e-3f);
+                EXPECT_NEAR(h.z, 0.0f, 1e-3f);
+                EXPECT_NEAR(h.w, 1.0f, 1e-3f);
+            }
+            EXPECT_EQ(pixel(haloed, 44, 25), glm::vec4(0.0f));  // beyond the ring
+            // The tube itself is unchanged.
+            EXPECT_EQ(pixel(haloed, 44, 31), pixel(plain, 44, 31));
+            // Where the back line passes the front line's ring: hidden by the ring when it lies
+            // 0.5 behind, seen through it at the same depth.
+            for (int column : {31, 32})
+                for (int row : {27, 28}) {
+                    SCOPED_TRACE(testing::Message() << column << ", " << row);
+                    const glm::vec4 before = pixel(plain, column, row), after = pixel(haloed, column, row);
+                    EXPECT_GT(before.z, 0.2f);  // the blue back line
+                    if (equalDepth) {
+                        EXPECT_EQ(after, before);
+                    } else {
+                        EXPECT_NEAR(after.y, 1.0f, 1e-3f);
+                        EXPECT_NEAR(after.z, 0.0f, 1e-3f);
+                    }
+                }
+        }
+    }
+}
+
+// image.samples = 4 (offsets -+0.375, -+0.125 px): the front line's silhouette y = 0.08 crosses
+// row 29 (centre y = 0.078, samples at y = 0.090, 0.082 outside and 0.074, 0.066 inside), so that
+// pixel is half covered; with ambient light only the tube is flat-coloured, and its interior and
+// the background are the same as with one sample. q = 0 keeps every opacity at 1, whichever
+// sample's lists the system comes from, so only coverage can change a pixel.
+TEST_F(GlTest, opacity_optimization_with_samples_antialiases_silhouettes_and_keeps_flat_interiors) {
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(0.0f);
+    scene.lighting.ambient = 1.0f;
+    scene.lighting.diffuse = scene.lighting.specular = 0.0f;
+    auto single = gl::OpacityRenderer::create(scene, lines);
+    scene.image.samples = 4;
+    auto multi = gl::OpacityRenderer::create(scene, lines);
+    const Frame one = renderOnce(*single), four = renderOnce(*multi);
+    EXPECT_EQ(four.opacity, one.opacity);
+    // The silhouette: covered at the centre sample, half covered by the four.
+    EXPECT_NEAR(pixel(one.images, 44, 29).w, 1.0f, 1e-6f);
+    const glm::vec4 edge = pixel(four.images, 44, 29);
+    EXPECT_NEAR(edge.w, 0.5f, 1e-3f);
+    EXPECT_NEAR(edge.x, 0.5f * pixel(one.images, 44, 29).x, 1e-3f);
+    // Flat interior and background: unchanged.
+    for (int row : {30, 31, 32, 33}) {
+        const glm::vec4 a = pixel(one.images, 44, row), b = pixel(four.images, 44, row);
+        EXPECT_NEAR(a.w, 1.0f, 1e-6f) << row;
+        for (int c = 0; c < 4; ++c) EXPECT_NEAR(b[c], a[c], 1e-6f) << row << " " << c;
+    }
+    EXPECT_EQ(pixel(four.images, 44, 20), glm::vec4(0.0f));
+}
+
+// render.opacity.pipeline: the first frame solves its own system (the same image as without),
+// then the camera moves from +x (no overlap, all opacities 1) to +z: the worker solves the +z
+// system while frames keep coming, and the displayed opacities fade toward its solution.
+TEST_F(GlTest, opacity_optimization_pipeline_converges_to_the_solution_and_keeps_a_single_frame) {
+    const StyledLines lines = crossingLines();
+    Scene scene = opacityScene(400.0f);
+    scene.render.opacity.blend = 0.5f;
+    auto direct = gl::OpacityRenderer::create(scene, lines);
+    scene.render.opacity.pipeline = true;
+    auto pipelined = gl::OpacityRenderer::create(scene, lines);
+    const Frame a = renderOnce(*direct), b = renderOnce(*pipelined);
+    EXPECT_EQ(a.images.rgba, b.images.rgba);
+    EXPECT_EQ(a.opacity, b.opacity);
+    EXPECT_EQ(b.stats.solvedFrame, 0);
+
+    Camera side = topCamera();
+    side.eye = {3, 0, 0};
+    auto moving = gl::OpacityRenderer::create(scene, lines);
+    Frame f = renderOnce(*moving, 0, side);
+    for (Eigen::Index i = 0; i < f.opacity.size(); ++i) EXPECT_NEAR(f.opacity[i], 1.0, 1e-9);
+    // The +z solution, solved directly (the energy is strictly convex: one minimiser).
+    const Eigen::VectorXd solution = renderOnce(*direct, 1).stats.solve.x;
+    ASSERT_LT(solution[1], 0.5);
+    int frame = 1;
+    bool sawFade = false;
+    for (; frame < 2000; ++frame) {
+        f = renderOnce(*moving, frame);
+        if (f.stats.solvedFrame >= 1 && f.opacity[1] > solution[1] + 1e-3) sawFade = true;
+        if ((f.opacity - solution).lpNorm<Eigen::Infinity>() < 1e-6) break;
+        if (f.stats.solvedFrame < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_LT((f.opacity - solution).lpNorm<Eigen::Infinity>(), 1e-6) << "after " << frame << " frames";
+    EXPECT_GE(f.stats.solvedFrame, 1);
+    EXPECT_TRUE(sawFade);  // faded in over frames, not jumped (blend 0.5)
 }
 
 }  // namespace

@@ -366,6 +366,45 @@ std::string renderError(const char* render) {
     return "(no error)";
 }
 
+Scene parseStyle(const char* style, const char* image = "{}") {
+    nlohmann::json doc = nlohmann::json::parse(std::string(R"({"dataset": {"generate": "tornado"}, "style": )") +
+                                               style + R"(, "image": )" + image + "}");
+    return parseScene(doc, "scene.json");
+}
+
+std::string styleError(const char* style) {
+    try {
+        parseStyle(style);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+TEST(HaloScene, style_halo_is_off_by_default_and_parses_width_depth_colour) {
+    EXPECT_FALSE(parseStyle("{}").style.halo.enabled);
+    EXPECT_FALSE(parseStyle(R"({"halo": false})").style.halo.enabled);
+    const Scene on = parseStyle(R"({"halo": true})", R"({"background": [1, 1, 1]})");
+    EXPECT_TRUE(on.style.halo.enabled);
+    EXPECT_FLOAT_EQ(on.style.halo.width, 0.5f);
+    EXPECT_FLOAT_EQ(on.style.halo.depth, 4.0f);
+    // Default colour: the background's complement (black on white).
+    EXPECT_EQ(haloColor(on.style.halo, on.image.background), glm::vec3(0.0f));
+    const Scene custom = parseStyle(R"({"halo": {"width": 2, "depth": 0, "color": [0.2, 0.4, 0.6]}})");
+    EXPECT_TRUE(custom.style.halo.enabled);
+    EXPECT_FLOAT_EQ(custom.style.halo.width, 2.0f);
+    EXPECT_FLOAT_EQ(custom.style.halo.depth, 0.0f);
+    EXPECT_EQ(haloColor(custom.style.halo, custom.image.background), glm::vec3(0.2f, 0.4f, 0.6f));
+    EXPECT_FALSE(parseStyle(R"({"halo": {"enabled": false}})").style.halo.enabled);
+    EXPECT_NE(styleError(R"({"halo": {"width": 0}})").find("scene.json: style.halo.width: expected a number in (0, 100]"),
+              std::string::npos);
+    EXPECT_NE(styleError(R"({"halo": {"depth": -1}})").find("scene.json: style.halo.depth"), std::string::npos);
+    EXPECT_NE(styleError(R"({"halo": {"color": [0, 0, 0, 1]}})").find("scene.json: style.halo.color: expected a colour"),
+              std::string::npos);
+    EXPECT_NE(styleError(R"({"halo": {"size": 1}})").find("style.halo.size"), std::string::npos);
+    EXPECT_NE(styleError(R"({"halo": 1})").find("scene.json: style.halo: expected true, false or"), std::string::npos);
+}
+
 TEST(OpacityScene, keys_parse_with_defaults_and_located_errors) {
     Scene s = parseRender(R"({"transparency": "opacity_optimization", "opacity": {"q": 4}})");
     EXPECT_EQ(s.render.transparency, Transparency::OpacityOptimization);
@@ -403,6 +442,13 @@ TEST(OpacityScene, keys_parse_with_defaults_and_located_errors) {
     EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {"occlusion_scale": 0.25}})").render.opacity.occlusionScale, 0.25f);
     EXPECT_NE(renderError(R"({"opacity": {"occlusion_scale": 0}})")
                   .find("scene.json: render.opacity.occlusion_scale: expected a number in (0, 1]"),
+              std::string::npos);
+    EXPECT_FALSE(parseRender(R"({"opacity": {}})").render.opacity.pipeline);
+    EXPECT_TRUE(parseRender(R"({"opacity": {"pipeline": true}})").render.opacity.pipeline);
+    EXPECT_NE(renderError(R"({"opacity": {"pipeline": "yes"}})").find("scene.json: render.opacity.pipeline"),
+              std::string::npos);
+    EXPECT_NE(renderError(R"({"opacity": {"pipeline": true, "dump_dir": "d"}})")
+                  .find("scene.json: render.opacity.pipeline: a pipelined solve belongs to no one frame"),
               std::string::npos);
     EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {}})").render.opacity.coarseScale, 0.0f);
     EXPECT_FLOAT_EQ(parseRender(R"({"opacity": {"coarse_scale": 0.25}})").render.opacity.coarseScale, 0.25f);

@@ -239,14 +239,18 @@ TEST(Tiling, image_tiles_and_samples_parse_and_validate) {
               "width/2 x height/2), got [49,2]");
     EXPECT_NE(error(R"({"tiles": [2]})").find("image.tiles: expected"), std::string::npos);
     EXPECT_NE(error(R"({"samples": 0})").find("image.samples"), std::string::npos);
-    json doc = json::parse(R"({"dataset": {"generate": "tornado"}, "image": {"samples": 4},
+    // Opacity optimization takes image.samples itself (one solve per frame), not tiles.
+    json samples = json::parse(R"({"dataset": {"generate": "tornado"}, "image": {"samples": 4},
+                                   "render": {"transparency": "opacity_optimization"}})");
+    EXPECT_EQ(parseScene(samples, "scene.json").image.samples, 4);
+    json doc = json::parse(R"({"dataset": {"generate": "tornado"}, "image": {"tiles": [2, 2]},
                                "render": {"transparency": "opacity_optimization"}})");
     try {
         parseScene(doc, "scene.json");
         ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
         EXPECT_EQ(
-            std::string(e.what()).rfind("scene.json: image.samples: render.transparency \"opacity_optimization\"", 0),
+            std::string(e.what()).rfind("scene.json: image.tiles: render.transparency \"opacity_optimization\"", 0),
             0u)
             << e.what();
     }
