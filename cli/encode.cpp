@@ -93,7 +93,8 @@ void runEncode(const EncodeOptions& o) {
     if (!fs::is_directory(o.dir, ec)) throw InputError(o.dir + ": no such directory");
     if (fs::path(o.movie).extension() != ".mp4")
         throw InputError(o.movie + ": expected a file name ending in .mp4 (H.264 in MP4)");
-    if (fs::exists(o.movie, ec) && !o.overwrite) throw OutputError(o.movie + ": exists (use --overwrite to replace it)");
+    if (fs::exists(o.movie, ec) && !o.overwrite)
+        throw OutputError(o.movie + ": exists (use --overwrite to replace it)");
     std::string pattern = "frame.####";
     int frameCount = 0;
     const bool fromRuns = framesFromRuns(o.dir, pattern, frameCount);

@@ -118,9 +118,8 @@ FrameLoopOutcome runFrameLoop(const std::vector<FramePlan>& todo, const OutputSp
             if (in.reference) renderReference(in, setup, images, rows);
             FrameJob job{plan.frame, plan.paths.size(), std::move(rows), frameStart, {}};
             job.write = [&images, &in, paths = plan.paths, exr = frameExrOptions(in, setup.camera, renderSeconds),
-                         frame = plan.frame, camera = setup.camera] {
-                writeFrame(in, images, paths, exr, frame, camera);
-            };
+                         frame = plan.frame,
+                         camera = setup.camera] { writeFrame(in, images, paths, exr, frame, camera); };
             writer.submit(std::move(job));
         } catch (const std::exception& e) {
             // --keep-going: report the frame, write the others. Without it the first failure ends

@@ -34,7 +34,8 @@ FrameOverlay makeFrameOverlay(const Scene& scene, const DatasetLoad& data,
                           scene.render.technique.name()};
         std::optional<ValueRange> range = lineRange;
         if (particles && !data.particles.frames.empty()) {
-            const ParticleSet& shown = data.particles.frames[data.particles.dataFrameFor(frameNumber, scene.dataset.frame)];
+            const ParticleSet& shown =
+                data.particles.frames[data.particles.dataFrameFor(frameNumber, scene.dataset.frame)];
             if (shown.time) content.labels.time = *shown.time;
             if (colormap && spec.legend) range = colorMappingRange(shown, scene.style, scene.file);
         }

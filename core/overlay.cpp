@@ -55,8 +55,8 @@ std::string formatLegendValue(double value, double step) {
     if (std::abs(value) >= 1e5 || step < 1e-3) {
         if (value == 0) return "0";
         // As many mantissa digits as resolve the step at the value's magnitude.
-        const int digits = std::max(0, int(std::floor(std::log10(std::abs(value)))) -
-                                           int(std::floor(std::log10(step) + 1e-9)));
+        const int digits =
+            std::max(0, int(std::floor(std::log10(std::abs(value)))) - int(std::floor(std::log10(step) + 1e-9)));
         return dropNegativeZero(printfDouble("%.*e", std::min(digits, 15), value));
     }
     const int decimals = std::max(0, -int(std::floor(std::log10(step) + 1e-9)));

@@ -22,11 +22,11 @@ inline constexpr const char* kDefaultOverlayFont = "/usr/share/fonts/truetype/de
 // viewport coordinates).
 struct LegendSpec {
     bool vertical = true;
-    glm::vec2 position{0.86f, 0.15f};  // the bar's lower-left corner
-    glm::vec2 size{0.04f, 0.6f};       // the bar's width (fraction of the image width), height (of the height)
-    std::string title;                 // empty: the attribute's name
-    int ticks = 5;                     // about this many labelled values, the range's ends included
-    float fontSize = 0.035f;           // text height, fraction of the image height
+    glm::vec2 position{0.86f, 0.15f};    // the bar's lower-left corner
+    glm::vec2 size{0.04f, 0.6f};         // the bar's width (fraction of the image width), height (of the height)
+    std::string title;                   // empty: the attribute's name
+    int ticks = 5;                       // about this many labelled values, the range's ends included
+    float fontSize = 0.035f;             // text height, fraction of the image height
     std::optional<glm::vec3> textColor;  // sRGB; unset: black or white against image.background
     bool directionKey = true;            // style.color "direction": a key of the three axes' colours
 };
@@ -47,8 +47,8 @@ enum class Corner { BottomLeft, BottomRight, TopLeft, TopRight };
 // overlay.axes: an orientation triad of the world axes as the frame's camera sees them.
 struct AxesSpec {
     Corner corner = Corner::BottomLeft;
-    float size = 0.1f;  // an axis seen side-on, fraction of the image height
-    bool labels = true; // "X", "Y", "Z" at the tips
+    float size = 0.1f;   // an axis seen side-on, fraction of the image height
+    bool labels = true;  // "X", "Y", "Z" at the tips
 };
 
 struct OverlaySpec {
@@ -104,9 +104,9 @@ struct LegendLayout {
     int fontPx = 12;
     int tickLength = 4;  // tick marks outside the bar, on the labels' side
     std::vector<LegendTick> ticks;
-    std::vector<glm::ivec2> tickPixels;   // the bar pixel of each tick's value (centre line of the bar)
-    std::vector<glm::ivec2> labelAnchors; // per tick
-    glm::ivec2 titleAnchor{0};            // bottom-centre of the title (above the bar)
+    std::vector<glm::ivec2> tickPixels;    // the bar pixel of each tick's value (centre line of the bar)
+    std::vector<glm::ivec2> labelAnchors;  // per tick
+    glm::ivec2 titleAnchor{0};             // bottom-centre of the title (above the bar)
 };
 LegendLayout layoutLegend(const LegendSpec& spec, int width, int height, double lo, double hi);
 

@@ -530,8 +530,8 @@ std::optional<glm::vec3> readTextColor(SpecReader& r, const std::string& key) {
     if (!r.has(key)) return std::nullopt;
     if (r.raw(key).is_string() && r.raw(key).get<std::string>() == "auto") return std::nullopt;
     if (r.raw(key).is_array() && r.raw(key).size() == 4)
-        r.fail(key, "expected \"auto\" or a colour [r, g, b] with components in [0, 1], got " +
-                        describeJson(r.raw(key)));
+        r.fail(key,
+               "expected \"auto\" or a colour [r, g, b] with components in [0, 1], got " + describeJson(r.raw(key)));
     return glm::vec3(r.getColor(key, glm::vec4(1.0f)));
 }
 
@@ -594,13 +594,12 @@ void readOverlay(SpecReader r, OverlaySpec& o, const std::set<std::string>& over
     if (r.has("text")) {
         const json& list = r.raw("text");
         if (!list.is_array())
-            r.fail("text", "expected an array of labels [{\"content\": \"frame {frame}\", ...}], got " +
-                               describeJson(list));
+            r.fail("text",
+                   "expected an array of labels [{\"content\": \"frame {frame}\", ...}], got " + describeJson(list));
         for (std::size_t i = 0; i < list.size(); ++i) {
             const std::string at = "text[" + std::to_string(i) + "]";
             if (!list[i].is_object()) r.fail(at, "expected a label {\"content\": ...}, got " + describeJson(list[i]));
-            readTextLabel(SpecReader(list[i], r.file(), "overlay." + at, &overridden),
-                          o.text.emplace_back());
+            readTextLabel(SpecReader(list[i], r.file(), "overlay." + at, &overridden), o.text.emplace_back());
         }
     }
     if (r.has("axes") && readSwitchOrObject(r, "axes")) {
@@ -739,7 +738,7 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
         SpecReader o(doc["output"], file, "output", &overridden);
         o.fail("video", "the movie is encoded from the PNG frames: add \"png\" to output.formats");
     }
-        if (scene.output.aovAo && !scene.render.ao.enabled) {
+    if (scene.output.aovAo && !scene.render.ao.enabled) {
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);
         o.fail("aovs", "\"ao\" needs ambient occlusion: set render.ao.enabled to true");
     }

@@ -34,8 +34,7 @@ struct ValueRange {
 // The range styleLines maps style.color's attribute over (the colormap's ends: what a colour
 // legend labels); nullopt when the colour is a constant or direction-encoded. Throws as styleLines
 // for a missing attribute.
-std::optional<ValueRange> colorMappingRange(const LineSet& lines, const StyleSpec& style,
-                                            const std::string& sceneFile);
+std::optional<ValueRange> colorMappingRange(const LineSet& lines, const StyleSpec& style, const std::string& sceneFile);
 
 // Whether any vertex has an opacity below 1 (render.transparency "auto").
 bool anyTranslucent(const StyledLines& lines);

@@ -144,8 +144,8 @@ void drawDirectionKey(Canvas& c, const OverlayContent& o, const LegendSpec& spec
                IBA::TextAlignY::Center);
     }
     const int top = bottom - 3 * px - 2 * (px / 3);
-    drawTitle(c, {x0 + px, top - std::max(2, px / 4)}, px, spec.title.empty() ? "direction" : spec.title,
-              o.spec->font, color);
+    drawTitle(c, {x0 + px, top - std::max(2, px / 4)}, px, spec.title.empty() ? "direction" : spec.title, o.spec->font,
+              color);
 }
 
 void drawTriad(Canvas& c, const OverlayContent& o, const AxesSpec& spec) {

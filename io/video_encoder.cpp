@@ -89,10 +89,33 @@ std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const VideoE
     const std::string fps = std::to_string(request.fps);
     // yuv420p: the chroma format every player decodes (libx264 would keep 4:4:4 from RGB input);
     // it needs even dimensions, so an odd width or height is padded by one pixel.
-    return {ffmpeg,   "-nostdin", "-hide_banner", "-loglevel",  "error",    "-y",       "-framerate",
-            fps,      "-start_number", "0",       "-i",         pattern,    "-c:v",     "libx264",
-            "-crf",   std::to_string(request.crf), "-pix_fmt",  "yuv420p",  "-vf",      "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-            "-r",     fps,        "-movflags",    "+faststart", "-f",       "mp4",      out};
+    return {ffmpeg,
+            "-nostdin",
+            "-hide_banner",
+            "-loglevel",
+            "error",
+            "-y",
+            "-framerate",
+            fps,
+            "-start_number",
+            "0",
+            "-i",
+            pattern,
+            "-c:v",
+            "libx264",
+            "-crf",
+            std::to_string(request.crf),
+            "-pix_fmt",
+            "yuv420p",
+            "-vf",
+            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+            "-r",
+            fps,
+            "-movflags",
+            "+faststart",
+            "-f",
+            "mp4",
+            out};
 }
 
 std::string encodeMp4(const VideoEncodeRequest& request) {

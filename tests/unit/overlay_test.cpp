@@ -141,34 +141,42 @@ TEST(Overlay, SceneKeysAreReadWithTheirDefaults) {
     EXPECT_FALSE(none.overlay.any());
     const Scene s = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
         "overlay": {"legend": {"orientation": "horizontal", "title": "speed (m/s)", "ticks": 4,
-                               "text_color": [1, 0, 0]},
-                    "text": [{"content": "frame {frame}", "position": [0.5, 0.9], "size": 0.05, "align": "center"}],
-                    "axes": {"corner": "top_right", "size": 0.15}, "in_exr": true},
-        "output": {"video": {"file": "movie.mp4", "fps": 24}}})"),
+                               "text_color": [1, 0, 0]
+}
+, "text" : [ {"content" : "frame {frame}", "position" : [ 0.5, 0.9 ], "size" : 0.05, "align" : "center"} ],
+           "axes" : {"corner" : "top_right", "size" : 0.15},
+                    "in_exr" : true
+}
+, "output" : {
+    "video" : {
+        "file" : "movie.mp4", "fps" : 24
+    }
+}
+})"),
                                "dir/scene.json");
-    ASSERT_TRUE(s.overlay.legend);
-    EXPECT_FALSE(s.overlay.legend->vertical);
-    EXPECT_FLOAT_EQ(s.overlay.legend->size.x, 0.6f);  // the horizontal bar's default
-    EXPECT_EQ(s.overlay.legend->title, "speed (m/s)");
-    EXPECT_EQ(s.overlay.legend->ticks, 4);
-    EXPECT_EQ(*s.overlay.legend->textColor, glm::vec3(1, 0, 0));
-    ASSERT_EQ(s.overlay.text.size(), 1u);
-    EXPECT_EQ(s.overlay.text[0].align, TextAlign::Center);
-    EXPECT_FLOAT_EQ(s.overlay.text[0].position.y, 0.9f);
-    ASSERT_TRUE(s.overlay.axes);
-    EXPECT_EQ(s.overlay.axes->corner, Corner::TopRight);
-    EXPECT_TRUE(s.overlay.inExr);
-    EXPECT_EQ(s.overlay.font, kDefaultOverlayFont);
-    EXPECT_FLOAT_EQ(s.overlay.fps, 24.0f);  // {time} = frame / output.video.fps
-    ASSERT_TRUE(s.output.video);
-    EXPECT_EQ(s.output.video->crf, 18);
+ASSERT_TRUE(s.overlay.legend);
+EXPECT_FALSE(s.overlay.legend->vertical);
+EXPECT_FLOAT_EQ(s.overlay.legend->size.x, 0.6f);  // the horizontal bar's default
+EXPECT_EQ(s.overlay.legend->title, "speed (m/s)");
+EXPECT_EQ(s.overlay.legend->ticks, 4);
+EXPECT_EQ(*s.overlay.legend->textColor, glm::vec3(1, 0, 0));
+ASSERT_EQ(s.overlay.text.size(), 1u);
+EXPECT_EQ(s.overlay.text[0].align, TextAlign::Center);
+EXPECT_FLOAT_EQ(s.overlay.text[0].position.y, 0.9f);
+ASSERT_TRUE(s.overlay.axes);
+EXPECT_EQ(s.overlay.axes->corner, Corner::TopRight);
+EXPECT_TRUE(s.overlay.inExr);
+EXPECT_EQ(s.overlay.font, kDefaultOverlayFont);
+EXPECT_FLOAT_EQ(s.overlay.fps, 24.0f);  // {time} = frame / output.video.fps
+ASSERT_TRUE(s.output.video);
+EXPECT_EQ(s.output.video->crf, 18);
 
-    const Scene t = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+const Scene t = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
         "overlay": {"legend": true, "axes": false, "font": "fonts/a.ttf"}})"),
-                               "dir/scene.json");
-    EXPECT_TRUE(t.overlay.legend);
-    EXPECT_FALSE(t.overlay.axes);
-    EXPECT_EQ(t.overlay.font, "dir/fonts/a.ttf");  // relative to the scene file
+                           "dir/scene.json");
+EXPECT_TRUE(t.overlay.legend);
+EXPECT_FALSE(t.overlay.axes);
+EXPECT_EQ(t.overlay.font, "dir/fonts/a.ttf");  // relative to the scene file
 }
 
 TEST(Overlay, BadOverlayKeysNameTheKey) {
@@ -183,8 +191,8 @@ TEST(Overlay, BadOverlayKeysNameTheKey) {
               "{time:.2f}, {attribute}, {technique})");
     EXPECT_EQ(sceneError(R"({"text": [{"position": [0, 0]}]})"),
               "scene.json: overlay.text[0].content: missing: the label's text, e.g. \"frame {frame}\"");
-    EXPECT_EQ(sceneError(R"({"text": [{"content": "a", "colour": [1, 1, 1]}]})").rfind(
-                  "scene.json: overlay.text[0].colour: unknown key (did you mean \"color\"?)", 0),
+    EXPECT_EQ(sceneError(R"({"text": [{"content": "a", "colour": [1, 1, 1]}]})")
+                  .rfind("scene.json: overlay.text[0].colour: unknown key (did you mean \"color\"?)", 0),
               0u);
     EXPECT_EQ(sceneError(R"({"axes": {"corner": "middle"}})"),
               "scene.json: overlay.axes.corner: expected one of \"bottom_left\", \"bottom_right\", \"top_left\", "
@@ -271,7 +279,8 @@ float bandDifference(const FrameImages& a, const FrameImages& b, glm::ivec2 at, 
 }
 
 TEST(Overlay, LegendLabelsReadAsTheRange) {
-    if (!std::filesystem::exists(kDefaultOverlayFont)) GTEST_SKIP() << kDefaultOverlayFont << " missing (fonts-dejavu-core)";
+    if (!std::filesystem::exists(kDefaultOverlayFont))
+        GTEST_SKIP() << kDefaultOverlayFont << " missing (fonts-dejavu-core)";
     OverlaySpec spec;
     spec.legend.emplace();  // untitled: content.title is empty
     OverlayContent content;
@@ -286,8 +295,7 @@ TEST(Overlay, LegendLabelsReadAsTheRange) {
     for (std::size_t i = 0; i < l.ticks.size(); ++i) {
         const glm::ivec2 at = l.labelAnchors[i];
         // The label's rows left of the tick mark hold exactly the label (white on black) ...
-        EXPECT_LT(bandDifference(frame, textAlone(320, 240, at, l.ticks[i].label, l.fontPx), at, l.fontPx / 2),
-                  1e-6f)
+        EXPECT_LT(bandDifference(frame, textAlone(320, 240, at, l.ticks[i].label, l.fontPx), at, l.fontPx / 2), 1e-6f)
             << l.ticks[i].label;
         // ... and not another number.
         EXPECT_GT(bandDifference(frame, textAlone(320, 240, at, "9.99", l.fontPx), at, l.fontPx / 2), 0.5f);
