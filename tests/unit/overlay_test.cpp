@@ -139,44 +139,36 @@ TEST(Overlay, TriadAxesFollowTheCamera) {
 TEST(Overlay, SceneKeysAreReadWithTheirDefaults) {
     const Scene none = parseScene(json::parse(R"({"dataset": {"generate": "tornado"}})"), "scene.json");
     EXPECT_FALSE(none.overlay.any());
-    const Scene s = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+    const Scene s = parseScene(json::parse(R"json({"dataset": {"generate": "tornado"},
         "overlay": {"legend": {"orientation": "horizontal", "title": "speed (m/s)", "ticks": 4,
-                               "text_color": [1, 0, 0]
-}
-, "text" : [ {"content" : "frame {frame}", "position" : [ 0.5, 0.9 ], "size" : 0.05, "align" : "center"} ],
-           "axes" : {"corner" : "top_right", "size" : 0.15},
-                    "in_exr" : true
-}
-, "output" : {
-    "video" : {
-        "file" : "movie.mp4", "fps" : 24
-    }
-}
-})"),
+                               "text_color": [1, 0, 0]},
+                    "text": [{"content": "frame {frame}", "position": [0.5, 0.9], "size": 0.05, "align": "center"}],
+                    "axes": {"corner": "top_right", "size": 0.15}, "in_exr": true},
+        "output": {"video": {"file": "movie.mp4", "fps": 24}}})json"),
                                "dir/scene.json");
-ASSERT_TRUE(s.overlay.legend);
-EXPECT_FALSE(s.overlay.legend->vertical);
-EXPECT_FLOAT_EQ(s.overlay.legend->size.x, 0.6f);  // the horizontal bar's default
-EXPECT_EQ(s.overlay.legend->title, "speed (m/s)");
-EXPECT_EQ(s.overlay.legend->ticks, 4);
-EXPECT_EQ(*s.overlay.legend->textColor, glm::vec3(1, 0, 0));
-ASSERT_EQ(s.overlay.text.size(), 1u);
-EXPECT_EQ(s.overlay.text[0].align, TextAlign::Center);
-EXPECT_FLOAT_EQ(s.overlay.text[0].position.y, 0.9f);
-ASSERT_TRUE(s.overlay.axes);
-EXPECT_EQ(s.overlay.axes->corner, Corner::TopRight);
-EXPECT_TRUE(s.overlay.inExr);
-EXPECT_EQ(s.overlay.font, kDefaultOverlayFont);
-EXPECT_FLOAT_EQ(s.overlay.fps, 24.0f);  // {time} = frame / output.video.fps
-ASSERT_TRUE(s.output.video);
-EXPECT_EQ(s.output.video->crf, 18);
+    ASSERT_TRUE(s.overlay.legend);
+    EXPECT_FALSE(s.overlay.legend->vertical);
+    EXPECT_FLOAT_EQ(s.overlay.legend->size.x, 0.6f);  // the horizontal bar's default
+    EXPECT_EQ(s.overlay.legend->title, "speed (m/s)");
+    EXPECT_EQ(s.overlay.legend->ticks, 4);
+    EXPECT_EQ(*s.overlay.legend->textColor, glm::vec3(1, 0, 0));
+    ASSERT_EQ(s.overlay.text.size(), 1u);
+    EXPECT_EQ(s.overlay.text[0].align, TextAlign::Center);
+    EXPECT_FLOAT_EQ(s.overlay.text[0].position.y, 0.9f);
+    ASSERT_TRUE(s.overlay.axes);
+    EXPECT_EQ(s.overlay.axes->corner, Corner::TopRight);
+    EXPECT_TRUE(s.overlay.inExr);
+    EXPECT_EQ(s.overlay.font, kDefaultOverlayFont);
+    EXPECT_FLOAT_EQ(s.overlay.fps, 24.0f);  // {time} = frame / output.video.fps
+    ASSERT_TRUE(s.output.video);
+    EXPECT_EQ(s.output.video->crf, 18);
 
-const Scene t = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+    const Scene t = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
         "overlay": {"legend": true, "axes": false, "font": "fonts/a.ttf"}})"),
-                           "dir/scene.json");
-EXPECT_TRUE(t.overlay.legend);
-EXPECT_FALSE(t.overlay.axes);
-EXPECT_EQ(t.overlay.font, "dir/fonts/a.ttf");  // relative to the scene file
+                               "dir/scene.json");
+    EXPECT_TRUE(t.overlay.legend);
+    EXPECT_FALSE(t.overlay.axes);
+    EXPECT_EQ(t.overlay.font, "dir/fonts/a.ttf");  // relative to the scene file
 }
 
 TEST(Overlay, BadOverlayKeysNameTheKey) {
