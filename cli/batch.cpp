@@ -129,8 +129,16 @@ std::string sceneHash(const nlohmann::json& resolved) {
     if (doc.is_object()) {
         doc.erase("description");
         doc.erase("$schema");
-        if (doc.contains("output") && doc["output"].is_object())
+        if (doc.contains("output") && doc["output"].is_object()) {
             for (const char* key : {"dir", "name", "formats", "timings"}) doc["output"].erase(key);
+            // The movie is made from the frames; its rate reaches them only as the {time} of
+            // overlay labels, so with an overlay the rate stays in (as the overlay's).
+            nlohmann::json& out = doc["output"];
+            nlohmann::json fps = 30;
+            if (out.contains("video") && out["video"].is_object()) fps = out["video"].value("fps", fps);
+            if (doc.contains("overlay") && doc["overlay"].is_object()) doc["overlay"]["(video fps)"] = fps;
+            out.erase("video");
+        }
     }
     // nlohmann::json objects are std::map-backed: dump() writes keys sorted, so equal scenes hash
     // equally whatever the key order in the file.

@@ -44,7 +44,8 @@ std::string formatFrameList(std::vector<int> frames);
 // Scene hash stored in every frame (EXR header / PNG text chunk "tubecast:sceneHash"): SHA-1 (hex)
 // of the resolved scene JSON (after --set) serialised compactly with sorted keys, without the keys
 // that do not change pixels: "description", "$schema", output.dir, output.name,
-// output.formats, output.timings. output.aovs stays in: it changes the EXR's channels.
+// output.formats, output.timings, output.video (its fps stays in with an overlay: the {time} of
+// labels). output.aovs stays in: it changes the EXR's channels.
 std::string sceneHash(const nlohmann::json& resolved);
 inline constexpr const char* kSceneHashKey = "tubecast:sceneHash";
 

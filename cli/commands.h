@@ -20,6 +20,7 @@ void addPartitionCommand(CLI::App& app);
 void addMergeTimingsCommand(CLI::App& app);  // cli/batch_commands.cpp
 void addTechniquesCommand(CLI::App& app);
 void addSceneCommand(CLI::App& app);
+void addEncodeCommand(CLI::App& app);
 
 // The technique table of `tubecast techniques --markdown` (README.md's).
 std::string techniquesMarkdown(const TechniqueRegistry& registry);

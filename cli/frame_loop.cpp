@@ -53,6 +53,30 @@ void renderReference(const FrameLoopInputs& in, const FrameSetup& setup, const F
                 << std::flush;
 }
 
+// The frame's outputs: composited over the background, the overlay drawn into the PNG's copy of
+// the colour (the EXR keeps the rendered colour for later compositing, unless overlay.in_exr).
+void writeFrame(const FrameLoopInputs& in, FrameImages& images, const std::vector<std::string>& paths,
+                const ExrOptions& exr, int frame, const Camera& camera) {
+    compositeUnder(images, in.background);
+    FrameImages overlaid;
+    const FrameImages* display = &images;
+    if (in.overlay && in.overlayInExr) {
+        in.overlay(images, frame, camera);
+    } else if (in.overlay) {
+        overlaid.width = images.width;
+        overlaid.height = images.height;
+        overlaid.rgba = images.rgba;
+        in.overlay(overlaid, frame, camera);
+        display = &overlaid;
+    }
+    for (const auto& path : paths) {
+        if (path.ends_with(".png"))
+            writePng(*display, path, in.pngText);
+        else
+            writeExr(images, path, exr);
+    }
+}
+
 }  // namespace
 
 FrameLoopOutcome runFrameLoop(const std::vector<FramePlan>& todo, const OutputSpec& out, const FrameLoopInputs& in) {
@@ -93,15 +117,9 @@ FrameLoopOutcome runFrameLoop(const std::vector<FramePlan>& todo, const OutputSp
             if (in.gatherRows) rows = in.gatherRows(std::move(rows));
             if (in.reference) renderReference(in, setup, images, rows);
             FrameJob job{plan.frame, plan.paths.size(), std::move(rows), frameStart, {}};
-            job.write = [&images, &in, paths = plan.paths, exr = frameExrOptions(in, setup.camera, renderSeconds)] {
-                compositeUnder(images, in.background);
-                for (const auto& path : paths) {
-                    if (path.ends_with(".png"))
-                        writePng(images, path, in.pngText);
-                    else
-                        writeExr(images, path, exr);
-                }
-            };
+            job.write = [&images, &in, paths = plan.paths, exr = frameExrOptions(in, setup.camera, renderSeconds),
+                         frame = plan.frame,
+                         camera = setup.camera] { writeFrame(in, images, paths, exr, frame, camera); };
             writer.submit(std::move(job));
         } catch (const std::exception& e) {
             // --keep-going: report the frame, write the others. Without it the first failure ends

@@ -38,6 +38,10 @@ struct FrameLoopInputs {
     glm::vec4 background{0.0f};  // image.background (sRGB, straight alpha)
     std::map<std::string, std::string> pngText;
     ExrOptions exr;  // channels and metadata; per-frame camera matrices are added
+    // overlay (cli/frame_overlay.h): drawn after the background into the PNG's colour, and into the
+    // EXR's only with overlay.in_exr. Null: no overlay (the outputs are exactly the rendered frame).
+    std::function<void(FrameImages&, int frame, const Camera&)> overlay;
+    bool overlayInExr = false;
 
     TimingsCsv* csv = nullptr;
     Placeholders* placeholders = nullptr;

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     tc::cli::addMergeTimingsCommand(app);
     tc::cli::addTechniquesCommand(app);
     tc::cli::addSceneCommand(app);
+    tc::cli::addEncodeCommand(app);
 
     try {
         app.parse(argc, argv);

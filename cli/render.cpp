@@ -18,7 +18,9 @@
 
 #include "cli/batch.h"
 #include "cli/commands.h"
+#include "cli/encode.h"
 #include "cli/frame_loop.h"
+#include "cli/frame_overlay.h"
 #include "cli/mpi_render.h"
 #include "cli/progress.h"
 #include "cli/render_plan.h"
@@ -41,6 +43,7 @@
 #include "gl/view_window.h"
 #include "io/atomic_file.h"
 #include "io/dataset.h"
+#include "io/frame_overlay.h"
 #include "io/opacity_system_dump.h"
 #include "io/paraview_preset.h"
 #include "io/timings_csv.h"
@@ -120,7 +123,12 @@ void planScene(const RenderOptions& o, RenderJob& job, SceneInput input, bool wr
     job.frames = job.shard ? shardFrames(selected, *job.shard) : selected;
     job.hash = sceneHash(scene.resolved);
     if (!writes) return;
+    if (scene.overlay.any()) requireOverlayFont(scene.overlay.font, scene.file);
     ensureWritableDir(scene.output.dir);
+    // output.video is encoded anew after a resumed or overwriting run; otherwise it is an output
+    // like the frames, never clobbered.
+    if (out.video && !o.resume && !o.overwrite && !o.dryRun && fs::exists(videoPath(out)))
+        throw OutputError(videoPath(out) + ": exists (output.video; use --overwrite to replace it or --resume)");
     PlanRequest request{job.frames, job.shard, job.hash, o.resume, o.overwrite, !o.dryRun};
     job.plan = planOutputs(scene.output, request, [&](const std::string& note) {
         if (!o.quiet) std::cerr << "tubecast: " << note << "\n";
@@ -504,6 +512,12 @@ FrameLoopInputs frameLoopInputs(const RenderOptions& o, const RenderJob& job, co
                        parts.techniques->tiles.tiles.size() <= 1;
     in.resume = o.resume;
     in.sceneHash = job.hash;
+    if (!dp || dp->root()) {
+        in.overlay = makeFrameOverlay(scene, data.load, [&o](const std::string& why) {
+            if (!o.quiet) std::cerr << "tubecast: " << why << "\n";
+        });
+        in.overlayInExr = scene.overlay.inExr;
+    }
     return in;
 }
 
@@ -526,6 +540,30 @@ void finishRun(const FrameLoopOutcome& outcome, const RenderJob& job, RunManifes
     });
 }
 
+// output.video after the run: when every frame of the scene has its PNG (an unsharded run that
+// completed the scene, or resumed one to completion). A shard's run leaves it to
+// `tubecast encode` after the last shard (docs/batch.md).
+void encodeAfterRun(const RenderOptions& o, const RenderJob& job, bool root) {
+    const OutputSpec& out = job.scene.output;
+    if (!out.video || !root || o.dryRun) return;
+    if (job.shard) {
+        if (!o.quiet)
+            std::cerr << "tubecast: output.video: a shard does not encode; after the last shard run: tubecast encode "
+                      << out.dir << " " << videoPath(out) << "\n";
+        return;
+    }
+    std::vector<int> all;
+    for (int f = 0; f < job.scene.frameCount(); ++f) all.push_back(f);
+    std::vector<std::string> pngs;
+    try {
+        pngs = framePngs(out.dir, out.name, all);
+    } catch (const InputError& e) {
+        if (!o.quiet) std::cerr << "tubecast: output.video: not encoded yet: " << e.what() << "\n";
+        return;
+    }
+    encodeVideo(pngs, videoPath(out), out.video->fps, out.video->crf, o.quiet);
+}
+
 // The run, in its named parts: the plan, the data, the context and technique, run.json and
 // the run's files, the frame loop, the outcome.
 void runRender(const RenderOptions& options) {
@@ -533,7 +571,10 @@ void runRender(const RenderOptions& options) {
     const std::unique_ptr<DataParallel> dp = startDataParallel(o);
     const bool root = !dp || dp->root();
     RenderJob job = planJob(o, dp.get());
-    if (reportPlanOnly(o, job, root)) return;
+    if (reportPlanOnly(o, job, root)) {
+        encodeAfterRun(o, job, root);  // --resume of a complete run without its movie
+        return;
+    }
     Scene& scene = job.scene;
     const std::vector<FramePlan>& todo = job.plan.todo;
     setLlvmpipeThreads(o);
@@ -578,6 +619,7 @@ void runRender(const RenderOptions& options) {
     const FrameLoopOutcome outcome =
         runFrameLoop(todo, scene.output, frameLoopInputs(o, job, data, info, parts, dp.get(), share));
     finishRun(outcome, job, manifest, timings, progress, dp.get());
+    encodeAfterRun(o, job, root);
 }
 
 }  // namespace

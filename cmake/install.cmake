@@ -61,4 +61,8 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libegl-mesa0, libgl1-mesa-dri")
+# Programs and files loaded by path at run time by optional features, each failing with a message
+# that names the package when absent: ffmpeg (`tubecast encode`, output.video) and DejaVu Sans
+# (the default font of overlay text, overlay.font).
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "ffmpeg, fonts-dejavu-core")
 include(CPack)

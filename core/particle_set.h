@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <glm/glm.hpp>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct ParticleSet {
     std::map<std::string, float> elementRadii;  // Provenance::Elements: each element's radius
     std::vector<Attribute> attributes;          // one value per particle
     Bounds bounds;                              // of the positions (radii are added by styling)
+    std::optional<double> time;                 // the simulation time the file states (LAMMPS "ITEM: TIME")
 
     std::size_t size() const { return positions.size(); }
     const Attribute* attribute(const std::string& name) const;

@@ -50,6 +50,17 @@ StyledParticles styleParticles(const ParticleSet& particles, const StyleSpec& st
     return out;
 }
 
+std::optional<ValueRange> colorMappingRange(const ParticleSet& particles, const StyleSpec& style,
+                                            const std::string& sceneFile) {
+    if (style.color.attribute.empty() || particles.size() == 0) return std::nullopt;
+    LineSet asLine;  // as styleParticles sees them
+    asLine.positions = particles.positions;
+    asLine.offsets = {0u, std::uint32_t(particles.size())};
+    asLine.attributes = particles.attributes;
+    asLine.bounds = particles.bounds;
+    return colorMappingRange(asLine, style, sceneFile);
+}
+
 StyledParticles particlesFromLineVertices(const StyledLines& lines) {
     StyledParticles out;
     out.centerRadius = lines.positionRadius;

@@ -7,6 +7,7 @@
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/styled_particles.h"
+#include "core/styling.h"
 
 namespace tc {
 
@@ -16,6 +17,11 @@ namespace tc {
 // style.opacity, times the data colour's alpha when the data has colours. Throws InputError
 // naming `sceneFile` and the style key when an attribute is missing.
 StyledParticles styleParticles(const ParticleSet& particles, const StyleSpec& style, const std::string& sceneFile);
+
+// The range style.color's attribute is mapped over for these particles (core/styling.h
+// colorMappingRange; an automatic range is this data frame's).
+std::optional<ValueRange> colorMappingRange(const ParticleSet& particles, const StyleSpec& style,
+                                            const std::string& sceneFile);
 
 // Every vertex of a styled line set as a sphere of the vertex's radius and colour (the
 // "spheres" technique drawing a line dataset); ids are polyline ids.

@@ -580,6 +580,116 @@ void readLighting(SpecReader r, LightingSpec& l) {
     r.finish();
 }
 
+// A position or size in fractions of the image: [x, y] with both in [0, 1].
+glm::vec2 readFraction2(SpecReader& r, const std::string& key, glm::vec2 fallback, float lo) {
+    if (!r.has(key)) return fallback;
+    const json& v = r.raw(key);
+    if (!(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() && v[0].get<double>() >= lo &&
+          v[0].get<double>() <= 1 && v[1].get<double>() >= lo && v[1].get<double>() <= 1))
+        r.fail(key, std::string("expected [x, y] fractions of the image in ") + (lo > 0 ? "(0, 1]" : "[0, 1]") +
+                        ", got " + describeJson(v));
+    return {v[0].get<float>(), v[1].get<float>()};
+}
+
+std::optional<glm::vec3> readTextColor(SpecReader& r, const std::string& key) {
+    if (!r.has(key)) return std::nullopt;
+    if (r.raw(key).is_string() && r.raw(key).get<std::string>() == "auto") return std::nullopt;
+    if (r.raw(key).is_array() && r.raw(key).size() == 4)
+        r.fail(key,
+               "expected \"auto\" or a colour [r, g, b] with components in [0, 1], got " + describeJson(r.raw(key)));
+    return glm::vec3(r.getColor(key, glm::vec4(1.0f)));
+}
+
+// overlay.legend / overlay.axes: true (the defaults), false (none) or an object of settings.
+bool readSwitchOrObject(SpecReader& r, const std::string& key) {
+    const json& v = r.raw(key);
+    if (v.is_boolean()) return v.get<bool>();
+    if (!v.is_object()) r.fail(key, "expected true, false or an object of settings, got " + describeJson(v));
+    return true;
+}
+
+void readLegend(SpecReader r, LegendSpec& l) {
+    l.vertical = r.getEnum("orientation", "vertical", {"vertical", "horizontal"}) == "vertical";
+    if (!l.vertical) {  // along the bottom edge
+        l.position = {0.2f, 0.1f};
+        l.size = {0.6f, 0.04f};
+    }
+    l.position = readFraction2(r, "position", l.position, 0.0f);
+    l.size = readFraction2(r, "size", l.size, 1e-6f);
+    l.title = r.getString("title", l.title);
+    l.ticks = r.getInt("ticks", l.ticks, 2, 20);
+    l.fontSize = r.getFloat("font_size", l.fontSize, 0.005f, 0.5f);
+    l.textColor = readTextColor(r, "text_color");
+    l.directionKey = r.getBool("direction_key", l.directionKey);
+    r.finish();
+}
+
+void readTextLabel(SpecReader r, TextLabelSpec& t) {
+    if (!r.has("content")) r.fail("content", "missing: the label's text, e.g. \"frame {frame}\"");
+    t.content = r.getString("content", "");
+    std::string error;
+    expandLabel(t.content, {}, &error);
+    if (!error.empty()) r.fail("content", error);
+    t.position = readFraction2(r, "position", t.position, 0.0f);
+    t.size = r.getFloat("size", t.size, 0.005f, 0.5f);
+    const std::string align = r.getEnum("align", "left", {"left", "center", "right"});
+    t.align = align == "center" ? TextAlign::Center : align == "right" ? TextAlign::Right : TextAlign::Left;
+    t.color = readTextColor(r, "color");
+    r.finish();
+}
+
+void readAxes(SpecReader r, AxesSpec& a) {
+    const std::string corner =
+        r.getEnum("corner", "bottom_left", {"bottom_left", "bottom_right", "top_left", "top_right"});
+    a.corner = corner == "bottom_right" ? Corner::BottomRight
+               : corner == "top_left"   ? Corner::TopLeft
+               : corner == "top_right"  ? Corner::TopRight
+                                        : Corner::BottomLeft;
+    a.size = r.getFloat("size", a.size, 0.01f, 0.3f);
+    a.labels = r.getBool("labels", a.labels);
+    r.finish();
+}
+
+// overlay (core/overlay.h): what is drawn onto the display outputs.
+void readOverlay(SpecReader r, OverlaySpec& o, const std::set<std::string>& overridden) {
+    if (r.has("legend") && readSwitchOrObject(r, "legend")) {
+        o.legend.emplace();
+        if (r.raw("legend").is_object()) readLegend(r.child("legend"), *o.legend);
+    }
+    if (r.has("text")) {
+        const json& list = r.raw("text");
+        if (!list.is_array())
+            r.fail("text",
+                   "expected an array of labels [{\"content\": \"frame {frame}\", ...}], got " + describeJson(list));
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const std::string at = "text[" + std::to_string(i) + "]";
+            if (!list[i].is_object()) r.fail(at, "expected a label {\"content\": ...}, got " + describeJson(list[i]));
+            readTextLabel(SpecReader(list[i], r.file(), "overlay." + at, &overridden), o.text.emplace_back());
+        }
+    }
+    if (r.has("axes") && readSwitchOrObject(r, "axes")) {
+        o.axes.emplace();
+        if (r.raw("axes").is_object()) readAxes(r.child("axes"), *o.axes);
+    }
+    o.inExr = r.getBool("in_exr", o.inExr);
+    o.font = r.getString("font", o.font);
+    if (o.font.empty()) r.fail("font", "expected the path of a TrueType font file");
+    if (fs::path(o.font).is_relative() && !r.file().empty() && !overridden.count("overlay.font") &&
+        !overridden.count("overlay"))
+        o.font = (fs::path(r.file()).parent_path() / o.font).lexically_normal().string();
+    r.finish();
+}
+
+void readVideo(SpecReader r, VideoSpec& v) {
+    if (!r.has("file")) r.fail("file", "missing: the movie's file name, e.g. \"movie.mp4\"");
+    v.file = r.getString("file", "");
+    if (fs::path(v.file).extension() != ".mp4")
+        r.fail("file", "expected a file name ending in .mp4 (H.264 in MP4), got \"" + v.file + "\"");
+    v.fps = r.getInt("fps", v.fps, 1, 240);
+    v.crf = r.getInt("crf", v.crf, 0, 51);
+    r.finish();
+}
+
 void readOutput(SpecReader r, OutputSpec& o) {
     o.dir = r.getString("dir", o.dir);
     if (o.dir.empty()) r.fail("dir", "expected a non-empty directory");
@@ -595,6 +705,7 @@ void readOutput(SpecReader r, OutputSpec& o) {
     for (const auto& a : aovs)
         (a == "depth" ? o.aovDepth : a == "normal" ? o.aovNormal : a == "id" ? o.aovId : o.aovAo) = true;
     o.timings = r.getBool("timings", o.timings);
+    if (r.has("video")) readVideo(r.child("video"), o.video.emplace());
     r.finish();
 }
 
@@ -672,6 +783,8 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
     if (top.has("render")) readRender(top.child("render"), scene.render);
     if (top.has("lighting")) readLighting(top.child("lighting"), scene.lighting);
     if (top.has("output")) readOutput(top.child("output"), scene.output);
+    if (top.has("overlay")) readOverlay(top.child("overlay"), scene.overlay, overridden);
+    if (scene.output.video) scene.overlay.fps = float(scene.output.video->fps);
     top.getString("$schema", "");  // allowed for editor support, ignored
     top.getString("description", "");
     top.finish();
@@ -688,6 +801,10 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
         SpecReader im(doc.contains("image") ? doc["image"] : json::object(), file, "image", &overridden);
         im.fail("tiles", "render.transparency \"opacity_optimization\" renders the whole image at once (one "
                          "optimisation over all its fragments); remove image.tiles");
+    }
+    if (scene.output.video && !scene.output.png) {
+        SpecReader o(doc["output"], file, "output", &overridden);
+        o.fail("video", "the movie is encoded from the PNG frames: add \"png\" to output.formats");
     }
     if (scene.output.aovAo && !scene.render.ao.enabled) {
         SpecReader o(doc.contains("output") ? doc["output"] : json::object(), file, "output", &overridden);

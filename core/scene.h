@@ -13,6 +13,7 @@
 #include "core/billboard.h"
 #include "core/camera.h"
 #include "core/colormap.h"
+#include "core/overlay.h"
 
 namespace tc {
 
@@ -300,6 +301,13 @@ struct LightingSpec {
     float shininess = 32.0f;
 };
 
+// output.video: an H.264 MP4 of the PNG frames through ffmpeg after a complete run (cli/encode.h).
+struct VideoSpec {
+    std::string file;  // in output.dir unless absolute
+    int fps = 30;
+    int crf = 18;  // x264's constant rate factor: 0 lossless .. 51; 18 is visually lossless
+};
+
 struct OutputSpec {
     std::string dir = "out";
     std::string name = "frame.####";
@@ -310,6 +318,7 @@ struct OutputSpec {
     bool aovId = false;
     bool aovAo = false;
     bool timings = true;
+    std::optional<VideoSpec> video;
 };
 
 struct Scene {
@@ -322,6 +331,7 @@ struct Scene {
     RenderSpec render;
     LightingSpec lighting;
     OutputSpec output;
+    OverlaySpec overlay;
     nlohmann::json resolved;  // the JSON after --set overrides and defaults, for run.json
 
     int frameCount() const;

@@ -74,21 +74,25 @@ const Attribute& requireAttribute(const LineSet& lines, const std::string& name,
                      "\" (available: " + (available.empty() ? "none" : available) + "; derived: " + derivable + ")");
 }
 
+ValueRange mappingRange(const Attribute& a, const RangeSpec& r) {
+    ValueRange range;
+    if (r.percentiles) {
+        range = {percentile(a.values, r.percentileLo), percentile(a.values, r.percentileHi)};
+    } else {
+        range = {r.automatic ? a.min : r.lo, r.automatic ? a.max : r.hi};
+    }
+    if (!std::isfinite(range.lo) || !std::isfinite(range.hi)) range = {0.0f, 0.0f};
+    return range;
+}
+
 // Normalised attribute value in [0,1] for a range; NaN stays NaN.
 struct Normalizer {
     float lo = 0, scale = 0;
     Normalizer() = default;
     Normalizer(const Attribute& a, const RangeSpec& r) {
-        float hi;
-        if (r.percentiles) {
-            lo = percentile(a.values, r.percentileLo);
-            hi = percentile(a.values, r.percentileHi);
-        } else {
-            lo = r.automatic ? a.min : r.lo;
-            hi = r.automatic ? a.max : r.hi;
-        }
-        if (!std::isfinite(lo) || !std::isfinite(hi)) lo = hi = 0.0f;
-        scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
+        const ValueRange range = mappingRange(a, r);
+        lo = range.lo;
+        scale = range.hi > range.lo ? 1.0f / (range.hi - range.lo) : 0.0f;
     }
     float operator()(float v) const { return std::isnan(v) ? v : std::clamp((v - lo) * scale, 0.0f, 1.0f); }
 };
@@ -108,6 +112,14 @@ void directionColors(const LineSet& lines, std::vector<glm::vec4>& color) {
 }
 
 }  // namespace
+
+std::optional<ValueRange> colorMappingRange(const LineSet& lines, const StyleSpec& style,
+                                            const std::string& sceneFile) {
+    if (style.color.attribute.empty() || style.color.direction) return std::nullopt;
+    std::deque<Attribute> derived;
+    return mappingRange(requireAttribute(lines, style.color.attribute, sceneFile, "style.color.attribute", derived),
+                        style.color.range);
+}
 
 StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::string& sceneFile) {
     StyledLines out;

@@ -13,6 +13,7 @@
 // - NaN values get the low end for radius and opacity (t = 0).
 // - Attributes the dataset lacks but core/derived_attributes.h can compute (curvature, ...) are
 //   computed here, once per call.
+#include <optional>
 #include <string>
 
 #include "core/line_set.h"
@@ -24,6 +25,16 @@ namespace tc {
 // Throws InputError naming `sceneFile` and the style key when an attribute is missing or
 // cannot be derived.
 StyledLines styleLines(const LineSet& lines, const StyleSpec& style, const std::string& sceneFile);
+
+// The attribute values a mapping takes to t = 0 and t = 1 (lo == hi: every value to t = 0).
+struct ValueRange {
+    float lo = 0.0f, hi = 0.0f;
+};
+
+// The range styleLines maps style.color's attribute over (the colormap's ends: what a colour
+// legend labels); nullopt when the colour is a constant or direction-encoded. Throws as styleLines
+// for a missing attribute.
+std::optional<ValueRange> colorMappingRange(const LineSet& lines, const StyleSpec& style, const std::string& sceneFile);
 
 // Whether any vertex has an opacity below 1 (render.transparency "auto").
 bool anyTranslucent(const StyledLines& lines);

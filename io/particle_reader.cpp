@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -430,12 +431,15 @@ ParticleData readLammps(const std::string& path, const std::string& text) {
         std::size_t n = 0;
         bool haveCount = false, haveBox = false;
         glm::vec3 lo(0.0f), hi(1.0f);
+        std::optional<double> time;
         // Items up to ATOMS, in any order.
         while (true) {
             const std::string item = trim(lines.next("ITEM: ATOMS"));
             if (item.rfind("ITEM:", 0) != 0) lines.fail("expected an \"ITEM:\" line, got \"" + item + "\"");
             if (item.rfind("ITEM: TIMESTEP", 0) == 0) {
                 number(lines, trim(lines.next("the timestep")), "TIMESTEP");
+            } else if (item == "ITEM: TIME") {  // dump_modify time yes: the simulation time
+                time = number(lines, trim(lines.next("the time")), "TIME");
             } else if (item.rfind("ITEM: NUMBER OF ATOMS", 0) == 0) {
                 const std::string count = trim(lines.next("the atom count"));
                 n = countField(lines, count, 1, "atom count");
@@ -506,6 +510,7 @@ ParticleData readLammps(const std::string& path, const std::string& text) {
                         attributeNamed(f, names[k]).values.push_back(parseDouble(t[k], v) ? float(v) : std::nanf(""));
                     }
                 }
+                f.time = time;
                 f.update();
                 f.checkConsistent();
                 data.frames.push_back(std::move(f));

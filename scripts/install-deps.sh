@@ -25,6 +25,9 @@ packages=(
   slurm-wlm munge
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # movies (tubecast encode, output.video run the ffmpeg program; the tests read them with ffprobe)
+  # and the default font of overlay text (DejaVu Sans, loaded by path)
+  ffmpeg fonts-dejavu-core
 )
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-vtk9 python3-numpy xvfb xauth gnuplot-nox)

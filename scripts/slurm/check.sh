@@ -1,10 +1,13 @@
 #!/bin/bash
 # After a tubecast job array: lists the frames that are missing or incomplete (not decodable, or
 # rendered from another version of the scene) and prints the command that re-submits only those.
+# When every frame is complete it runs the job's last step: the scene's output.video is encoded
+# from the frames (`tubecast render --resume` of a complete run encodes it; a scene without
+# output.video has nothing to do).
 #
 #   scripts/slurm/check.sh [--shard-size S] SCENE [tubecast render options as submitted...]
 #
-# Exit 0 when every frame is complete, 1 when some are missing (their list on stdout, the
+# Exit 0 when every frame is complete (and the movie, if any, encoded), 1 when some are missing (their list on stdout, the
 # re-submit command on stderr after "re-submit:"). Frames a running job still holds count as
 # missing: run it after the job ended (squeue -j JOBID is empty).
 # Environment: TUBECAST (binary, default tubecast on PATH).
@@ -26,6 +29,8 @@ shift
 frames=$(pending_frames "$scene" "$@")
 if [[ -z $frames ]]; then
     echo "check.sh: all frames of $scene are complete" >&2
+    strip_frames "$@"
+    "${TUBECAST:-tubecast}" render "$scene" "${REST[@]}" --resume
     exit 0
 fi
 echo "$frames"

@@ -124,6 +124,19 @@ TEST(BatchSceneHash, IgnoresKeyOrderAndOutputPlacementButNotContent) {
     EXPECT_NE(sceneHash(a), sceneHash(d));
 }
 
+TEST(BatchSceneHash, AMovieKeepsTheFramesUnlessItsRateIsInALabel) {
+    auto a = nlohmann::json::parse(R"({"image": {"width": 32}, "output": {"dir": "out"}})");
+    auto b = a;
+    b["output"]["video"] = {{"file", "movie.mp4"}, {"crf", 23}};
+    EXPECT_EQ(sceneHash(a), sceneHash(b));  // adding output.video to a finished run re-renders nothing
+    // With an overlay the rate is the {time} of labels: 30 (the default) keeps the frames, 24 not.
+    a["overlay"] = {{"text", {{{"content", "t = {time}"}}}}};
+    b["overlay"] = a["overlay"];
+    EXPECT_EQ(sceneHash(a), sceneHash(b));
+    b["output"]["video"]["fps"] = 24;
+    EXPECT_NE(sceneHash(a), sceneHash(b));
+}
+
 TEST(BatchPlaceholders, StaleWhenTheProcessIsGoneOrTheHeartbeatTimedOut) {
     auto alive = [](long pid) { return pid == 100; };
     PlaceholderInfo p{"nodeA", 100, "7_1", 1000.0};

@@ -135,6 +135,18 @@ TEST(ParticleReader, lammps_dump_scaled_and_unscaled_timesteps) {
                 "f.dump:5: ITEM: ATOMS has no x y z");
 }
 
+TEST(ParticleReader, lammps_dump_time_item_is_the_frames_time) {
+    // dump_modify time yes writes ITEM: TIME; the overlay's {time} shows it.
+    auto path = write("t.lammpstrj",
+                      "ITEM: TIMESTEP\n0\nITEM: TIME\n0.5\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x y z\n1 0 0 0\n"
+                      "ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x y z\n1 1 1 1\n");
+    ParticleData d = readParticles(path);
+    ASSERT_EQ(d.frameCount(), 2u);
+    ASSERT_TRUE(d.frames[0].time);
+    EXPECT_DOUBLE_EQ(*d.frames[0].time, 0.5);
+    EXPECT_FALSE(d.frames[1].time);  // a frame without the item has no time
+}
+
 TEST(ParticleReader, gro_in_nm_becomes_angstrom_with_frames) {
     const std::string frame =
         "water\n    3\n    1SOL     OW    1   0.126   1.624   1.679\n"
