@@ -273,8 +273,10 @@ void readStyle(SpecReader r, StyleSpec& s, const std::set<std::string>& overridd
             s.halo.depth = h.getFloat("depth", s.halo.depth, 0.0f, 1e6f);
             if (h.has("color")) {
                 if (h.raw("color").is_array() && h.raw("color").size() == 4)
-                    h.fail("color", "expected a colour [r, g, b] with components in [0, 1] (the halo takes the "
-                                    "line's opacity), got " + describeJson(h.raw("color")));
+                    h.fail("color",
+                           "expected a colour [r, g, b] with components in [0, 1] (the halo takes the "
+                           "line's opacity), got " +
+                               describeJson(h.raw("color")));
                 s.halo.color = glm::vec3(h.getColor("color", glm::vec4(0.0f)));
             }
             h.finish();
@@ -799,8 +801,9 @@ Scene parseScene(const json& input, const std::string& file, const std::vector<s
         // One optimisation over the whole image's fragments, blended into the next frame's. Its
         // image.samples are its own (gl/opacity_renderer.h): one solve, every sample blended.
         SpecReader im(doc.contains("image") ? doc["image"] : json::object(), file, "image", &overridden);
-        im.fail("tiles", "render.transparency \"opacity_optimization\" renders the whole image at once (one "
-                         "optimisation over all its fragments); remove image.tiles");
+        im.fail("tiles",
+                "render.transparency \"opacity_optimization\" renders the whole image at once (one "
+                "optimisation over all its fragments); remove image.tiles");
     }
     if (scene.output.video && !scene.output.png) {
         SpecReader o(doc["output"], file, "output", &overridden);

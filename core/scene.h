@@ -95,9 +95,9 @@ struct OpacitySpec {
 // further behind and not a line at about the same depth (a bundle stays one band).
 struct HaloSpec {
     bool enabled = false;
-    float width = 0.5f;               // ring width, in tube radii (the strip width scales with the line)
-    float depth = 4.0f;               // depth offset at the ring's outer edge, in tube radii
-    std::optional<glm::vec3> color;   // sRGB; unset: the complement of image.background (1 - rgb)
+    float width = 0.5f;              // ring width, in tube radii (the strip width scales with the line)
+    float depth = 4.0f;              // depth offset at the ring's outer edge, in tube radii
+    std::optional<glm::vec3> color;  // sRGB; unset: the complement of image.background (1 - rgb)
 };
 
 struct StyleSpec {
@@ -278,8 +278,8 @@ struct RenderSpec {
     Transparency transparency = Transparency::Opaque;
     BillboardPath billboards = BillboardPath::Compute;
     BillboardShape billboardShape = BillboardShape::Gross2020;  // render.billboard_shape (core/billboard.h)
-    int kbufferK = 8;                    // render.kbuffer.k, 1..16
-    bool capClipping = true;             // render.cap_clipping (Groß & Gumhold 2020, Sect. 5.4)
+    int kbufferK = 8;                                           // render.kbuffer.k, 1..16
+    bool capClipping = true;                                    // render.cap_clipping (Groß & Gumhold 2020, Sect. 5.4)
     int maxPeelLayers = 0;               // render.depth_peeling.max_layers; 0 = until a pass produces nothing
     int memoryBudgetMb = 4096;           // render.memory_budget_mb: per-pixel buffers must fit
     bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv

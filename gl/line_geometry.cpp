@@ -92,8 +92,7 @@ void LineGeometry::enableHalo(const HaloSpec& halo, const glm::vec3& linearColor
                          glslFloat(linearColor.z) + ")"};
     // Halo fragments lie up to `depth` radii behind a tube's axis: keep them inside the depth range.
     m_maxRadius *= 1.0f + std::max(halo.width, halo.depth);
-    if (m_path == BillboardPath::Compute)
-    {
+    if (m_path == BillboardPath::Compute) {
         std::vector<std::string> defines = m_haloDefines;
         for (const std::string& d : billboardDefines()) defines.push_back(d);
         m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, defines);

@@ -72,8 +72,9 @@ std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, con
     r->m_lighting = scene.lighting;
     r->m_sink = std::move(sink);
     if (r->m_spec.pipeline && r->m_sink)
-        throw InputError(scene.file + ": render.opacity.pipeline: a pipelined solve belongs to no one frame, so the "
-                                      "system cannot be dumped (--dump-system, render.opacity.dump_dir)");
+        throw InputError(scene.file +
+                         ": render.opacity.pipeline: a pipelined solve belongs to no one frame, so the "
+                         "system cannot be dumped (--dump-system, render.opacity.dump_dir)");
     if (rs.ao.enabled)
         throw InputError(scene.file + ": render.ao: not available with render.transparency \"opacity_optimization\"");
     if (scene.output.aovDepth || scene.output.aovNormal || scene.output.aovId)

@@ -375,7 +375,8 @@ TEST_F(GlTest, vrc_transparent_blends_a_polyline_once_per_voxel_across_hit_batch
     o.resolution = 3;
     o.quantization = 0;
     const VrcModel model = buildVrcModel(bentLines, o);
-    const glm::ivec3 front = glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(10)) - model.origin) / model.voxelSize));
+    const glm::ivec3 front =
+        glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(10)) - model.origin) / model.voxelSize));
     const glm::ivec3 back = glm::ivec3(glm::floor((glm::vec3(0.013f, 0.0f, zOf(9)) - model.origin) / model.voxelSize));
     ASSERT_EQ(front - back, glm::ivec3(0, 0, 1)) << "the premise: ten tubes in each of two voxels along the rays";
     ASSERT_EQ(back.z, int(std::floor((zOf(0) - model.origin.z) / model.voxelSize)));

@@ -396,11 +396,13 @@ TEST(HaloScene, style_halo_is_off_by_default_and_parses_width_depth_colour) {
     EXPECT_FLOAT_EQ(custom.style.halo.depth, 0.0f);
     EXPECT_EQ(haloColor(custom.style.halo, custom.image.background), glm::vec3(0.2f, 0.4f, 0.6f));
     EXPECT_FALSE(parseStyle(R"({"halo": {"enabled": false}})").style.halo.enabled);
-    EXPECT_NE(styleError(R"({"halo": {"width": 0}})").find("scene.json: style.halo.width: expected a number in (0, 100]"),
-              std::string::npos);
+    EXPECT_NE(
+        styleError(R"({"halo": {"width": 0}})").find("scene.json: style.halo.width: expected a number in (0, 100]"),
+        std::string::npos);
     EXPECT_NE(styleError(R"({"halo": {"depth": -1}})").find("scene.json: style.halo.depth"), std::string::npos);
-    EXPECT_NE(styleError(R"({"halo": {"color": [0, 0, 0, 1]}})").find("scene.json: style.halo.color: expected a colour"),
-              std::string::npos);
+    EXPECT_NE(
+        styleError(R"({"halo": {"color": [0, 0, 0, 1]}})").find("scene.json: style.halo.color: expected a colour"),
+        std::string::npos);
     EXPECT_NE(styleError(R"({"halo": {"size": 1}})").find("style.halo.size"), std::string::npos);
     EXPECT_NE(styleError(R"({"halo": 1})").find("scene.json: style.halo: expected true, false or"), std::string::npos);
 }

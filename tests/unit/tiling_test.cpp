@@ -250,8 +250,7 @@ TEST(Tiling, image_tiles_and_samples_parse_and_validate) {
         ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
         EXPECT_EQ(
-            std::string(e.what()).rfind("scene.json: image.tiles: render.transparency \"opacity_optimization\"", 0),
-            0u)
+            std::string(e.what()).rfind("scene.json: image.tiles: render.transparency \"opacity_optimization\"", 0), 0u)
             << e.what();
     }
 }
