@@ -14,6 +14,7 @@
 #        WORK_DIR/npRANKS; EXR_IDS: tubecast_exr_ids, which prints an EXR's id channel)
 # Exit 0 pass, 1 fail.
 set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/pvtp_pieces.sh"
 ranks=$1 tubecast=$2 exr_ids=$3 work=$4/np$1
 shift 4
 [[ $1 == -- ]] && shift
@@ -74,26 +75,7 @@ same_ids "rasterized, partitioned set" one parts_many
 
 # A .pvtp of three pieces (tornadoes of seeds 3, 4, 5): each rank reads its share of the pieces
 # and numbers its polylines after the ranks before it.
-for seed in 3 4 5; do
-    "$tubecast" convert scene.json "piece$seed.vtp" --set "dataset.seed=$seed" --set 'dataset.lines=20' \
-        2>err >/dev/null || fail "convert seed $seed exited $?"
-done
-cat >tornado.pvtp <<'EOF'
-<?xml version="1.0"?>
-<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">
-  <PPolyData GhostLevel="0">
-    <PPointData>
-      <PDataArray type="Float32" Name="speed"/>
-      <PDataArray type="Float32" Name="height"/>
-      <PDataArray type="Float32" Name="arc_length"/>
-    </PPointData>
-    <PPoints><PDataArray type="Float32" Name="Points" NumberOfComponents="3"/></PPoints>
-    <Piece Source="piece3.vtp"/>
-    <Piece Source="piece4.vtp"/>
-    <Piece Source="piece5.vtp"/>
-  </PPolyData>
-</VTKFile>
-EOF
+write_pvtp "$tubecast" scene.json tornado.pvtp 3 4 5 -- --set 'dataset.lines=20' || fail "convert to .vtp pieces exited $?"
 echo "{\"dataset\": {\"path\": \"tornado.pvtp\"}, $style}" >pieces.json
 "$tubecast" render pieces.json -o pieces_one -q 2>err || fail "single-process render of the .pvtp exited $?"
 mpi pieces.json pieces_many

@@ -13,6 +13,7 @@
 # Usage: run_input_test.sh RANKS TUBECAST WORK_DIR -- MPIEXEC [ARGS...]   (files in WORK_DIR/npRANKS)
 # Exit 0 pass, 1 fail.
 set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/pvtp_pieces.sh"
 ranks=$1 tubecast=$2 work=$3/np$1
 shift 3
 [[ $1 == -- ]] && shift
@@ -74,26 +75,7 @@ grep -qF 'render.technique: "voxel_raycast" does not support data-parallel rende
 [[ -z $(find vrc -type f 2>/dev/null) ]] || fail "voxel_raycast: files were written"
 echo "ok: voxel_raycast is refused with exit 2 and the supported techniques"
 # 5. A .pvtp of three pieces: three tornadoes of the source's size (seeds 5, 6, 7).
-for seed in 5 6 7; do
-    "$tubecast" convert source.json "piece$seed.vtp" --set "dataset.seed=$seed" 2>err >/dev/null ||
-        fail "convert seed $seed exited $?"
-done
-cat >tornado.pvtp <<'EOF'
-<?xml version="1.0"?>
-<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">
-  <PPolyData GhostLevel="0">
-    <PPointData>
-      <PDataArray type="Float32" Name="speed"/>
-      <PDataArray type="Float32" Name="height"/>
-      <PDataArray type="Float32" Name="arc_length"/>
-    </PPointData>
-    <PPoints><PDataArray type="Float32" Name="Points" NumberOfComponents="3"/></PPoints>
-    <Piece Source="piece5.vtp"/>
-    <Piece Source="piece6.vtp"/>
-    <Piece Source="piece7.vtp"/>
-  </PPolyData>
-</VTKFile>
-EOF
+write_pvtp "$tubecast" source.json tornado.pvtp 5 6 7 || fail "convert to .vtp pieces exited $?"
 # Coloured by speed, whose range differs between the pieces (minimum 0.071, 0.064, 0.066), so
 # that every rank must map the whole data's range.
 piecestyle='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": {"attribute": "speed"}},
