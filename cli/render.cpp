@@ -341,7 +341,7 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     }
     if (const TechniqueDescriptor* d = registry.find(scene.render.technique.name());
         d && scene.render.transparency == Transparency::Auto) {
-        const TransparencyChoice choice = resolveTransparency(*d, translucent);
+        const TransparencyChoice choice = resolveTransparency(*d, translucent, scene.style.halo.enabled);
         scene.render.transparency = choice.mode;
         note(choice.why);
     } else if (scene.render.transparency == Transparency::Opaque && translucent) {

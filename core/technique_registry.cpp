@@ -146,7 +146,13 @@ bool isSoftwareRasterizer(const std::string& glRenderer) {
     return false;
 }
 
-TransparencyChoice resolveTransparency(const TechniqueDescriptor& d, bool translucent) {
+TransparencyChoice resolveTransparency(const TechniqueDescriptor& d, bool translucent, bool halo) {
+    const bool opaqueDrawsHalo = contains(d.halo, Transparency::Opaque);
+    if (!translucent && halo && !opaqueDrawsHalo && contains(d.halo, d.exactTransparency))
+        return {d.exactTransparency, std::string("render.transparency auto: ") + transparencyName(d.exactTransparency) +
+                                         " (every opacity is 1, but the opaque mode of " + d.name +
+                                         " draws no halos (style.halo); with opacity 1 the exact-order mode gives "
+                                         "the opaque image with halos)"};
     if (!translucent) return {Transparency::Opaque, "render.transparency auto: opaque (every opacity is 1)"};
     return {d.exactTransparency, std::string("render.transparency auto: ") + transparencyName(d.exactTransparency) +
                                      " (opacity below 1; the exact-order transparent mode of " + d.name + ")"};

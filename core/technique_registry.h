@@ -139,12 +139,15 @@ std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Sc
 void requireTechnique(const TechniqueDescriptor& d, const Scene& scene, DataKind kind);
 
 // render.transparency "auto" for technique `d`: opaque when no opacity is below 1 (`translucent`
-// false), else the technique's exact-order transparent mode; `why` is the log line.
+// false), else the technique's exact-order transparent mode; `why` is the log line. With halos
+// (`halo`) and a technique whose opaque mode draws none, the exact-order mode also for opaque
+// lines: with every opacity 1 it composites to the nearest surface, i.e. the opaque image plus
+// the halos the user asked for.
 struct TransparencyChoice {
     Transparency mode = Transparency::Opaque;
     std::string why;
 };
-TransparencyChoice resolveTransparency(const TechniqueDescriptor& d, bool translucent);
+TransparencyChoice resolveTransparency(const TechniqueDescriptor& d, bool translucent, bool halo = false);
 
 // Whether GL_RENDERER names a software rasterizer (llvmpipe, softpipe, swrast).
 bool isSoftwareRasterizer(const std::string& glRenderer);

@@ -52,7 +52,7 @@ std::unique_ptr<Technique> createTechnique(const Scene& scene, const TechniqueDa
                                      ? data.lines && anyTranslucent(*data.lines)
                                      : data.particles && anyTranslucent(resolved.style, *data.particles);
         if (const TechniqueDescriptor* d = registry.find(resolved.render.technique.name()))
-            resolved.render.transparency = resolveTransparency(*d, translucent).mode;
+            resolved.render.transparency = resolveTransparency(*d, translucent, resolved.style.halo.enabled).mode;
     }
     return registry.validate(resolved, data.kind).create(resolved, data, hooks);
 }

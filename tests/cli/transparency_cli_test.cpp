@@ -84,6 +84,32 @@ TEST_F(TransparencyCli, HaloIsRefusedByTechniquesThatDoNotDrawItAndAcceptedByThe
     }
 }
 
+// Halos on opaque lines with technique and transparency left to "auto": the opaque rasterized
+// path draws no halos, so auto takes the exact-order mode (kbuffer), which with every opacity 1
+// composites to the nearest surface: the image equals depth peeling's with the same halos.
+TEST_F(TransparencyCli, HaloOnOpaqueLinesWithAutoPicksTheExactOrderModeAndEqualsDepthPeeling) {
+    writeScene("", 8, 32, 24, 1.0f);
+    RunResult r = run("render scene.json --set style.halo.width=1 -o auto");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("render.transparency auto: kbuffer"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("style.halo"), std::string::npos) << r.err;
+    RunResult peel =
+        run("render scene.json --set style.halo.width=1 --set 'render.technique=\"rasterized\"' "
+            "--set 'render.transparency=\"depth_peeling\"' -o peel");
+    ASSERT_EQ(peel.code, 0) << peel.err;
+    // Without halos the same auto scene stays opaque.
+    RunResult plain = run("render scene.json -o plain");
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    EXPECT_NE(plain.err.find("render.transparency auto: opaque"), std::string::npos) << plain.err;
+    const tc::ImageDiff d =
+        tc::compareImages((dir / "auto" / "f.0000.exr").string(), (dir / "peel" / "f.0000.exr").string(), 0.0f);
+    // The k-buffer stores colours as RGBA8 (half a step of 1/255 of rounding), peeling as floats.
+    EXPECT_LE(d.maxError, 0.5 / 255.0 + 1e-6) << "PSNR " << d.psnr;
+    const tc::ImageDiff halo =
+        tc::compareImages((dir / "auto" / "f.0000.exr").string(), (dir / "plain" / "f.0000.exr").string(), 0.0f);
+    EXPECT_GT(halo.maxError, 0.1) << "the halos must show";
+}
+
 // Both backends run the same llvmpipe and the k-buffer's per-pixel order is deterministic there
 // (llvmpipe bins by tile and one thread shades a tile's primitives in submission order): the
 // images must agree exactly, AOVs included.
