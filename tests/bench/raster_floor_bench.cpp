@@ -1,0 +1,223 @@
+// The rasterized line technique against its fragment floor: the same billboards (same billboard
+// path and shape, same data, same view) drawn with a fragment shader that writes a flat colour
+// (shaders/billboard_floor.frag), i.e. what rasterizing and shading the billboards' fragments
+// costs before any ray-cone test, against the draw stages of the opaque path (stage "gbuffer":
+// the visibility draw) and of the k-buffer (stages "kbuffer" + "resolve") for each k. Every case
+// is made once, rendered once to warm up (llvmpipe compiles shader variants at the first draw),
+// then the cases take turns, forward and backward (A B C .. C B A), so load on a shared machine
+// hits them alike; a row is the median over the rounds of the GPU times of its stages.
+// Run by scripts/bench/raster_floor.sh.
+//
+//   tubecast_raster_floor_bench SCENE.json [--rounds 4] [--k 4,8,16] [--opacity 0.3] [--set key=value ...]
+//                               [--shader-dir DIR]   (shader files there replace the built-in ones)
+//
+// The scene's own transparency, AO and AOVs are replaced: opaque at its style's opacity 1, the
+// k-buffer rows at --opacity, no AOVs (the transparent path would draw a G-buffer for them).
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_util.h"
+#include "core/animation.h"
+#include "core/error.h"
+#include "core/scene.h"
+#include "core/styling.h"
+#include "core/technique.h"
+#include "gl/context.h"
+#include "gl/gl_api.h"
+#include "gl/objects.h"
+#include "gl/shader_library.h"
+#include "gl/gpu_timer.h"
+#include "gl/line_geometry.h"
+#include "gl/techniques.h"
+#include "io/dataset.h"
+
+namespace {
+
+using namespace tc::bench;
+
+double stageMs(const tc::StageTime& s) {
+    return s.gpuMs >= 0 ? s.gpuMs : s.cpuMs;
+}
+
+// The flat-colour draw of every billboard into an RGBA32F target (the colour target's format of
+// the transparent path), no depth test, no blending.
+class FloorDraw {
+public:
+    FloorDraw(const tc::Scene& scene, const tc::StyledLines& lines)
+        : m_geometry(tc::gl::LineGeometry::create(lines, scene.render.billboards, {}, scene.render.billboardShape)) {
+        m_program = m_geometry.compileDrawProgram("billboard_floor.frag");
+        m_color = tc::gl::makeTexture2D(GL_RGBA32F, scene.image.width, scene.image.height);
+        m_framebuffer = tc::gl::makeFramebuffer({&m_color}, nullptr, "floor target");
+        m_lighting = scene.lighting;
+    }
+
+    // The stages: "billboards" (the pre-pass, as the techniques have it) and "floor", the draw.
+    std::vector<tc::StageTime> render(const tc::FrameSetup& setup) {
+        tc::gl::StageTimer timer;
+        m_geometry.setFrame(setup, m_lighting);
+        m_geometry.computeBillboards(timer);
+        timer.begin("floor");
+        glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
+        glViewport(0, 0, setup.width, setup.height);
+        const float zero[4] = {0, 0, 0, 0};
+        glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 0, zero);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        glDisable(GL_CULL_FACE);
+        glUseProgram(m_program.id());
+        m_geometry.draw(0, m_geometry.segmentCount());
+        timer.end();
+        return timer.collect();
+    }
+
+private:
+    tc::gl::LineGeometry m_geometry;
+    tc::gl::Program m_program;
+    tc::gl::Texture m_color;
+    tc::gl::Framebuffer m_framebuffer;
+    tc::LightingSpec m_lighting;
+};
+
+struct Case {
+    std::string name;
+    std::vector<std::string> drawStages;  // what counts as the draw
+    std::unique_ptr<tc::Technique> technique;
+    std::unique_ptr<FloorDraw> floor;
+    std::vector<double> draw = {}, frame = {};
+    std::vector<std::vector<tc::StageTime>> stages = {};  // every stage of each round
+};
+
+// Renders one frame of `c`; returns the GPU ms of its draw stages and of the whole frame.
+std::pair<double, double> renderCase(Case& c, const tc::FrameSetup& setup) {
+    std::vector<tc::StageTime> stages;
+    if (c.floor) {
+        stages = c.floor->render(setup);
+    } else {
+        tc::gl::StageTimer timer;
+        tc::FrameImages images;
+        c.technique->render(setup, images, timer);
+        stages = timer.collect();
+    }
+    double draw = 0, frame = 0;
+    for (const tc::StageTime& s : stages) {
+        frame += stageMs(s);
+        for (const std::string& d : c.drawStages)
+            if (s.stage == d) draw += stageMs(s);
+    }
+    c.stages.push_back(std::move(stages));
+    return {draw, frame};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s SCENE.json [--rounds R] [--k 4,8,16] [--opacity A] [--set key=value ...]\n",
+                     argv[0]);
+        return 2;
+    }
+    const std::string path = argv[1];
+    int rounds = 4;
+    std::vector<std::size_t> ks{4, 8, 16};
+    std::string opacity = "0.3";
+    std::vector<std::string> overrides;
+    for (int i = 2; i < argc; i += 2) {
+        const std::string flag = argv[i];
+        if (i + 1 >= argc) {
+            std::fprintf(stderr, "error: %s needs a value\n", argv[i]);
+            return 2;
+        }
+        if (flag == "--rounds")
+            rounds = std::atoi(argv[i + 1]);
+        else if (flag == "--k")
+            ks = parseList(argv[i + 1]);
+        else if (flag == "--opacity")
+            opacity = argv[i + 1];
+        else if (flag == "--set")
+            overrides.push_back(argv[i + 1]);
+        else if (flag == "--shader-dir")
+            tc::gl::ShaderLibrary::instance().setOverrideDir(argv[i + 1]);
+        else {
+            std::fprintf(stderr, "error: unknown option %s\n", argv[i]);
+            return 2;
+        }
+    }
+
+    const tc::gl::Context context = tc::gl::Context::create(tc::gl::ContextConfig{});
+    // One scene per case: the same file and overrides, then the case's transparency.
+    auto sceneFor = [&](const std::vector<std::string>& extra) {
+        std::vector<std::string> all = overrides;
+        all.push_back("output.aovs=[]");
+        all.insert(all.end(), extra.begin(), extra.end());
+        return tc::loadScene(path, all);
+    };
+    const tc::Scene opaqueScene = sceneFor({"render.transparency=\"opaque\"", "style.opacity=1"});
+    const tc::DatasetLoad data = tc::loadDataset(opaqueScene.dataset);
+    const tc::StyledLines opaqueLines = tc::styleLines(data.lines, opaqueScene.style, opaqueScene.file);
+    const tc::Camera camera =
+        tc::cameraAtFrame(opaqueScene.animation,
+                          tc::fitCamera(opaqueScene.camera, opaqueLines.bounds,
+                                        float(opaqueScene.image.width) / float(opaqueScene.image.height)),
+                          0);
+    const tc::FrameSetup setup{0, camera, opaqueScene.image.width, opaqueScene.image.height};
+
+    std::vector<Case> cases;
+    cases.push_back({"floor (constant colour)", {"floor"}, nullptr, std::make_unique<FloorDraw>(opaqueScene, opaqueLines)});
+    cases.push_back({"opaque", {"gbuffer"}, tc::gl::createTechnique(opaqueScene, opaqueLines), nullptr});
+    const tc::Scene transparentScene = sceneFor({"style.opacity=" + opacity});
+    const tc::StyledLines transparentLines =
+        tc::styleLines(data.lines, transparentScene.style, transparentScene.file);
+    for (std::size_t k : ks) {
+        const tc::Scene s =
+            sceneFor({"style.opacity=" + opacity, "render.transparency=\"kbuffer\"", "render.kbuffer.k=" + std::to_string(k)});
+        cases.push_back({"k-buffer k=" + std::to_string(k), {"kbuffer", "resolve"},
+                         tc::gl::createTechnique(s, transparentLines), nullptr});
+    }
+    for (Case& c : cases) {  // warm-up
+        renderCase(c, setup);
+        c.stages.clear();
+    }
+    for (int r = 0; r < rounds; ++r)
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            Case& c = cases[r % 2 == 0 ? i : cases.size() - 1 - i];
+            const auto [draw, frame] = renderCase(c, setup);
+            c.draw.push_back(draw);
+            c.frame.push_back(frame);
+        }
+
+    const double floorMs = median(cases[0].draw);
+    std::printf("| case | draw ms | multiple of the floor | frame ms | draw ms of each round |\n");
+    std::printf("|---|---:|---:|---:|---|\n");
+    for (const Case& c : cases) {
+        std::string each;
+        for (double d : c.draw) each += (each.empty() ? "" : " ") + std::to_string(int(d + 0.5));
+        std::printf("| %s | %.1f | %.2f | %.1f | %s |\n", c.name.c_str(), median(c.draw), median(c.draw) / floorMs,
+                    median(c.frame), each.c_str());
+    }
+    std::printf("\nPer stage, median GPU ms (CPU ms of the calling thread):\n\n");
+    for (const Case& c : cases) {
+        std::string line;
+        for (std::size_t i = 0; i < c.stages.front().size(); ++i) {
+            std::vector<double> gpu, cpu;
+            for (const std::vector<tc::StageTime>& round : c.stages) {
+                gpu.push_back(stageMs(round[i]));
+                cpu.push_back(round[i].cpuMs);
+            }
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "%s%s %.0f (%.0f)", line.empty() ? "" : ", ", c.stages.front()[i].stage.c_str(),
+                          median(gpu), median(cpu));
+            line += buf;
+        }
+        std::printf("- %s: %s\n", c.name.c_str(), line.c_str());
+    }
+    std::printf("\n%s: %zu segments, %dx%d, %d rounds; draw: floor = the flat-colour draw, opaque = stage gbuffer, "
+                "k-buffer = stages kbuffer + resolve (GPU timer queries); frame: every stage of the frame\n",
+                path.c_str(), opaqueLines.segmentCount(), setup.width, setup.height, rounds);
+    return 0;
+} catch (const tc::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+}
