@@ -22,13 +22,13 @@ for b in "$bench" ${BASELINE:+"$BASELINE"}; do
   [ -x "$b" ] || { echo "raster_floor.sh: $b not found (build tubecast_raster_floor_bench first)" >&2; exit 2; }
 done
 
-# run BINARY SCENE -> the bench's table rows "case|draw ms|multiple|frame ms" on stdout
+# run BINARY SCENE -> the bench's rows "case|draw CPU ms|multiple (CPU)|draw wall ms|multiple (wall)"
 run() {
   local args=(--rounds "$rounds" --set "image.width=$width" --set "image.height=$height")
   for e in "${extra[@]}"; do [ "$e" = --set ] || args+=(--set "$e"); done
   "$1" "$2" "${args[@]}" | awk -F'|' '/^\| (floor|opaque|k-buffer)/ {
-      gsub(/^ +| +$/, "", $2); gsub(/ /, "", $3); gsub(/ /, "", $4); gsub(/ /, "", $5)
-      print $2 "|" $3 "|" $4 "|" $5 }'
+      gsub(/^ +| +$/, "", $2); for (i = 3; i <= 6; ++i) gsub(/ /, "", $i)
+      print $2 "|" $3 "|" $4 "|" $5 "|" $6 }'
 }
 
 # tag TAG ROWS: each row prefixed "TAG|"
@@ -43,32 +43,36 @@ for scene in "${scenes[@]}"; do
   fi
   echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo
-  echo "$scene at ${width}x${height}; draw = GPU time of the draw stages (floor: the flat-colour draw; opaque: gbuffer;"
-  echo "k-buffer: kbuffer + resolve), median of $rounds rounds per run"
+  echo "$scene at ${width}x${height}; draw = the draw stages (floor: the constant-colour draw; opaque: gbuffer;"
+  echo "k-buffer: kbuffer + resolve), median of $rounds rounds per run; multiple = draw / floor"
   echo
-  # Per case: the mean of the runs' medians (two runs per binary with BASELINE).
+  # Per case: the mean of the runs' medians (two runs per binary with BASELINE). CPU: all threads
+  # of the process (what the frame costs the node; load from other processes inflates it less than
+  # wall time); wall: between glFinish() calls.
   { tag B "$b1"; tag B "$b2"; tag C "$c1"; tag C "$c2"; } | awk -F'|' '
     { key = $1 SUBSEP $2
       if (!($2 in order)) { order[$2] = ++cases; name[cases] = $2 }
-      draw[key] += $3; mult[key] += $4; cnt[key]++; if ($1 == "B") base = 1 }
+      cpu[key] += $3; mcpu[key] += $4; wall[key] += $5; mwall[key] += $6; cnt[key]++
+      if ($1 == "B") base = 1 }
+    function avg(a, k) { return a[k] / cnt[k] }
     END {
       if (base) {
-        print "| case | floor ms (before / after) | draw ms before | draw ms after | multiple before | multiple after |"
-        print "|---|---:|---:|---:|---:|---:|"
+        print "| case | floor CPU ms (before / after) | draw CPU ms before | draw CPU ms after | multiple before | multiple after | wall multiple before | wall multiple after |"
+        print "|---|---:|---:|---:|---:|---:|---:|---:|"
         f = name[1]
-        floor = sprintf("%.0f / %.0f", draw["B" SUBSEP f] / cnt["B" SUBSEP f], draw["C" SUBSEP f] / cnt["C" SUBSEP f])
+        floor = sprintf("%.0f / %.0f", avg(cpu, "B" SUBSEP f), avg(cpu, "C" SUBSEP f))
       } else {
-        print "| case | floor ms | draw ms | multiple of the floor |"
-        print "|---|---:|---:|---:|"
-        floor = sprintf("%.0f", draw["C" SUBSEP name[1]] / cnt["C" SUBSEP name[1]])
+        print "| case | floor CPU ms | draw CPU ms | multiple of the floor | wall multiple |"
+        print "|---|---:|---:|---:|---:|"
+        floor = sprintf("%.0f", avg(cpu, "C" SUBSEP name[1]))
       }
-      for (i = 1; i <= cases; ++i) {
+      for (i = 2; i <= cases; ++i) {
         c = "C" SUBSEP name[i]; b = "B" SUBSEP name[i]
         if (base)
-          printf "| %s | %s | %.0f | %.0f | %.2f | %.2f |\n", name[i], floor, draw[b] / cnt[b], draw[c] / cnt[c],
-                 mult[b] / cnt[b], mult[c] / cnt[c]
+          printf "| %s | %s | %.0f | %.0f | %.2f | %.2f | %.2f | %.2f |\n", name[i], floor, avg(cpu, b), avg(cpu, c),
+                 avg(mcpu, b), avg(mcpu, c), avg(mwall, b), avg(mwall, c)
         else
-          printf "| %s | %s | %.0f | %.2f |\n", name[i], floor, draw[c] / cnt[c], mult[c] / cnt[c]
+          printf "| %s | %s | %.0f | %.2f | %.2f |\n", name[i], floor, avg(cpu, c), avg(mcpu, c), avg(mwall, c)
       }
     }'
   echo

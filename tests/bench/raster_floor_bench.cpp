@@ -5,7 +5,10 @@
 // the visibility draw) and of the k-buffer (stages "kbuffer" + "resolve") for each k. Every case
 // is made once, rendered once to warm up (llvmpipe compiles shader variants at the first draw),
 // then the cases take turns, forward and backward (A B C .. C B A), so load on a shared machine
-// hits them alike; a row is the median over the rounds of the GPU times of its stages.
+// hits them alike; a row is the median over the rounds. Each stage is timed between two
+// glFinish() calls, as wall time and as the CPU time of the whole process (every llvmpipe thread:
+// the work done, which other processes on a loaded machine do not inflate the way they stretch
+// wall time).
 // Run by scripts/bench/raster_floor.sh.
 //
 //   tubecast_raster_floor_bench SCENE.json [--rounds 4] [--k 4,8,16] [--opacity 0.3] [--set key=value ...]
@@ -13,6 +16,9 @@
 //
 // The scene's own transparency, AO and AOVs are replaced: opaque at its style's opacity 1, the
 // k-buffer rows at --opacity, no AOVs (the transparent path would draw a G-buffer for them).
+#include <sys/resource.h>
+
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -29,7 +35,6 @@
 #include "gl/gl_api.h"
 #include "gl/objects.h"
 #include "gl/shader_library.h"
-#include "gl/gpu_timer.h"
 #include "gl/line_geometry.h"
 #include "gl/techniques.h"
 #include "io/dataset.h"
@@ -38,9 +43,43 @@ namespace {
 
 using namespace tc::bench;
 
-double stageMs(const tc::StageTime& s) {
-    return s.gpuMs >= 0 ? s.gpuMs : s.cpuMs;
+double processCpuMs() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return 1e3 * (double(usage.ru_utime.tv_sec) + double(usage.ru_stime.tv_sec)) +
+           1e-3 * (double(usage.ru_utime.tv_usec) + double(usage.ru_stime.tv_usec));
 }
+
+struct Stage {
+    std::string name;
+    double wallMs = 0, cpuMs = 0;  // cpuMs: all threads of the process
+};
+
+// Times each stage between glFinish() calls (the GL timestamps of gl::StageTimer do not see the
+// vertex work llvmpipe does on the calling thread, and measure wall time only).
+class FinishedStageTimer final : public tc::StageSink {
+public:
+    void begin(std::string stage) override {
+        glFinish();
+        m_open = {std::move(stage), 0, 0};
+        m_wall0 = std::chrono::steady_clock::now();
+        m_cpu0 = processCpuMs();
+    }
+    void end() override {
+        glFinish();
+        m_open.wallMs = msSince(m_wall0);
+        m_open.cpuMs = processCpuMs() - m_cpu0;
+        m_stages.push_back(m_open);
+    }
+    void setItems(std::uint64_t) override {}
+    std::vector<Stage> take() { return std::move(m_stages); }
+
+private:
+    Stage m_open;
+    Clock::time_point m_wall0;
+    double m_cpu0 = 0;
+    std::vector<Stage> m_stages;
+};
 
 // The flat-colour draw of every billboard into an RGBA32F target (the colour target's format of
 // the transparent path), no depth test, no blending.
@@ -55,8 +94,8 @@ public:
     }
 
     // The stages: "billboards" (the pre-pass, as the techniques have it) and "floor", the draw.
-    std::vector<tc::StageTime> render(const tc::FrameSetup& setup) {
-        tc::gl::StageTimer timer;
+    std::vector<Stage> render(const tc::FrameSetup& setup) {
+        FinishedStageTimer timer;
         m_geometry.setFrame(setup, m_lighting);
         m_geometry.computeBillboards(timer);
         timer.begin("floor");
@@ -70,7 +109,7 @@ public:
         glUseProgram(m_program.id());
         m_geometry.draw(0, m_geometry.segmentCount());
         timer.end();
-        return timer.collect();
+        return timer.take();
     }
 
 private:
@@ -86,29 +125,34 @@ struct Case {
     std::vector<std::string> drawStages;  // what counts as the draw
     std::unique_ptr<tc::Technique> technique;
     std::unique_ptr<FloorDraw> floor;
-    std::vector<double> draw = {}, frame = {};
-    std::vector<std::vector<tc::StageTime>> stages = {};  // every stage of each round
+    std::vector<double> drawCpu = {}, drawWall = {}, frameWall = {};
+    std::vector<std::vector<Stage>> stages = {};  // every stage of each round
 };
 
-// Renders one frame of `c`; returns the GPU ms of its draw stages and of the whole frame.
-std::pair<double, double> renderCase(Case& c, const tc::FrameSetup& setup) {
-    std::vector<tc::StageTime> stages;
+// Renders one frame of `c` and records its times.
+void renderCase(Case& c, const tc::FrameSetup& setup) {
+    std::vector<Stage> stages;
     if (c.floor) {
         stages = c.floor->render(setup);
     } else {
-        tc::gl::StageTimer timer;
+        FinishedStageTimer timer;
         tc::FrameImages images;
         c.technique->render(setup, images, timer);
-        stages = timer.collect();
+        stages = timer.take();
     }
-    double draw = 0, frame = 0;
-    for (const tc::StageTime& s : stages) {
-        frame += stageMs(s);
+    double cpu = 0, wall = 0, frame = 0;
+    for (const Stage& s : stages) {
+        frame += s.wallMs;
         for (const std::string& d : c.drawStages)
-            if (s.stage == d) draw += stageMs(s);
+            if (s.name == d) {
+                cpu += s.cpuMs;
+                wall += s.wallMs;
+            }
     }
+    c.drawCpu.push_back(cpu);
+    c.drawWall.push_back(wall);
+    c.frameWall.push_back(frame);
     c.stages.push_back(std::move(stages));
-    return {draw, frame};
 }
 
 }  // namespace
@@ -178,43 +222,36 @@ int main(int argc, char** argv) try {
     }
     for (Case& c : cases) {  // warm-up
         renderCase(c, setup);
-        c.stages.clear();
+        c = Case{std::move(c.name), std::move(c.drawStages), std::move(c.technique), std::move(c.floor)};
     }
     for (int r = 0; r < rounds; ++r)
-        for (std::size_t i = 0; i < cases.size(); ++i) {
-            Case& c = cases[r % 2 == 0 ? i : cases.size() - 1 - i];
-            const auto [draw, frame] = renderCase(c, setup);
-            c.draw.push_back(draw);
-            c.frame.push_back(frame);
-        }
+        for (std::size_t i = 0; i < cases.size(); ++i) renderCase(cases[r % 2 == 0 ? i : cases.size() - 1 - i], setup);
 
-    const double floorMs = median(cases[0].draw);
-    std::printf("| case | draw ms | multiple of the floor | frame ms | draw ms of each round |\n");
-    std::printf("|---|---:|---:|---:|---|\n");
-    for (const Case& c : cases) {
-        std::string each;
-        for (double d : c.draw) each += (each.empty() ? "" : " ") + std::to_string(int(d + 0.5));
-        std::printf("| %s | %.1f | %.2f | %.1f | %s |\n", c.name.c_str(), median(c.draw), median(c.draw) / floorMs,
-                    median(c.frame), each.c_str());
-    }
-    std::printf("\nPer stage, median GPU ms (CPU ms of the calling thread):\n\n");
+    const double floorCpu = median(cases[0].drawCpu), floorWall = median(cases[0].drawWall);
+    std::printf("| case | draw CPU ms | multiple (CPU) | draw wall ms | multiple (wall) | frame wall ms |\n");
+    std::printf("|---|---:|---:|---:|---:|---:|\n");
+    for (const Case& c : cases)
+        std::printf("| %s | %.0f | %.2f | %.0f | %.2f | %.0f |\n", c.name.c_str(), median(c.drawCpu),
+                    median(c.drawCpu) / floorCpu, median(c.drawWall), median(c.drawWall) / floorWall,
+                    median(c.frameWall));
+    std::printf("\nPer stage, median wall ms (CPU ms of all threads):\n\n");
     for (const Case& c : cases) {
         std::string line;
         for (std::size_t i = 0; i < c.stages.front().size(); ++i) {
-            std::vector<double> gpu, cpu;
-            for (const std::vector<tc::StageTime>& round : c.stages) {
-                gpu.push_back(stageMs(round[i]));
+            std::vector<double> wall, cpu;
+            for (const std::vector<Stage>& round : c.stages) {
+                wall.push_back(round[i].wallMs);
                 cpu.push_back(round[i].cpuMs);
             }
             char buf[160];
-            std::snprintf(buf, sizeof buf, "%s%s %.0f (%.0f)", line.empty() ? "" : ", ", c.stages.front()[i].stage.c_str(),
-                          median(gpu), median(cpu));
+            std::snprintf(buf, sizeof buf, "%s%s %.0f (%.0f)", line.empty() ? "" : ", ", c.stages.front()[i].name.c_str(),
+                          median(wall), median(cpu));
             line += buf;
         }
         std::printf("- %s: %s\n", c.name.c_str(), line.c_str());
     }
-    std::printf("\n%s: %zu segments, %dx%d, %d rounds; draw: floor = the flat-colour draw, opaque = stage gbuffer, "
-                "k-buffer = stages kbuffer + resolve (GPU timer queries); frame: every stage of the frame\n",
+    std::printf("\n%s: %zu segments, %dx%d, %d rounds; draw: floor = the constant-colour draw, opaque = stage "
+                "gbuffer, k-buffer = stages kbuffer + resolve; frame: every stage of the frame\n",
                 path.c_str(), opaqueLines.segmentCount(), setup.width, setup.height, rounds);
     return 0;
 } catch (const tc::Error& e) {
