@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # The rasterized technique's draw stages as multiples of their fragment floor: the same billboards
-# drawn with a flat-colour fragment shader (tests/bench/raster_floor_bench.cpp has what is timed),
+# drawn with a constant-colour fragment shader (tests/bench/raster_floor_bench.cpp has what is timed),
 # against opaque and k-buffer k = 4, 8, 16 at opacity 0.3, on configs/tornado_1m.json at
 # 1920x1080, in one run.
 #   scripts/bench/raster_floor.sh [SCENE.json ...] [-- --set key=value ...]
 # Default scene: configs/tornado_1m.json (add e.g. configs/bench/convection_1m.json for a second
 # set; every scene is rendered at WIDTH x HEIGHT). Env: BENCH (the bench binary, default
-# build/tests/bench/tubecast_raster_floor_bench), BASELINE (a second bench binary, e.g. a copy
-# built from an earlier commit: then both run in one session, baseline / current / current /
-# baseline, and the table has both multiples), ROUNDS (4 per run), WIDTH / HEIGHT (1920x1080).
+# build/tests/bench/tubecast_raster_floor_bench), BASELINE (a second bench command, e.g. a copy
+# built from an earlier commit, or a wrapper passing --shader-dir with an earlier commit's shaders:
+# then both run in one session, baseline / current / current / baseline, and the table has both
+# multiples), ROUNDS (4 per run), WIDTH / HEIGHT (1920x1080).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 bench=${BENCH:-build/tests/bench/tubecast_raster_floor_bench}
