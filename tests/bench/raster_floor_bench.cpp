@@ -1,6 +1,6 @@
 // The rasterized line technique against its fragment floor: the same billboards (same billboard
-// path and shape, same data, same view) drawn with a fragment shader that writes a flat colour
-// (shaders/billboard_floor.frag), i.e. what rasterizing and shading the billboards' fragments
+// path and shape, same data, same view) drawn with a fragment shader that writes one constant
+// colour (shaders/billboard_floor.frag), i.e. what rasterizing and shading the billboards' fragments
 // costs before any ray-cone test, against the draw stages of the opaque path (stage "gbuffer":
 // the visibility draw) and of the k-buffer (stages "kbuffer" + "resolve") for each k. Every case
 // is made once, rendered once to warm up (llvmpipe compiles shader variants at the first draw),
@@ -14,7 +14,7 @@
 //   tubecast_raster_floor_bench SCENE.json [--rounds 4] [--k 4,8,16] [--opacity 0.3] [--set key=value ...]
 //                               [--shader-dir DIR]   (shader files there replace the built-in ones)
 //
-// The scene's own transparency, AO and AOVs are replaced: opaque at its style's opacity 1, the
+// The scene's own transparency and AOVs are replaced: opaque at its style's opacity 1, the
 // k-buffer rows at --opacity, no AOVs (the transparent path would draw a G-buffer for them).
 #include <sys/resource.h>
 
@@ -81,7 +81,7 @@ private:
     std::vector<Stage> m_stages;
 };
 
-// The flat-colour draw of every billboard into an RGBA32F target (the colour target's format of
+// The constant-colour draw of every billboard into an RGBA32F target (the colour target's format of
 // the transparent path), no depth test, no blending.
 class FloorDraw {
 public:
