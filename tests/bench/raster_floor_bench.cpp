@@ -33,9 +33,9 @@
 #include "core/technique.h"
 #include "gl/context.h"
 #include "gl/gl_api.h"
+#include "gl/line_geometry.h"
 #include "gl/objects.h"
 #include "gl/shader_library.h"
-#include "gl/line_geometry.h"
 #include "gl/techniques.h"
 #include "io/dataset.h"
 
@@ -209,16 +209,18 @@ int main(int argc, char** argv) try {
     const tc::FrameSetup setup{0, camera, opaqueScene.image.width, opaqueScene.image.height};
 
     std::vector<Case> cases;
-    cases.push_back({"floor (constant colour)", {"floor"}, nullptr, std::make_unique<FloorDraw>(opaqueScene, opaqueLines)});
+    cases.push_back(
+        {"floor (constant colour)", {"floor"}, nullptr, std::make_unique<FloorDraw>(opaqueScene, opaqueLines)});
     cases.push_back({"opaque", {"gbuffer"}, tc::gl::createTechnique(opaqueScene, opaqueLines), nullptr});
     const tc::Scene transparentScene = sceneFor({"style.opacity=" + opacity});
-    const tc::StyledLines transparentLines =
-        tc::styleLines(data.lines, transparentScene.style, transparentScene.file);
+    const tc::StyledLines transparentLines = tc::styleLines(data.lines, transparentScene.style, transparentScene.file);
     for (std::size_t k : ks) {
-        const tc::Scene s =
-            sceneFor({"style.opacity=" + opacity, "render.transparency=\"kbuffer\"", "render.kbuffer.k=" + std::to_string(k)});
-        cases.push_back({"k-buffer k=" + std::to_string(k), {"kbuffer", "resolve"},
-                         tc::gl::createTechnique(s, transparentLines), nullptr});
+        const tc::Scene s = sceneFor(
+            {"style.opacity=" + opacity, "render.transparency=\"kbuffer\"", "render.kbuffer.k=" + std::to_string(k)});
+        cases.push_back({"k-buffer k=" + std::to_string(k),
+                         {"kbuffer", "resolve"},
+                         tc::gl::createTechnique(s, transparentLines),
+                         nullptr});
     }
     for (Case& c : cases) {  // warm-up
         renderCase(c, setup);
@@ -244,15 +246,16 @@ int main(int argc, char** argv) try {
                 cpu.push_back(round[i].cpuMs);
             }
             char buf[160];
-            std::snprintf(buf, sizeof buf, "%s%s %.0f (%.0f)", line.empty() ? "" : ", ", c.stages.front()[i].name.c_str(),
-                          median(wall), median(cpu));
+            std::snprintf(buf, sizeof buf, "%s%s %.0f (%.0f)", line.empty() ? "" : ", ",
+                          c.stages.front()[i].name.c_str(), median(wall), median(cpu));
             line += buf;
         }
         std::printf("- %s: %s\n", c.name.c_str(), line.c_str());
     }
-    std::printf("\n%s: %zu segments, %dx%d, %d rounds; draw: floor = the constant-colour draw, opaque = stage "
-                "gbuffer, k-buffer = stages kbuffer + resolve; frame: every stage of the frame\n",
-                path.c_str(), opaqueLines.segmentCount(), setup.width, setup.height, rounds);
+    std::printf(
+        "\n%s: %zu segments, %dx%d, %d rounds; draw: floor = the constant-colour draw, opaque = stage "
+        "gbuffer, k-buffer = stages kbuffer + resolve; frame: every stage of the frame\n",
+        path.c_str(), opaqueLines.segmentCount(), setup.width, setup.height, rounds);
     return 0;
 } catch (const tc::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
