@@ -46,7 +46,8 @@ LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path, 
     g.m_segmentVertices = upload(lines.segmentVertices);
     if (path == BillboardPath::Compute) {
         g.m_billboardCorners = makeBuffer(lines.segmentCount() * 2 * sizeof(glm::vec4));
-        g.m_segmentRecords = makeBuffer(lines.segmentCount() * 6 * sizeof(glm::vec4));
+        // kSegmentRecordSize vec4 per segment (shaders/segment_varyings.glsl).
+        g.m_segmentRecords = makeBuffer(lines.segmentCount() * 7 * sizeof(glm::vec4));
         g.m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, g.billboardDefines());
     }
     g.m_emptyVao = VertexArray::create();

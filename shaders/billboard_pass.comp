@@ -37,10 +37,11 @@ void main() {
     billboardCorners[2u * segment] = vec4(bb.ndc[0], bb.ndc[1]);
     billboardCorners[2u * segment + 1u] = vec4(bb.ndc[2], bb.ndc[3]);
     // What the fragment shaders need of the segment, for the vertex shader to pass on. Opaque
-    // culling draws only the visibility pass, which reads the cone alone.
+    // culling draws only the visibility pass, which reads the cone and its axis alone.
 #ifdef CULL_MAX_DEPTH
-    segmentRecord[6u * segment] = a;
-    segmentRecord[6u * segment + 1u] = b;
+    segmentRecord[kSegmentRecordSize * segment] = a;
+    segmentRecord[kSegmentRecordSize * segment + 1u] = b;
+    segmentRecord[kSegmentRecordSize * segment + 6u] = coneAxis(RoundedCone(a.xyz, a.w, b.xyz, b.w));
 #else
     storeSegmentRecord(segment, loadSegmentVaryings(segment));
 #endif

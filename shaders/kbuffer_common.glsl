@@ -6,8 +6,16 @@
 // holds head | count << 8 (kbuffer_insert.frag has why). GLSL 4.50 chunk; needs KBUFFER_K and, at
 // the top of the including shader, #extension GL_ARB_gpu_shader_int64.
 
-layout(std430, binding = SSBO_KBUFFER) coherent buffer KBuffer { uint64_t kbuffer[]; };
-layout(std430, binding = SSBO_KBUFFER_HEADERS) coherent buffer KBufferHeaders { uint kbufferHeader[]; };
+// `coherent` only with interlock, whose critical section it serves. Without interlock the lists rely
+// on llvmpipe shading a pixel's fragments one at a time on one thread, where it orders nothing; the
+// resolve pass follows a memory barrier.
+#ifdef USE_INTERLOCK
+#define TC_KBUFFER_COHERENT coherent
+#else
+#define TC_KBUFFER_COHERENT
+#endif
+layout(std430, binding = SSBO_KBUFFER) TC_KBUFFER_COHERENT buffer KBuffer { uint64_t kbuffer[]; };
+layout(std430, binding = SSBO_KBUFFER_HEADERS) TC_KBUFFER_COHERENT buffer KBufferHeaders { uint kbufferHeader[]; };
 
 uniform uint uImageWidth;
 

@@ -29,7 +29,10 @@ struct ConeInterval {
 const float kConeHuge = 1e18;
 const float kConeFar = 1e30;
 
-// Sphere piece of intersectRoundedCone: discriminant from the perpendicular offset.
+// Sphere piece of intersectRoundedCone: discriminant from the perpendicular offset. The pieces
+// hand on unnormalized normals: intersectRoundedCone normalizes only the two it returns (on
+// llvmpipe every candidate's normalize runs for every lane, taken or not), which gives the same
+// bits as normalizing each candidate.
 void tcConeSphere(vec3 oc, float r, vec3 dir, inout bool hit, inout float tIn, inout float tOut,
                   inout vec3 nIn, inout vec3 nOut) {
     float b = dot(oc, dir);
@@ -39,8 +42,8 @@ void tcConeSphere(vec3 oc, float r, vec3 dir, inout bool hit, inout float tIn, i
     float sq = sqrt(h);
     float ta = -b - sq, tb = -b + sq;
     hit = true;
-    if (ta < tIn) { tIn = ta; nIn = normalize(perp - sq * dir); }
-    if (tb > tOut) { tOut = tb; nOut = normalize(perp + sq * dir); }
+    if (ta < tIn) { tIn = ta; nIn = perp - sq * dir; }
+    if (tb > tOut) { tOut = tb; nOut = perp + sq * dir; }
 }
 
 // Lateral piece of intersectRoundedCone (see there).
@@ -50,21 +53,29 @@ void tcConeLateral(float t, bool entry, vec3 oa, vec3 dir, vec3 u, float w, floa
     float yc = w + t * m2;
     float ya = yc + c2 * ac;
     if (!(ya >= 0.0 && ya <= L * c2)) return;
-    vec3 n = normalize(c2 * (oa + t * dir) - u * yc);
+    vec3 n = c2 * (oa + t * dir) - u * yc;
     hit = true;
     if (entry && t < tIn) { tIn = t; nIn = n; }
     if (!entry && t > tOut) { tOut = t; nOut = n; }
 }
 
-// Union of sphere 0, sphere 1 and the lateral surface of the common tangent cone (I. Quilez'
-// rounded-cone intersector extended to both roots), solved around the axis point closest to the
-// ray for float precision. ray.dir must be unit length; radii > 0.
-ConeInterval intersectRoundedCone(Ray ray, RoundedCone c) {
-    vec3 o = ray.origin, dir = ray.dir;
+// The cone's unit axis and length, (u, L), exactly as intersectRoundedCone needs them. Passes that
+// test one segment in many fragments compute it once per segment (shaders/segment_varyings.glsl):
+// a square root and three divisions less per fragment, same bits.
+vec4 coneAxis(RoundedCone c) {
     vec3 ba = c.x1 - c.x0;
     float L = length(ba);
+    return vec4(L > 0.0 ? ba / L : vec3(0.0), L);
+}
+
+// Union of sphere 0, sphere 1 and the lateral surface of the common tangent cone (I. Quilez'
+// rounded-cone intersector extended to both roots), solved around the axis point closest to the
+// ray for float precision. ray.dir must be unit length; radii > 0; axis = coneAxis(c).
+ConeInterval intersectRoundedCone(Ray ray, RoundedCone c, vec4 axis) {
+    vec3 o = ray.origin, dir = ray.dir;
+    float L = axis.w;
     float rr = c.r0 - c.r1;
-    vec3 u = L > 0.0 ? ba / L : vec3(0.0);
+    vec3 u = axis.xyz;
     float m2 = dot(dir, u);
     vec3 uxd = cross(u, dir);
     float sin2 = dot(uxd, uxd);
@@ -121,9 +132,13 @@ ConeInterval intersectRoundedCone(Ray ray, RoundedCone c) {
     result.hit = true;
     result.tIn = t0 + tIn;
     result.tOut = t0 + tOut;
-    result.nIn = nIn;
-    result.nOut = nOut;
+    result.nIn = normalize(nIn);
+    result.nOut = normalize(nOut);
     return result;
+}
+
+ConeInterval intersectRoundedCone(Ray ray, RoundedCone c) {
+    return intersectRoundedCone(ray, c, coneAxis(c));
 }
 
 // Signed distance: exact outside, negative inside.

@@ -23,7 +23,7 @@ void main() {
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
     float t, fragDepth;
     vec3 n;
-    if (!visibleFragmentDepth(ray, varyingCone(), t, n, fragDepth)) discard;
+    if (!visibleFragmentDepth(ray, varyingCone(), vAxis, t, n, fragDepth)) discard;
 #ifdef REGION_CLIP
     // This segment's visible point belongs to another region: the nearest one in this region wins
     // the depth test, so the regions' depth images Z-composite to the whole frame's first hit.

@@ -22,6 +22,7 @@ struct SegmentVaryings {
     vec4 clip1;   // the same at x1
     vec4 color0;  // straight RGBA at x0
     vec4 color1;  // straight RGBA at x1
+    vec4 axis;    // coneAxis of the cone (rounded_cone.glsl): unit axis, length
 };
 
 #if defined(SEGMENT_VARYINGS_COMPUTE) || defined(SEGMENT_VARYINGS_OUT)
@@ -38,6 +39,7 @@ SegmentVaryings loadSegmentVaryings(uint segment) {
     v.coneB = positionRadius[v1];
     v.color0 = vertexColor[v0];
     v.color1 = vertexColor[v1];
+    v.axis = coneAxis(RoundedCone(v.coneA.xyz, v.coneA.w, v.coneB.xyz, v.coneB.w));
     vec4 plane0 = vec4(0.0), plane1 = vec4(0.0);
     bool clip0 = false, clip1 = false;
     if (uCapClipping) {
@@ -54,26 +56,28 @@ SegmentVaryings loadSegmentVaryings(uint segment) {
     return v;
 }
 
-// Six vec4 per segment, in SegmentVaryings order.
+// kSegmentRecordSize vec4 per segment, in SegmentVaryings order (LineGeometry sizes the buffer).
+const uint kSegmentRecordSize = 7u;
 #ifdef SEGMENT_VARYINGS_COMPUTE
 layout(std430, binding = SSBO_SEGMENT_RECORDS) writeonly buffer SegmentRecords { vec4 segmentRecord[]; };
 
 void storeSegmentRecord(uint segment, SegmentVaryings v) {
-    uint r = 6u * segment;
+    uint r = kSegmentRecordSize * segment;
     segmentRecord[r] = v.coneA;
     segmentRecord[r + 1u] = v.coneB;
     segmentRecord[r + 2u] = v.clip0;
     segmentRecord[r + 3u] = v.clip1;
     segmentRecord[r + 4u] = v.color0;
     segmentRecord[r + 5u] = v.color1;
+    segmentRecord[r + 6u] = v.axis;
 }
 #else
 layout(std430, binding = SSBO_SEGMENT_RECORDS) readonly buffer SegmentRecords { vec4 segmentRecord[]; };
 
 SegmentVaryings readSegmentRecord(uint segment) {
-    uint r = 6u * segment;
+    uint r = kSegmentRecordSize * segment;
     return SegmentVaryings(segmentRecord[r], segmentRecord[r + 1u], segmentRecord[r + 2u], segmentRecord[r + 3u],
-                           segmentRecord[r + 4u], segmentRecord[r + 5u]);
+                           segmentRecord[r + 4u], segmentRecord[r + 5u], segmentRecord[r + 6u]);
 }
 #endif
 #endif
@@ -90,6 +94,7 @@ TC_SEGMENT_VARYING vec4 vClip0;
 TC_SEGMENT_VARYING vec4 vClip1;
 TC_SEGMENT_VARYING vec4 vColor0;
 TC_SEGMENT_VARYING vec4 vColor1;
+TC_SEGMENT_VARYING vec4 vAxis;
 
 RoundedCone varyingCone() { return RoundedCone(vConeA.xyz, vConeA.w, vConeB.xyz, vConeB.w); }
 
@@ -101,6 +106,7 @@ void writeSegmentVaryings(SegmentVaryings v) {
     vClip1 = v.clip1;
     vColor0 = v.color0;
     vColor1 = v.color1;
+    vAxis = v.axis;
 }
 #endif
 #endif

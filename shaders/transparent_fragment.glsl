@@ -32,7 +32,7 @@ bool haloFragment(Ray ray, vec4 plane0, vec4 plane1, bool clip0, bool clip1, out
     RoundedCone c = varyingCone();
     const float scale = 1.0 + HALO_WIDTH;
     RoundedCone outer = RoundedCone(c.x0, c.r0 * scale, c.x1, c.r1 * scale);
-    ConeInterval ring = intersectRoundedCone(ray, outer);
+    ConeInterval ring = intersectRoundedCone(ray, outer, vAxis);  // the same axis
     float tEntry;
     vec3 nEntry;
     if (!segmentFragment(ray, ring, plane0, plane1, clip0, clip1, tEntry, nEntry)) return false;
@@ -66,7 +66,7 @@ bool lineFragment(out LineFragment f) {
     // The segment's cone, cap planes (uCapClipping) and colours: segment_varyings.glsl.
     vec4 a = vConeA, b = vConeB;
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
-    ConeInterval cone = intersectRoundedCone(ray, varyingCone());
+    ConeInterval cone = intersectRoundedCone(ray, varyingCone(), vAxis);
     bool clip0 = vClip0 != vec4(0.0), clip1 = vClip1 != vec4(0.0);
     vec4 plane0 = vClip0, plane1 = vClip1;
     float t;

@@ -4,8 +4,9 @@
 // line_buffers.glsl.
 #include "frame_uniforms.glsl"
 
-bool visibleHit(Ray ray, RoundedCone cone, out float t, out vec3 n) {
-    ConeInterval hit = intersectRoundedCone(ray, cone);
+// axis: coneAxis(cone) (rounded_cone.glsl).
+bool visibleHit(Ray ray, RoundedCone cone, vec4 axis, out float t, out vec3 n) {
+    ConeInterval hit = intersectRoundedCone(ray, cone, axis);
     t = 0.0;
     n = vec3(0.0);
     if (!hit.hit) return false;
@@ -31,11 +32,15 @@ RoundedCone segmentCone(uint segment) {
 // What the visibility pass (rounded_cone_gbuffer.frag) stores for `cone` along `ray` as
 // gl_FragDepth, the value its depth test compares: view depth / uFarDepth. False where it writes
 // no fragment. The surface attributes pass recomputes it with this same function to resolve ties.
-bool visibleFragmentDepth(Ray ray, RoundedCone cone, out float t, out vec3 n, out float fragDepth) {
+bool visibleFragmentDepth(Ray ray, RoundedCone cone, vec4 axis, out float t, out vec3 n, out float fragDepth) {
     fragDepth = 1.0;
-    if (!visibleHit(ray, cone, t, n)) return false;
+    if (!visibleHit(ray, cone, axis, t, n)) return false;
     float depth = viewDepth(ray, t);
     if (depth <= 0.0) return false;
     fragDepth = clamp(depth / uFarDepth, 0.0, 1.0);
     return true;
+}
+
+bool visibleFragmentDepth(Ray ray, RoundedCone cone, out float t, out vec3 n, out float fragDepth) {
+    return visibleFragmentDepth(ray, cone, coneAxis(cone), t, n, fragDepth);
 }
