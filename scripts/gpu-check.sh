@@ -72,6 +72,7 @@ median_frame() {
 render() {  # OUTDIR SCENE render-arguments...
   local dir=$1 scene=$2; shift 2
   rm -rf "$dir"
+  mkdir -p "$(dirname "$dir")"
   if ! "$tc" render "$scene" -o "$dir" -q --overwrite --set 'output.formats=["png"]' --set 'output.aovs=[]' \
     --set 'output.name=f.####' "$@" > "$dir.log" 2>&1; then
     log "render failed ($dir.log):"; tail -5 "$dir.log" >&2
