@@ -149,13 +149,14 @@ EOF
   }
   log "VTK exact peeling at $vtk_size (up to $vtk_ref_timeout s)"
   vtk vtk_ref "$small_run" "$vtk_size" "$vtk_ref_timeout" --frames 1 --png "$OUT/vtk_ref.png" > /dev/null
-  vtk_ref_desc="exact peeling (no peel limit): $(grep -m1 '^frame 0' "$OUT/vtk_ref.txt" | sed 's/^frame 0: //')"
-  if [ ! -s "$OUT/vtk_ref.png" ] || ! grep -q '^frame 0' "$OUT/vtk_ref.txt"; then
+  first_frame() { sed -n 's/^frame 0: //p' "$OUT/vtk_ref.txt" | head -1; }  # "S s, N geometry passes ..."
+  vtk_ref_desc="exact peeling (no peel limit): $(first_frame)"
+  if [ ! -s "$OUT/vtk_ref.png" ] || [ -z "$(first_frame)" ]; then
     log "VTK exact peeling did not finish: reference = $vtk_ref_peels peels"
     rm -f "$OUT/vtk_ref.png"
     vtk vtk_ref "$small_run" "$vtk_size" "$vtk_ref_timeout" --frames 1 --max-peels "$vtk_ref_peels" \
       --png "$OUT/vtk_ref.png" > /dev/null
-    vtk_ref_desc="$vtk_ref_peels peels (exact peeling did not finish in $vtk_ref_timeout s): $(grep -m1 '^frame 0' "$OUT/vtk_ref.txt" | sed 's/^frame 0: //')"
+    vtk_ref_desc="$vtk_ref_peels peels (exact peeling did not finish in $vtk_ref_timeout s): $(first_frame)"
     vtk_note="reference: $vtk_ref_peels peels, not the exact image"
   fi
   for p in "${vtk_peels[@]}"; do
