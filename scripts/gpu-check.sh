@@ -11,7 +11,7 @@
 # --build DIR  the build tree (default build/); configured and built (Release) when DIR/cli/tubecast
 #              is missing, otherwise reused as it is.
 # --device N   EGL device N (`tubecast render -v` lists them); default: the first that works.
-# --quick      small images, few frames, a 43k-segment tornado, no `gl` ctest label: about a minute
+# --quick      small images, few frames, a 26k-segment tornado, no `gl` ctest label: under a minute
 #              on llvmpipe (the cli ctest gpu_check_quick runs it so the script keeps working).
 # --out DIR    keep the renders here (default: a temporary directory, removed at the end).
 #
@@ -123,7 +123,7 @@ else
 fi
 scene_args() {  # NAME: the scene file and its settings
   case $1 in
-    tornado) echo configs/tornado_1m.json --set dataset.lines=200 ;;
+    tornado) echo configs/tornado_1m.json --set dataset.lines="$([ "$quick" = 1 ] && echo 60 || echo 200)" ;;
     demo) echo configs/demo.json ;;
   esac
 }
@@ -167,7 +167,7 @@ done
 
 # --- Every technique on the 1M tornado ------------------------------------------------------------------
 if [ "$quick" = 1 ]; then
-  frames=2 width=320 height=180 lines=(--set dataset.lines=100) particles=(--set dataset.particles=20000)
+  frames=2 width=256 height=144 lines=(--set dataset.lines=60) particles=(--set dataset.particles=20000)
 else
   frames=5 width=1920 height=1080 lines=() particles=(--set dataset.particles=1000000)
 fi
@@ -176,7 +176,7 @@ technique_rows=()
 while IFS=' ' read -r name data; do
   if [[ " $data " == *" lines "* ]]; then
     what=tornado_1m
-    [ "$quick" = 1 ] && what="tornado_1m (100 lines)"
+    [ "$quick" = 1 ] && what="tornado_1m (60 lines)"
     targs=(configs/tornado_1m.json "${lines[@]}")
   else
     what="droplets $([ "$quick" = 1 ] && echo 20k || echo 1M) particles"
