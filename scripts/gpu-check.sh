@@ -10,7 +10,8 @@
 #
 # --build DIR  the build tree (default build/); configured and built (Release) when DIR/cli/tubecast
 #              is missing, otherwise reused as it is.
-# --device N   EGL device N (`tubecast render -v` lists them); default: the first that works.
+# --device N   EGL device N (`tubecast render -v` lists them) for the renders; default: the first
+#              that works. The gl tests always take the first (their fixture has no device option).
 # --quick      small images, few frames, a 26k-segment tornado, no `gl` ctest label: under a minute
 #              on llvmpipe (the cli ctest gpu_check_quick runs it so the script keeps working).
 # --out DIR    keep the renders here (default: a temporary directory, removed at the end).
@@ -102,7 +103,8 @@ else
   (cd "$build" && TUBECAST_TEST_BACKEND=egl ctest -L gl -j"$(nproc)" --timeout 300 > "$out/ctest_gl.log" 2>&1) || true
   gl_tests=$(awk '/tests passed, .* tests failed out of/ { print }' "$out/ctest_gl.log")
   [ -z "$gl_tests" ] && gl_tests="ctest gave no summary ($out/ctest_gl.log)"
-  failed=$(awk '/^[[:space:]]*[0-9]+ - .*\(Failed|Timeout|Exception|SEGFAULT|Subprocess\)/ { print $3 }' "$out/ctest_gl.log" | head -5 | paste -sd' ')
+  failed=$(awk '/^[[:space:]]*[0-9]+ - .* \((Failed|Timeout|Exception|SEGFAULT|Subprocess)/ { print $3 }' "$out/ctest_gl.log" |
+    head -5 | paste -sd' ')
   [ -n "$failed" ] && gl_tests="$gl_tests; first failures: $failed"
 fi
 
