@@ -237,31 +237,39 @@ void OpacityRenderer::render(const FrameSetup& setup, FrameImages& out, StageSin
     resolve(lists, colors, setup.width, setup.height, out);
     timer.end();
     m_stats.resolveMs = msSince(t0);
-    if (m_samples > 1) {
-        // The stats' fragment counts stay those of the lists the system came from.
-        const std::uint64_t fragments = m_stats.fragments, overflow = m_stats.overflow;
-        FrameImages sample;
-        for (std::size_t s = 0; s < offsets.size(); ++s) {
-            if (s == centre) continue;
-            const FrameSetup ss = sampleSetup(s);
-            m_geometry.setFrame(ss, m_lighting);
-            m_geometry.computeBillboards(timer);
-            std::vector<std::uint32_t> sampleColors;
-            const FragmentLists sampleLists = sortedLists(ss, sampleColors, timer);
-            timer.begin("resolve");
-            resolve(sampleLists, sampleColors, setup.width, setup.height, sample);
-            // Sums of the samples, divided once at the end (as TiledTechnique does).
-            for (std::size_t i = 0; i < out.rgba.size(); ++i) out.rgba[i] += sample.rgba[i];
-            timer.end();
-        }
-        m_stats.fragments = fragments;
-        m_stats.overflow = overflow;
-        const float invSamples = 1.0f / float(offsets.size());
-        for (float& v : out.rgba) v *= invSamples;
-    }
+    if (m_samples > 1) addOtherSamples(setup, offsets, centre, out, timer);
     glDepthMask(GL_TRUE);
 
-    t0 = std::chrono::steady_clock::now();
+    readAovs(setup, out, timer);
+}
+
+void OpacityRenderer::addOtherSamples(const FrameSetup& setup, const std::vector<glm::vec2>& offsets,
+                                      std::size_t centre, FrameImages& out, StageSink& timer) {
+    // The stats' fragment counts stay those of the lists the system came from.
+    const std::uint64_t fragments = m_stats.fragments, overflow = m_stats.overflow;
+    FrameImages sample;
+    for (std::size_t s = 0; s < offsets.size(); ++s) {
+        if (s == centre) continue;
+        FrameSetup ss = setup;
+        ss.window = ImageWindow{setup.width, setup.height, 0, 0, offsets[s]};
+        m_geometry.setFrame(ss, m_lighting);
+        m_geometry.computeBillboards(timer);
+        std::vector<std::uint32_t> sampleColors;
+        const FragmentLists sampleLists = sortedLists(ss, sampleColors, timer);
+        timer.begin("resolve");
+        resolve(sampleLists, sampleColors, setup.width, setup.height, sample);
+        // Sums of the samples, divided once at the end (as TiledTechnique does).
+        for (std::size_t i = 0; i < out.rgba.size(); ++i) out.rgba[i] += sample.rgba[i];
+        timer.end();
+    }
+    m_stats.fragments = fragments;
+    m_stats.overflow = overflow;
+    const float invSamples = 1.0f / float(offsets.size());
+    for (float& v : out.rgba) v *= invSamples;
+}
+
+void OpacityRenderer::readAovs(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
+    const auto t0 = std::chrono::steady_clock::now();
     timer.begin("readback");
     if (m_gbuffer) {
         m_gbuffer->readAovs(out);

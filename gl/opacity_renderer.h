@@ -125,6 +125,12 @@ private:
     // "resolve": blends the sorted lists with the displayed opacities into out.rgba (w x hgt).
     void resolve(const FragmentLists& lists, const std::vector<std::uint32_t>& colors, int w, int hgt,
                  FrameImages& out) const;
+    // image.samples > 1: lists and resolve of every sample but the centre one (whose lists the
+    // system came from), all blended with the same displayed opacities; averages them into out.
+    void addOtherSamples(const FrameSetup& setup, const std::vector<glm::vec2>& offsets, std::size_t centre,
+                         FrameImages& out, StageSink& timer);
+    // "readback": depth, normal and id AOVs from the G-buffer (or empty ones without it).
+    void readAovs(const FrameSetup& setup, FrameImages& out, StageSink& timer);
     OpacityWeights weights() const;
 
     OpacityOptimizationSpec m_spec;
