@@ -32,6 +32,25 @@ namespace tc::gl {
 // `gpuMs` (if not null) receives the wall time from upload to the finished model on the GPU.
 VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs = nullptr);
 
+// The Eq. 1 pyramid of `model` (model.lod, which must be built) as one mipmapped R16F 3D texture
+// (shaders/vrc_lighting.glsl, uVrcDensity): mip l is level l; level 0 is padded with empty voxels
+// to `size`, a multiple of 2^(levels - 1) per axis, so that every mip halves evenly (levels is at
+// most 7 and at most the pyramid's levels). Needs a current context.
+struct VrcDensityTexture {
+    Texture texture;
+    glm::ivec3 size{0};
+    int levels = 0;
+};
+VrcDensityTexture uploadVrcDensity(const VrcModel& model);
+
+// Per-voxel spherical AO (Kanzler et al. 2019, Sec. 5.3, second approach) of `model` at its voxel
+// centres: shaders/vrc_ao_precompute.comp, `rays` density rays over the sphere up to
+// `radiusVoxels`, one R16F 3D texture of the model grid (1 where no piece is in a voxel's 3x3x3
+// block). `header` is the model's voxel headers as uploaded. `ms` (if not null) receives the GPU
+// wall time. Needs a current context.
+Texture precomputeVrcSphereAo(const VrcModel& model, const Buffer& header, const VrcDensityTexture& density, int rays,
+                              float radiusVoxels, double* ms = nullptr);
+
 class VrcRenderer final : public Technique {
 public:
     // Builds the model (render.vrc), uploads it and compiles the ray caster. Needs a current context.
@@ -68,6 +87,10 @@ private:
     void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
     void uploadShadowLines(const VrcModel& model);
     std::vector<std::string> rayCasterDefines() const;
+    // The paper's AO and shadows (shaders/vrc_lighting.glsl): the Eq. 1 pyramid, the precomputed
+    // AO, and their defines.
+    void uploadLighting(const VrcModel& model, bool aoEnabled, std::vector<std::string>& defines);
+    void applyLightingUniforms(GLuint program) const;
 
     VrcSpec m_spec;
     bool m_transparent = false;
@@ -92,6 +115,12 @@ private:
     float m_shadowVoxelSize = 0;
     int m_shadowLevel = 0;
     double m_representativeMs = 0;
+
+    // The paper's lighting (uploadLighting): Eq. 1 pyramid, precomputed spherical AO.
+    VrcDensityTexture m_eq1Density;
+    Texture m_aoVolume;
+    float m_aoStrength = 1;
+    double m_aoPrecomputeMs = 0;
 
     Buffer m_header;
     // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift
