@@ -7,7 +7,9 @@
 // per-pixel lists). Ambient occlusion and soft shadows cone-trace the density volume of
 // gl/ambient_occlusion.h (the tube volume per voxel: Eq. 1's length x opacity weighted by the
 // cross-section); hard shadows trace a ray against the representative lines of one LoD level
-// (core/vrc_representative.h).
+// (core/vrc_representative.h). The paper's own variants (render.vrc.ao.method density_rays /
+// precomputed, render.vrc.shadow_mode density_cone / hard_tubes) read the Eq. 1 pyramid of the
+// model or its pieces instead (shaders/vrc_lighting.glsl, uploadLighting).
 #include <optional>
 #include <vector>
 
