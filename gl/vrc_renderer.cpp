@@ -428,7 +428,8 @@ void VrcRenderer::uploadLighting(const VrcModel& model, bool aoEnabled, std::vec
     const bool densityAo = aoEnabled && m_spec.ao.method == Method::DensityRays;
     const bool precomputedAo = aoEnabled && m_spec.ao.method == Method::Precomputed;
     const bool densityShadows = m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::DensityCone;
-    if (m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::HardTubes) defines.push_back("VRC_HARD_TUBE_SHADOWS");
+    if (m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::HardTubes)
+        defines.push_back("VRC_HARD_TUBE_SHADOWS");
     if (!densityAo && !precomputedAo && !densityShadows) return;
     m_eq1Density = uploadVrcDensity(model);
     if (densityAo) defines.push_back("VRC_DENSITY_AO");
@@ -588,12 +589,12 @@ nlohmann::json VrcRenderer::describe() const {
         {"build_ms", m_buildMs},
         {"upload_ms", m_uploadMs},
         {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
-        {"shadow_mode", !m_spec.shadows                                           ? "none"
+        {"shadow_mode", !m_spec.shadows                                         ? "none"
                         : m_spec.shadowMode == VrcSpec::ShadowMode::Soft        ? "soft"
                         : m_spec.shadowMode == VrcSpec::ShadowMode::Hard        ? "hard"
                         : m_spec.shadowMode == VrcSpec::ShadowMode::DensityCone ? "density_cone"
                                                                                 : "hard_tubes"},
-        {"ao_method", !m_aoEnabled                                                    ? "none"
+        {"ao_method", !m_aoEnabled                                           ? "none"
                       : m_spec.ao.method == VrcSpec::Ao::Method::DensityRays ? "density_rays"
                       : m_spec.ao.method == VrcSpec::Ao::Method::Precomputed ? "precomputed"
                                                                              : "cone_traced"},

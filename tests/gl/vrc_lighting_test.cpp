@@ -6,6 +6,8 @@
 //   - the GPU's per-voxel precomputed AO equals the CPU's density rays at the voxel centres;
 //   - shadows: a tube's shadow lies on the plane of tubes behind it along the light, nowhere else;
 //   - hard shadows against the tubes agree with a CPU shadow ray against every rounded cone.
+#include "core/vrc_lighting.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,8 +15,8 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/camera.h"
@@ -22,7 +24,6 @@
 #include "core/scene.h"
 #include "core/shading.h"
 #include "core/technique.h"
-#include "core/vrc_lighting.h"
 #include "core/vrc_model.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
@@ -69,7 +70,9 @@ glm::vec2 worldXY(const FrameImages& f, float orthoHeight, int x, int y) {
             (0.5f * float(f.height) - float(y) - 0.5f) / float(f.height) * orthoHeight};
 }
 
-std::size_t at(const FrameImages& f, int x, int y) { return std::size_t(y) * std::size_t(f.width) + std::size_t(x); }
+std::size_t at(const FrameImages& f, int x, int y) {
+    return std::size_t(y) * std::size_t(f.width) + std::size_t(x);
+}
 
 // A bundle of 5 x 5 parallel tubes along y (spacing 2 radii apart, centred on x = -0.5) and one
 // isolated tube at x = +0.5, all of radius 0.02: the isolated tube is 0.7 (28 voxels at resolution

@@ -90,7 +90,8 @@ TEST(VrcScene, paper_lighting_keys_parse_with_documented_defaults) {
     EXPECT_FLOAT_EQ(s.render.vrc.ao.radiusVoxels, 5.0f);
     auto mode = [](const char* m) {
         return parseScene(json::parse(std::string(R"({"dataset": {"generate": "tornado"}, "render": {"technique":
-            "voxel_raycast", "vrc": {"shadow_mode": ")") + m + R"("}}})"),
+            "voxel_raycast", "vrc": {"shadow_mode": ")") +
+                                      m + R"("}}})"),
                           "scene.json")
             .render.vrc.shadowMode;
     };
