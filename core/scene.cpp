@@ -480,10 +480,24 @@ void readVrc(SpecReader r, VrcSpec& v) {
     v.opacityThreshold = r.getFloat("opacity_threshold", v.opacityThreshold, 0.01f, 1.0f);
     v.pathLengthOpacity = r.getBool("path_length_opacity", v.pathLengthOpacity);
     v.shadows = r.getBool("shadows", v.shadows);
-    v.shadowMode = r.getEnum("shadow_mode", "soft", {"soft", "hard"}) == "hard" ? VrcSpec::ShadowMode::Hard
-                                                                                : VrcSpec::ShadowMode::Soft;
+    const std::string shadowMode = r.getEnum("shadow_mode", "soft", {"soft", "hard", "density_cone", "hard_tubes"});
+    v.shadowMode = shadowMode == "hard"           ? VrcSpec::ShadowMode::Hard
+                   : shadowMode == "density_cone" ? VrcSpec::ShadowMode::DensityCone
+                   : shadowMode == "hard_tubes"   ? VrcSpec::ShadowMode::HardTubes
+                                                  : VrcSpec::ShadowMode::Soft;
     v.shadowApertureDeg = r.getFloat("shadow_aperture_deg", v.shadowApertureDeg, 1.0f, 90.0f);
     v.shadowLevel = r.getInt("shadow_level", v.shadowLevel, 0, 10);
+    if (r.has("ao")) {
+        SpecReader a = r.child("ao");
+        const std::string method = a.getEnum("method", "cone_traced", {"cone_traced", "density_rays", "precomputed"});
+        v.ao.method = method == "density_rays"  ? VrcSpec::Ao::Method::DensityRays
+                      : method == "precomputed" ? VrcSpec::Ao::Method::Precomputed
+                                                : VrcSpec::Ao::Method::ConeTraced;
+        v.ao.rays = a.getInt("rays", v.ao.rays, 1, 256);
+        v.ao.sphereRays = a.getInt("sphere_rays", v.ao.sphereRays, 1, 1024);
+        v.ao.radiusVoxels = a.getFloat("radius_voxels", v.ao.radiusVoxels, 1.0f, 64.0f);
+        a.finish();
+    }
     r.finish();
 }
 

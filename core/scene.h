@@ -266,9 +266,22 @@ struct VrcSpec {
     bool shadows = false;  // shadows toward the light (shadowMode)
     // soft: a cone toward the light through the density; hard: a ray against the representative
     // lines of LoD level shadowLevel (core/vrc_representative.h).
-    enum class ShadowMode { Soft, Hard } shadowMode = ShadowMode::Soft;
+    // density_cone: Kanzler et al. 2019, Sec. 5.2's soft shadows, a cone of one voxel's aperture
+    // through the Eq. 1 pyramid; hard_tubes: a ray against the tubes of the voxel model's pieces
+    // (shaders/vrc_lighting.glsl).
+    enum class ShadowMode { Soft, Hard, DensityCone, HardTubes } shadowMode = ShadowMode::Soft;
     float shadowApertureDeg = 10;  // full apex angle of the soft shadow cone
     int shadowLevel = 1;           // hard: LoD level of the representative lines (voxels of 2^level)
+    // render.vrc.ao: how AO (render.ao.enabled) is computed. cone_traced: the cones of
+    // gl/ambient_occlusion.h; density_rays: Kanzler et al. 2019, Sec. 5.3, `rays` hemisphere rays
+    // sampling the Eq. 1 density up to radiusVoxels; precomputed: the same over the whole sphere
+    // (`sphereRays` rays) per voxel, once per model, interpolated per hit (shaders/vrc_lighting.glsl).
+    struct Ao {
+        enum class Method { ConeTraced, DensityRays, Precomputed } method = Method::ConeTraced;
+        int rays = 16;
+        int sphereRays = 100;
+        float radiusVoxels = 15;
+    } ao;
 };
 
 // The defaults here are what code that builds a Scene gets (tests, benchmarks); a scene file's

@@ -109,6 +109,7 @@ inline constexpr GLuint kVrcColor = 0;         // shaders/vrc_raycast.comp outpu
 inline constexpr GLuint kVrcNormalDepth = 1;
 inline constexpr GLuint kVrcId = 2;
 inline constexpr GLuint kVrcAo = 3;
+inline constexpr GLuint kVrcAoVolumeOut = 4;  // shaders/vrc_ao_precompute.comp
 
 // --- Texture units -------------------------------------------------------------------------------
 inline constexpr GLuint kGBufferAlbedo = 0;  // shaders/deferred_shading.frag
@@ -121,6 +122,8 @@ inline constexpr GLuint kEarlyZAccumulated = 0;   // shaders/sphere_early_z.frag
 inline constexpr GLuint kDensityVolume = 8;    // shaders/cone_tracing.glsl uDensity
 inline constexpr GLuint kSphereVolume = 9;     // shaders/sphere_ambient.glsl uSphereVolume
 inline constexpr GLuint kVrcPieceTexels = 10;  // shaders/vrc_raycast.comp, VRC_PIECE_TEXTURE
+inline constexpr GLuint kVrcEq1Density = 11;   // shaders/vrc_lighting.glsl uVrcDensity
+inline constexpr GLuint kVrcAoVolume = 12;     // shaders/vrc_lighting.glsl uVrcAoVolume
 
 // Points one program reads together must differ.
 constexpr bool distinct(std::initializer_list<GLuint> points) {
@@ -229,6 +232,7 @@ inline constexpr ShaderBinding kShaderBindings[] = {
     {"IMAGE_VRC_NORMAL_DEPTH", binding::kVrcNormalDepth},
     {"IMAGE_VRC_ID", binding::kVrcId},
     {"IMAGE_VRC_AO", binding::kVrcAo},
+    {"IMAGE_VRC_AO_VOLUME", binding::kVrcAoVolumeOut},
     {"TEXTURE_GBUFFER_ALBEDO", binding::kGBufferAlbedo},
     {"TEXTURE_GBUFFER_NORMAL_DEPTH", binding::kGBufferNormalDepth},
     {"TEXTURE_VISIBILITY_SEGMENTS", binding::kVisibilitySegments},

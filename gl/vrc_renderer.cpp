@@ -36,6 +36,13 @@ void dispatch1D(GLuint program, std::size_t count) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
+// The paper's AO and soft shadows read the Eq. 1 pyramid (shaders/vrc_lighting.glsl).
+bool usesEq1Density(const Scene& scene) {
+    const VrcSpec& v = scene.render.vrc;
+    return (scene.render.ao.enabled && v.ao.method != VrcSpec::Ao::Method::ConeTraced) ||
+           (v.shadows && v.shadowMode == VrcSpec::ShadowMode::DensityCone);
+}
+
 }  // namespace
 
 VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs) {
@@ -159,9 +166,9 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     VrcBuildOptions options;
     options.resolution = scene.render.vrc.resolution;
     options.quantization = scene.render.vrc.quantization;
-    // The ray caster shades with the density volume of gl/ambient_occlusion.h (see the header);
-    // the Eq. 1 pyramid is only built where it is asked for (tests, benchmarks).
-    options.lod = false;
+    // The ray caster shades with the density volume of gl/ambient_occlusion.h (see the header),
+    // or with the Eq. 1 pyramid where vrc.ao.method or vrc.shadow_mode ask for the paper's lighting.
+    options.lod = usesEq1Density(scene);
     // Without neighbour tests at render time, every piece is copied into the neighbours its tube
     // reaches at build time (core/vrc_model.h, Copies): the image of the neighbour tests with far
     // fewer pieces tested per voxel (docs/performance.md, "Design notes").
@@ -230,15 +237,18 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     std::vector<std::string> defines = r->rayCasterDefines();
     const AoSpec& ao = scene.render.ao;
     r->m_aoEnabled = ao.enabled;
+    r->m_aoStrength = ao.strength;
+    const bool coneAo = ao.enabled && r->m_spec.ao.method == VrcSpec::Ao::Method::ConeTraced;
     const bool softShadows = r->m_spec.shadows && r->m_spec.shadowMode == VrcSpec::ShadowMode::Soft;
     const bool hardShadows = r->m_spec.shadows && r->m_spec.shadowMode == VrcSpec::ShadowMode::Hard;
     if (hardShadows && !model.voxels.empty()) {
         r->uploadShadowLines(model);
         defines.push_back("HARD_SHADOWS");
     }
-    if ((ao.enabled || softShadows) && !lines.positionRadius.empty()) {
+    if (!model.voxels.empty()) r->uploadLighting(model, ao.enabled, defines);
+    if ((coneAo || softShadows) && !lines.positionRadius.empty()) {
         r->m_ao = AmbientOcclusion::create(ao, lines);
-        if (ao.enabled) defines.push_back("AMBIENT_OCCLUSION");
+        if (coneAo) defines.push_back("AMBIENT_OCCLUSION");
         if (softShadows) {
             defines.push_back("SOFT_SHADOWS");
             const glm::vec3 extent = lines.bounds.extent();
@@ -339,6 +349,111 @@ void VrcRenderer::uploadShadowLines(const VrcModel& model) {
     m_representativeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+VrcDensityTexture uploadVrcDensity(const VrcModel& model) {
+    if (model.lod.empty())
+        throw std::logic_error("uploadVrcDensity: the model has no Eq. 1 pyramid (VrcBuildOptions::lod)");
+    // Level 0 is padded to a multiple of 2^(levels - 1) so that GL's mips (floor(size / 2)) are
+    // the pyramid's levels (ceil(size / 2), padded with zeros) texel for texel; 6 coarser levels
+    // (64 voxels) keep the padding small on flat grids, and a cone wider than that reads level 6.
+    VrcDensityTexture d;
+    d.levels = std::min<int>(int(model.lod.size()), 7);
+    const int block = 1 << (d.levels - 1);
+    d.size = (model.lod[0].size + block - 1) / block * block;
+    d.texture = Texture::create(GL_TEXTURE_3D);
+    const GLuint tex = d.texture.id();
+    glTextureStorage3D(tex, d.levels, GL_R16F, d.size.x, d.size.y, d.size.z);
+    for (int l = 0; l < d.levels; ++l) {
+        const glm::ivec3 s = glm::max(d.size >> l, glm::ivec3(1));
+        const float zero = 0.0f;
+        glClearTexImage(tex, l, GL_RED, GL_FLOAT, &zero);
+        const VrcDensityLevel& level = model.lod[std::size_t(l)];
+        const glm::ivec3 n = glm::min(level.size, s);
+        TC_CHECK(n == level.size);
+        glTextureSubImage3D(tex, l, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT, level.density.data());
+    }
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(tex, wrap, GL_CLAMP_TO_BORDER);
+    const float border[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glTextureParameterfv(tex, GL_TEXTURE_BORDER_COLOR, border);
+    return d;
+}
+
+namespace {
+
+void setDensityUniforms(GLuint p, const VrcDensityTexture& density) {
+    glProgramUniform1i(p, uniformLocation(p, "uVrcDensity"), GLint(binding::kVrcEq1Density));
+    glProgramUniform3f(p, uniformLocation(p, "uVrcDensityTexSize"), float(density.size.x), float(density.size.y),
+                       float(density.size.z));
+    glProgramUniform1i(p, uniformLocation(p, "uVrcDensityMaxLevel"), density.levels - 1);
+}
+
+}  // namespace
+
+Texture precomputeVrcSphereAo(const VrcModel& model, const Buffer& header, const VrcDensityTexture& density, int rays,
+                              float radiusVoxels, double* ms) {
+    const Program program =
+        compileProgram({{GL_COMPUTE_SHADER, "vrc_ao_precompute.comp"}}, {std::string("VRC_AO_PRECOMPUTE")});
+    Texture ao = Texture::create(GL_TEXTURE_3D);
+    glTextureStorage3D(ao.id(), 1, GL_R16F, model.size.x, model.size.y, model.size.z);
+    glTextureParameteri(ao.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(ao.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    // Clamped to the edge: a hit in a border voxel reads the border voxels' AO, not "unoccluded".
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(ao.id(), wrap, GL_CLAMP_TO_EDGE);
+    const GLuint p = program.id();
+    setDensityUniforms(p, density);
+    glProgramUniform3i(p, uniformLocation(p, "uGridSize"), model.size.x, model.size.y, model.size.z);
+    glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &model.origin[0]);
+    glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), model.voxelSize);
+    glProgramUniform1i(p, uniformLocation(p, "uVrcSphereRays"), rays);
+    glProgramUniform1f(p, uniformLocation(p, "uVrcAoRadius"), radiusVoxels);
+    glFinish();
+    const auto t0 = std::chrono::steady_clock::now();
+    glBindTextureUnit(binding::kVrcEq1Density, density.texture.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, header.id());
+    glBindImageTexture(binding::kVrcAoVolumeOut, ao.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    glUseProgram(p);
+    glDispatchCompute(GLuint((model.size.x + 3) / 4), GLuint((model.size.y + 3) / 4), GLuint((model.size.z + 3) / 4));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
+    glFinish();
+    if (ms) *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return ao;
+}
+
+void VrcRenderer::uploadLighting(const VrcModel& model, bool aoEnabled, std::vector<std::string>& defines) {
+    using Method = VrcSpec::Ao::Method;
+    const bool densityAo = aoEnabled && m_spec.ao.method == Method::DensityRays;
+    const bool precomputedAo = aoEnabled && m_spec.ao.method == Method::Precomputed;
+    const bool densityShadows = m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::DensityCone;
+    if (m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::HardTubes)
+        defines.push_back("VRC_HARD_TUBE_SHADOWS");
+    if (!densityAo && !precomputedAo && !densityShadows) return;
+    m_eq1Density = uploadVrcDensity(model);
+    if (densityAo) defines.push_back("VRC_DENSITY_AO");
+    if (densityShadows) defines.push_back("VRC_DENSITY_SHADOWS");
+    if (precomputedAo) {
+        defines.push_back("VRC_PRECOMPUTED_AO");
+        m_aoVolume = precomputeVrcSphereAo(model, m_header, m_eq1Density, m_spec.ao.sphereRays, m_spec.ao.radiusVoxels,
+                                           &m_aoPrecomputeMs);
+    }
+}
+
+void VrcRenderer::applyLightingUniforms(GLuint p) const {
+    if (m_eq1Density.texture.id() == 0) return;
+    setDensityUniforms(p, m_eq1Density);
+    glBindTextureUnit(binding::kVrcEq1Density, m_eq1Density.texture.id());
+    glProgramUniform1f(p, uniformLocation(p, "uVrcAoRadius"), m_spec.ao.radiusVoxels);
+    glProgramUniform1f(p, uniformLocation(p, "uVrcAoStrength"), m_aoStrength);
+    glProgramUniform1i(p, uniformLocation(p, "uVrcAoRays"), m_spec.ao.rays);
+    if (m_aoVolume.id() != 0) {
+        glProgramUniform1i(p, uniformLocation(p, "uVrcAoVolume"), GLint(binding::kVrcAoVolume));
+        glBindTextureUnit(binding::kVrcAoVolume, m_aoVolume.id());
+    }
+}
+
 std::vector<std::string> VrcRenderer::rayCasterDefines() const {
     std::vector<std::string> defines;
     if (m_quantization > 0) {
@@ -392,6 +507,7 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         glProgramUniform1f(p, uniformLocation(p, "uShadowStrength"), 1.0f);
         glProgramUniform1f(p, uniformLocation(p, "uShadowStartOffset"), m_shadowStartOffset);
     }
+    applyLightingUniforms(p);
     if (m_shadowLines.id() != 0) {
         glProgramUniform3i(p, uniformLocation(p, "uShadowGridSize"), m_shadowGridSize.x, m_shadowGridSize.y,
                            m_shadowGridSize.z);
@@ -473,12 +589,24 @@ nlohmann::json VrcRenderer::describe() const {
         {"build_ms", m_buildMs},
         {"upload_ms", m_uploadMs},
         {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
+        {"shadow_mode", !m_spec.shadows                                         ? "none"
+                        : m_spec.shadowMode == VrcSpec::ShadowMode::Soft        ? "soft"
+                        : m_spec.shadowMode == VrcSpec::ShadowMode::Hard        ? "hard"
+                        : m_spec.shadowMode == VrcSpec::ShadowMode::DensityCone ? "density_cone"
+                                                                                : "hard_tubes"},
+        {"ao_method", !m_aoEnabled                                           ? "none"
+                      : m_spec.ao.method == VrcSpec::Ao::Method::DensityRays ? "density_rays"
+                      : m_spec.ao.method == VrcSpec::Ao::Method::Precomputed ? "precomputed"
+                                                                             : "cone_traced"},
+        {"ao_precompute_ms", m_aoPrecomputeMs},
         {"hard_shadows", m_shadowLines.id() != 0
                              ? nlohmann::json{{"level", m_shadowLevel},
                                               {"grid", {m_shadowGridSize.x, m_shadowGridSize.y, m_shadowGridSize.z}},
                                               {"build_ms", m_representativeMs}}
                              : nlohmann::json(false)},
-        {"ambient_occlusion", m_ao && m_aoEnabled ? m_ao->describe() : nlohmann::json(false)}};
+        {"ambient_occlusion", m_ao && m_aoEnabled && m_spec.ao.method == VrcSpec::Ao::Method::ConeTraced
+                                  ? m_ao->describe()
+                                  : nlohmann::json(m_aoEnabled)}};
 }
 
 TechniqueDescriptor voxelRaycastTechnique() {

@@ -7,7 +7,9 @@
 // per-pixel lists). Ambient occlusion and soft shadows cone-trace the density volume of
 // gl/ambient_occlusion.h (the tube volume per voxel: Eq. 1's length x opacity weighted by the
 // cross-section); hard shadows trace a ray against the representative lines of one LoD level
-// (core/vrc_representative.h).
+// (core/vrc_representative.h). The paper's own variants (render.vrc.ao.method density_rays /
+// precomputed, render.vrc.shadow_mode density_cone / hard_tubes) read the Eq. 1 pyramid of the
+// model or its pieces instead (shaders/vrc_lighting.glsl, uploadLighting).
 #include <optional>
 #include <vector>
 
@@ -31,6 +33,25 @@ namespace tc::gl {
 // (VrcBuildOptions::dilate) are added on the CPU by tc::dilateVrcModel after the read-back. Needs a current context;
 // `gpuMs` (if not null) receives the wall time from upload to the finished model on the GPU.
 VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& options, double* gpuMs = nullptr);
+
+// The Eq. 1 pyramid of `model` (model.lod, which must be built) as one mipmapped R16F 3D texture
+// (shaders/vrc_lighting.glsl, uVrcDensity): mip l is level l; level 0 is padded with empty voxels
+// to `size`, a multiple of 2^(levels - 1) per axis, so that every mip halves evenly (levels is at
+// most 7 and at most the pyramid's levels). Needs a current context.
+struct VrcDensityTexture {
+    Texture texture;
+    glm::ivec3 size{0};
+    int levels = 0;
+};
+VrcDensityTexture uploadVrcDensity(const VrcModel& model);
+
+// Per-voxel spherical AO (Kanzler et al. 2019, Sec. 5.3, second approach) of `model` at its voxel
+// centres: shaders/vrc_ao_precompute.comp, `rays` density rays over the sphere up to
+// `radiusVoxels`, one R16F 3D texture of the model grid (1 where no piece is in a voxel's 3x3x3
+// block). `header` is the model's voxel headers as uploaded. `ms` (if not null) receives the GPU
+// wall time. Needs a current context.
+Texture precomputeVrcSphereAo(const VrcModel& model, const Buffer& header, const VrcDensityTexture& density, int rays,
+                              float radiusVoxels, double* ms = nullptr);
 
 class VrcRenderer final : public Technique {
 public:
@@ -68,6 +89,10 @@ private:
     void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
     void uploadShadowLines(const VrcModel& model);
     std::vector<std::string> rayCasterDefines() const;
+    // The paper's AO and shadows (shaders/vrc_lighting.glsl): the Eq. 1 pyramid, the precomputed
+    // AO, and their defines.
+    void uploadLighting(const VrcModel& model, bool aoEnabled, std::vector<std::string>& defines);
+    void applyLightingUniforms(GLuint program) const;
 
     VrcSpec m_spec;
     bool m_transparent = false;
@@ -92,6 +117,12 @@ private:
     float m_shadowVoxelSize = 0;
     int m_shadowLevel = 0;
     double m_representativeMs = 0;
+
+    // The paper's lighting (uploadLighting): Eq. 1 pyramid, precomputed spherical AO.
+    VrcDensityTexture m_eq1Density;
+    Texture m_aoVolume;
+    float m_aoStrength = 1;
+    double m_aoPrecomputeMs = 0;
 
     Buffer m_header;
     // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift

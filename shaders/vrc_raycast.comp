@@ -14,7 +14,8 @@
 // (empty space skipping over bricks of 4^3 voxels), VRC_PIECE_BLOCKS and VRC_BLOCK_SHIFT (the
 // piece array's storage blocks, below), VRC_PIECE_TEXTURE (quantized pieces read through one texture
 // buffer over the whole array instead), VRC_PATH_LENGTH_OPACITY (with TRANSPARENT: a hit's alpha
-// depends on the ray's chord through the hit piece, below).
+// depends on the ray's chord through the hit piece, below), VRC_DENSITY_AO, VRC_PRECOMPUTED_AO,
+// VRC_DENSITY_SHADOWS, VRC_HARD_TUBE_SHADOWS (the paper's lighting, shaders/vrc_lighting.glsl).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -314,7 +315,7 @@ float hardShadowVisibility(vec3 pos) {
 #define VRC_CX_A(k)
 #define VRC_SHIFT_A(k, k1)
 #endif
-#if defined(AMBIENT_OCCLUSION) || defined(SOFT_SHADOWS)
+#if defined(AMBIENT_OCCLUSION) || defined(SOFT_SHADOWS) || defined(VRC_DENSITY_AO) || defined(VRC_DENSITY_SHADOWS)
 // The hit piece's axis ends and radii (x0, r0), (x1, r1) in hE, hF: its own tube is excluded from
 // the AO and shadow cones (shaders/cone_tracing.glsl, coneOwnTube).
 #define VRC_HIT_CONE
@@ -485,6 +486,10 @@ void testVoxels(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
 #endif
 }
 
+// The lighting of Kanzler et al. 2019 on the Eq. 1 density and the pieces (VRC_DENSITY_AO,
+// VRC_PRECOMPUTED_AO, VRC_DENSITY_SHADOWS, VRC_HARD_TUBE_SHADOWS; vrcLighting below).
+#include "vrc_lighting.glsl"
+
 // end0, end1: the hit piece's (x0, r0), (x1, r1) (its own tube is excluded from the AO and
 // shadow cones; unused without them).
 vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, vec4 end0, vec4 end1, out float ao) {
@@ -503,6 +508,7 @@ vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, vec4 end0, vec4 end1, out flo
 #ifdef HARD_SHADOWS
     visibility = hardShadowVisibility(pos);
 #endif
+    vrcLighting(pos, n, facing, end0, end1, base.a, ao, visibility);
     return shadeBlinnPhong(base.rgb * ao, n, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y * visibility,
                            uLightTerms.z * visibility, uLightTerms.w);
 }

@@ -69,5 +69,61 @@ TEST(VrcScene, bad_vrc_keys_are_input_errors_naming_the_key) {
     EXPECT_NE(path.find("render.vrc.path_length_opacity"), std::string::npos) << path;
 }
 
+TEST(VrcScene, paper_lighting_keys_parse_with_documented_defaults) {
+    const Scene d = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {}}}})"),
+                               "scene.json");
+    EXPECT_EQ(d.render.vrc.ao.method, VrcSpec::Ao::Method::ConeTraced);
+    EXPECT_EQ(d.render.vrc.ao.rays, 16);
+    EXPECT_EQ(d.render.vrc.ao.sphereRays, 100);
+    EXPECT_FLOAT_EQ(d.render.vrc.ao.radiusVoxels, 15.0f);
+
+    const Scene s = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "ao": {"enabled": true},
+                   "vrc": {"shadows": true, "shadow_mode": "density_cone",
+                           "ao": {"method": "density_rays", "rays": 32, "sphere_rays": 50, "radius_voxels": 5}}}})"),
+                               "scene.json");
+    EXPECT_EQ(s.render.vrc.shadowMode, VrcSpec::ShadowMode::DensityCone);
+    EXPECT_EQ(s.render.vrc.ao.method, VrcSpec::Ao::Method::DensityRays);
+    EXPECT_EQ(s.render.vrc.ao.rays, 32);
+    EXPECT_EQ(s.render.vrc.ao.sphereRays, 50);
+    EXPECT_FLOAT_EQ(s.render.vrc.ao.radiusVoxels, 5.0f);
+    auto mode = [](const char* m) {
+        return parseScene(json::parse(std::string(R"({"dataset": {"generate": "tornado"}, "render": {"technique":
+            "voxel_raycast", "vrc": {"shadow_mode": ")") +
+                                      m + R"("}}})"),
+                          "scene.json")
+            .render.vrc.shadowMode;
+    };
+    EXPECT_EQ(mode("hard_tubes"), VrcSpec::ShadowMode::HardTubes);
+    EXPECT_EQ(mode("hard"), VrcSpec::ShadowMode::Hard);
+    EXPECT_EQ(mode("soft"), VrcSpec::ShadowMode::Soft);
+    const Scene p = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {"method": "precomputed"}}}})"),
+                               "scene.json");
+    EXPECT_EQ(p.render.vrc.ao.method, VrcSpec::Ao::Method::Precomputed);
+}
+
+TEST(VrcScene, bad_paper_lighting_keys_are_input_errors_naming_the_key) {
+    const std::string method = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {"method": "ray_traced"}}}})"));
+    EXPECT_NE(method.find("render.vrc.ao.method"), std::string::npos) << method;
+    const std::string rays = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {"rays": 0}}}})"));
+    EXPECT_NE(rays.find("render.vrc.ao.rays"), std::string::npos) << rays;
+    const std::string sphere = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {"sphere_rays": 2000}}}})"));
+    EXPECT_NE(sphere.find("render.vrc.ao.sphere_rays"), std::string::npos) << sphere;
+    const std::string radius = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {"radius_voxels": 0.5}}}})"));
+    EXPECT_NE(radius.find("render.vrc.ao.radius_voxels"), std::string::npos) << radius;
+    const std::string typo = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"ao": {"ray": 8}}}})"));
+    EXPECT_NE(typo.find("render.vrc.ao.ray"), std::string::npos) << typo;
+    const std::string mode = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"shadow_mode": "hard_tube"}}})"));
+    EXPECT_NE(mode.find("render.vrc.shadow_mode"), std::string::npos) << mode;
+}
+
 }  // namespace
 }  // namespace tc
