@@ -484,6 +484,13 @@ void readVrc(SpecReader r, VrcSpec& v) {
                                                                                 : VrcSpec::ShadowMode::Soft;
     v.shadowApertureDeg = r.getFloat("shadow_aperture_deg", v.shadowApertureDeg, 1.0f, 90.0f);
     v.shadowLevel = r.getInt("shadow_level", v.shadowLevel, 0, 10);
+    if (r.has("lod")) {
+        SpecReader l = r.child("lod");
+        v.lod.enabled = l.getBool("enabled", v.lod.enabled);
+        v.lod.pixelFootprint = l.getFloat("pixel_footprint", v.lod.pixelFootprint, 0.0f, 1024.0f);
+        v.lod.opacityStart = l.getFloat("opacity_start", v.lod.opacityStart, 0.0f, 1.0f);
+        l.finish();
+    }
     r.finish();
 }
 

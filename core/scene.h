@@ -269,6 +269,15 @@ struct VrcSpec {
     enum class ShadowMode { Soft, Hard } shadowMode = ShadowMode::Soft;
     float shadowApertureDeg = 10;  // full apex angle of the soft shadow cone
     int shadowLevel = 1;           // hard: LoD level of the representative lines (voxels of 2^level)
+    // render.vrc.lod: rays leave the exact tubes for the LoD volume (core/vrc_model.h) where a
+    // voxel of some level covers at most pixelFootprint pixels, or (transparent) once the
+    // accumulated opacity reaches opacityStart, sampling ever coarser levels as it grows (the
+    // paper's opacity acceleration, Sec. 5.1).
+    struct Lod {
+        bool enabled = false;
+        float pixelFootprint = 1.0f;  // pixels per level voxel; 0 = no switch by footprint
+        float opacityStart = 0.5f;    // accumulated opacity; 1 = no opacity acceleration
+    } lod;
 };
 
 // The defaults here are what code that builds a Scene gets (tests, benchmarks); a scene file's

@@ -249,6 +249,11 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
             r->m_shadowStartOffset = std::max({extent.x, extent.y, extent.z}) / float(std::max(ao.resolution - 1, 1));
         }
     }
+    if (r->m_spec.lod.enabled && !model.voxels.empty()) {
+        r->uploadLodVolume(model);
+        defines.push_back("VRC_LOD");
+    }
+    r->m_defines = defines;
     r->m_program = compileProgram({{GL_COMPUTE_SHADER, "vrc_raycast.comp"}}, defines);
     r->resize(scene.image.width, scene.image.height);
     return r;
@@ -339,6 +344,65 @@ void VrcRenderer::uploadShadowLines(const VrcModel& model) {
     m_representativeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+void VrcRenderer::uploadLodVolume(const VrcModel& model) {
+    const auto t = std::chrono::steady_clock::now();
+    const std::vector<VrcLodLevel> levels = buildVrcLodVolume(model, !m_transparent);
+    if (levels.size() > std::size_t(kMaxLodLevels))
+        throw std::logic_error("VrcRenderer: " + std::to_string(levels.size()) + " LoD levels, more than " +
+                               std::to_string(kMaxLodLevels));
+    // Levels side by side along x, each with a one-texel zero border (shaders/vrc_lod.glsl).
+    glm::ivec3 atlas(0, levels[0].size.y + 2, levels[0].size.z + 2);
+    m_lodAtlasX.clear();
+    m_lodLevelSizes.clear();
+    for (const VrcLodLevel& level : levels) {
+        m_lodLevelSizes.push_back(level.size);
+        m_lodAtlasX.push_back(float(atlas.x));
+        atlas.x += level.size.x + 2;
+    }
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
+    if (atlas.x > maxSize || atlas.y > maxSize || atlas.z > maxSize)
+        throw InputError("render.vrc.lod: the LoD volume needs a " + std::to_string(atlas.x) + " x " +
+                         std::to_string(atlas.y) + " x " + std::to_string(atlas.z) +
+                         " texture, more than GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize) +
+                         "; lower render.vrc.resolution");
+    m_lodAtlasSize = atlas;
+    m_lodAtlas = Texture::create(GL_TEXTURE_3D);
+    glTextureStorage3D(m_lodAtlas.id(), 1, GL_RGBA16F, atlas.x, atlas.y, atlas.z);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(m_lodAtlas.id(), 0, GL_RGBA, GL_FLOAT, zero);
+    for (std::size_t l = 0; l < levels.size(); ++l)
+        glTextureSubImage3D(m_lodAtlas.id(), 0, GLint(m_lodAtlasX[l]) + 1, 1, 1, levels[l].size.x, levels[l].size.y,
+                            levels[l].size.z, GL_RGBA, GL_FLOAT, levels[l].value.data());
+    glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(m_lodAtlas.id(), wrap, GL_CLAMP_TO_EDGE);
+    m_lodBytes3d = std::size_t(atlas.x) * atlas.y * atlas.z * 8;
+    m_lodBuildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+void VrcRenderer::setLodUniforms(GLuint p) const {
+    if (m_lodAtlas.id() == 0) return;
+    const glm::vec3 inv = 1.0f / glm::vec3(m_lodAtlasSize);
+    glProgramUniform3fv(p, uniformLocation(p, "uLodAtlasInvSize"), 1, &inv[0]);
+    glProgramUniform1fv(p, uniformLocation(p, "uLodAtlasX"), GLsizei(m_lodAtlasX.size()), m_lodAtlasX.data());
+    glProgramUniform1i(p, uniformLocation(p, "uLodLevels"), GLint(m_lodAtlasX.size()));
+    glProgramUniform1i(p, uniformLocation(p, "uLodMinLevel"), m_lodMinLevel);
+    glProgramUniform1f(p, uniformLocation(p, "uLodFootprint"), m_spec.lod.pixelFootprint);
+    // Opaque rays end at their first hit: only the footprint applies. opacity_start = 1 is off.
+    const bool acceleration = m_transparent && m_spec.lod.opacityStart < 1.0f;
+    glProgramUniform1f(p, uniformLocation(p, "uLodOpacityStart"), acceleration ? m_spec.lod.opacityStart : 2.0f);
+    glBindTextureUnit(binding::kVrcLodVolume, m_lodAtlas.id());
+}
+
+void VrcRenderer::enableLodStats() {
+    if (m_lodAtlas.id() == 0 || m_lodStats.id() != 0) return;
+    m_defines.push_back("VRC_LOD_STATS");
+    m_program = compileProgram({{GL_COMPUTE_SHADER, "vrc_raycast.comp"}}, m_defines);
+    m_lodStats = makeBuffer((kMaxLodLevels + 1) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
 std::vector<std::string> VrcRenderer::rayCasterDefines() const {
     std::vector<std::string> defines;
     if (m_quantization > 0) {
@@ -400,6 +464,12 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
     }
     glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y,
                        m_brickGridSize.z);
+    setLodUniforms(p);
+    if (m_lodStats.id() != 0) {
+        const std::uint32_t zero = 0;
+        glClearNamedBufferData(m_lodStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcLodStats, m_lodStats.id());
+    }
     glUseProgram(p);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcBricks, m_bricks.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, m_header.id());
@@ -423,6 +493,12 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
     glUseProgram(0);
     timer.setItems(std::uint64_t(w) * std::uint64_t(h));
     timer.end();
+    if (m_lodStats.id() != 0) {
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        m_lodSamples.assign(kMaxLodLevels + 1, 0u);
+        glGetNamedBufferSubData(m_lodStats.id(), 0, GLsizeiptr(m_lodSamples.size() * sizeof(std::uint32_t)),
+                                m_lodSamples.data());
+    }
 
     timer.begin("readback");
     const std::size_t n = std::size_t(w) * h;
@@ -446,6 +522,27 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         readTextureFlipped(m_aoImage.id(), GL_RED, GL_FLOAT, w, h, 1, sizeof(float), out.ao.data());
     }
     timer.end();
+}
+
+nlohmann::json VrcRenderer::lodDescription() const {
+    nlohmann::json d = {{"levels", m_lodAtlasX.size()},
+                        {"pixel_footprint", m_spec.lod.pixelFootprint},
+                        {"opacity_start", m_transparent ? nlohmann::json(m_spec.lod.opacityStart) : nlohmann::json("opaque")},
+                        {"volume_mb", double(m_lodBytes3d) / (1024.0 * 1024.0)},
+                        {"build_ms", m_lodBuildMs}};
+    // Per level: the voxels and their MB at 8 bytes (RGBA16F), the borders of the atlas excluded.
+    nlohmann::json sizes = nlohmann::json::array(), mb = nlohmann::json::array();
+    for (const glm::ivec3& n : m_lodLevelSizes) {
+        sizes.push_back({n.x, n.y, n.z});
+        mb.push_back(double(n.x) * n.y * n.z * 8.0 / (1024.0 * 1024.0));
+    }
+    d["level_grids"] = sizes;
+    d["level_mb"] = mb;
+    if (!m_lodSamples.empty()) {
+        d["samples_per_level"] = std::vector<std::uint32_t>(m_lodSamples.begin(), m_lodSamples.end() - 1);
+        d["rays"] = m_lodSamples.back();
+    }
+    return d;
 }
 
 nlohmann::json VrcRenderer::describe() const {
@@ -472,6 +569,7 @@ nlohmann::json VrcRenderer::describe() const {
         {"raw_lines_mb", double(m_rawBytes) / mb},
         {"build_ms", m_buildMs},
         {"upload_ms", m_uploadMs},
+        {"lod", m_lodAtlas.id() != 0 ? lodDescription() : nlohmann::json(false)},
         {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
         {"hard_shadows", m_shadowLines.id() != 0
                              ? nlohmann::json{{"level", m_shadowLevel},

@@ -55,6 +55,19 @@ public:
     // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
     static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
 
+    // Most LoD levels (kVrcLodMaxLevels of shaders/vrc_lod.glsl; resolution 1024 has 11).
+    static constexpr int kMaxLodLevels = 12;
+    // With render.vrc.lod: count the ray caster's LoD samples per level from the next frame on
+    // (recompiles the ray caster with VRC_LOD_STATS; an atomic add per sample). lodSamples():
+    // the last frame's samples at level 0, 1, ... (kMaxLodLevels entries) and, last, the rays
+    // that entered the LoD volume; describe() reports them too. For tests and benchmarks.
+    void enableLodStats();
+    const std::vector<std::uint32_t>& lodSamples() const { return m_lodSamples; }
+    // The LoD volume is sampled at `level` or coarser (0, the default: as the rules say). With
+    // opacity_start 0 a ray renders the volume at that level alone: the benchmark's per-level
+    // rows (tests/bench/vrc_bench.cpp).
+    void setLodMinLevel(int level) { m_lodMinLevel = level; }
+
     void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
@@ -67,6 +80,10 @@ private:
     void uploadBricks(const VrcModel& model);
     void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
     void uploadShadowLines(const VrcModel& model);
+    // The LoD volume (core/vrc_model.h buildVrcLodVolume) as the atlas of shaders/vrc_lod.glsl.
+    void uploadLodVolume(const VrcModel& model);
+    void setLodUniforms(GLuint program) const;
+    nlohmann::json lodDescription() const;
     std::vector<std::string> rayCasterDefines() const;
 
     VrcSpec m_spec;
@@ -93,6 +110,17 @@ private:
     int m_shadowLevel = 0;
     double m_representativeMs = 0;
 
+    // LoD (render.vrc.lod): all levels side by side along x in one RGBA16F 3D texture.
+    Texture m_lodAtlas;
+    glm::ivec3 m_lodAtlasSize{0};
+    std::vector<float> m_lodAtlasX;  // x texel of each level's border
+    std::vector<glm::ivec3> m_lodLevelSizes;
+    std::size_t m_lodBytes3d = 0;
+    double m_lodBuildMs = 0;
+    Buffer m_lodStats;
+    std::vector<std::uint32_t> m_lodSamples;
+    int m_lodMinLevel = 0;
+
     Buffer m_header;
     // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift
     // pieces; quantized pieces are read through m_pieceTexture (GL_RGBA32UI over the whole buffer).
@@ -102,6 +130,7 @@ private:
     int m_blockShift = 0;
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};
+    std::vector<std::string> m_defines;  // the ray caster's, kept for enableLodStats
     Program m_program;
     Buffer m_frameUniforms;  // gl/frame_uniforms.h, set per frame
     int m_width = 0, m_height = 0;
