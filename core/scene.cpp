@@ -484,6 +484,8 @@ void readVrc(SpecReader r, VrcSpec& v) {
                                                                                 : VrcSpec::ShadowMode::Soft;
     v.shadowApertureDeg = r.getFloat("shadow_aperture_deg", v.shadowApertureDeg, 1.0f, 90.0f);
     v.shadowLevel = r.getInt("shadow_level", v.shadowLevel, 0, 10);
+    const std::string build = r.getEnum("build", "auto", {"auto", "cpu", "gpu"});
+    v.build = build == "cpu" ? VrcSpec::Build::Cpu : build == "gpu" ? VrcSpec::Build::Gpu : VrcSpec::Build::Auto;
     if (r.has("lod")) {
         SpecReader l = r.child("lod");
         v.lod.enabled = l.getBool("enabled", v.lod.enabled);

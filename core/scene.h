@@ -269,6 +269,9 @@ struct VrcSpec {
     enum class ShadowMode { Soft, Hard } shadowMode = ShadowMode::Soft;
     float shadowApertureDeg = 10;  // full apex angle of the soft shadow cone
     int shadowLevel = 1;           // hard: LoD level of the representative lines (voxels of 2^level)
+    // Where the voxel model is built: Auto = the GPU build on a hardware GL, the CPU build on a
+    // software rasterizer (where it was measured faster; docs/performance.md).
+    enum class Build { Auto, Cpu, Gpu } build = Build::Auto;
     // render.vrc.lod: rays leave the exact tubes for the LoD volume (core/vrc_model.h) where a
     // voxel of some level covers at most pixelFootprint pixels, or (transparent) once the
     // accumulated opacity reaches opacityStart, sampling ever coarser levels as it grows (the

@@ -166,8 +166,18 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     // reaches at build time (core/vrc_model.h, Copies): the image of the neighbour tests with far
     // fewer pieces tested per voxel (docs/performance.md, "Design notes").
     options.dilate = !scene.render.vrc.neighbors;
+    // The GPU build (Kanzler et al. 2019, Sec. 3.3) on a hardware GL; on a software rasterizer
+    // the CPU build, measured as fast or faster there on every bench set (docs/performance.md,
+    // "Voxel ray casting"): llvmpipe runs the compute shaders on the same cores as the CPU build,
+    // with a shader compile and a read-back on top. Both give the same model
+    // (tests/gl/vrc_renderer_test.cpp).
+    const GLubyte* glRenderer = glGetString(GL_RENDERER);
+    const bool gpuBuild = scene.render.vrc.build == VrcSpec::Build::Gpu ||
+                          (scene.render.vrc.build == VrcSpec::Build::Auto && glRenderer &&
+                           !isSoftwareRasterizer(reinterpret_cast<const char*>(glRenderer)));
+    auto build = [&] { return gpuBuild ? buildVrcModelGpu(lines, options) : buildVrcModel(lines, options); };
     const auto t0 = std::chrono::steady_clock::now();
-    VrcModel model = buildVrcModel(lines, options);
+    VrcModel model = build();
     Scene used = scene;
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
@@ -177,13 +187,14 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
         // The copies do not fit kMaxPieceBlocks shader storage blocks: neighbour tests at render
         // time instead, the same image from the model without copies.
         options.dilate = false;
-        model = buildVrcModel(lines, options);
+        model = build();
         used.render.vrc.neighbors = true;
     }
     const auto t1 = std::chrono::steady_clock::now();
     std::unique_ptr<VrcRenderer> r = create(used, lines, model);
     r->m_buildMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
     r->m_copiesDidNotFit = tooLarge;
+    r->m_gpuBuild = gpuBuild;
     return r;
 }
 
@@ -568,6 +579,7 @@ nlohmann::json VrcRenderer::describe() const {
         {"model_mb", double(m_modelBytes) / mb},
         {"raw_lines_mb", double(m_rawBytes) / mb},
         {"build_ms", m_buildMs},
+        {"build", m_gpuBuild ? "gpu" : "cpu"},
         {"upload_ms", m_uploadMs},
         {"lod", m_lodAtlas.id() != 0 ? lodDescription() : nlohmann::json(false)},
         {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},

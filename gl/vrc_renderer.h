@@ -34,7 +34,8 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
 
 class VrcRenderer final : public Technique {
 public:
-    // Builds the model (render.vrc), uploads it and compiles the ray caster. Needs a current context.
+    // Builds the model (render.vrc; on the GPU or the CPU by render.vrc.build), uploads it and
+    // compiles the ray caster. Needs a current context.
     // With render.vrc.neighbors off the model gets copies (core/vrc_model.h). The piece array is
     // split over up to kMaxPieceBlocks shader storage blocks of at most
     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE each (128 MiB on llvmpipe; the cap is per block, not in
@@ -101,6 +102,7 @@ private:
     std::size_t m_pieces = 0, m_copies = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0,
                 m_rawBytes = 0;
     double m_buildMs = 0, m_uploadMs = 0;
+    bool m_gpuBuild = false;         // the model came from buildVrcModelGpu (render.vrc.build)
     bool m_copiesDidNotFit = false;  // render.vrc.neighbors off, but the copies exceeded one SSBO
 
     // Hard shadows: the representative lines of one LoD level (2 x vec4 per voxel).

@@ -39,6 +39,17 @@ float vrcPixelWorldSize(float t) {
     return cam.orthographic ? 2.0 * cam.orthoHalfHeight / cam.viewport.y : 2.0 * cam.tanHalfFovY * t / cam.viewport.y;
 }
 
+// The distance from which the footprint rule puts a ray into the volume (level 0 qualifies:
+// uLodFootprint x pixel(t) >= uVoxelSize), 1e30 for never. The ray caster's loop compares t with
+// it (and the opacity with uLodOpacityStart) at every voxel step: evaluating vrcLodLevel there
+// made opaque frames that never switch 40 % slower on llvmpipe.
+float vrcLodStartT() {
+    if (uLodFootprint <= 0.0) return 1e30;
+    RayCamera cam = frameCamera();
+    if (cam.orthographic) return uLodFootprint * vrcPixelWorldSize(0.0) >= uVoxelSize ? 0.0 : 1e30;
+    return uVoxelSize * cam.viewport.y / (uLodFootprint * 2.0 * cam.tanHalfFovY);
+}
+
 // The level a ray at t with accumulated opacity `a` samples, or -1: the exact tubes.
 int vrcLodLevel(float t, float a) {
     int level = -1;

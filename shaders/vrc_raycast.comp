@@ -552,6 +552,9 @@ void main() {
         floorT = 0.0;
         floorCount = 0u;
         bool marking = false;
+#ifdef VRC_LOD
+        float lodStartT = vrcLodStartT();
+#endif
 #ifdef BRICK_SKIP
         ivec3 curBrick = ivec3(-1);
         bool curBrickEmpty = false;
@@ -560,7 +563,7 @@ void main() {
 #ifdef VRC_LOD
             // At a voxel boundary (not between two batches of one voxel): from here on the LoD
             // volume, if the footprint or the accumulated opacity asks for it.
-            if (!marking && floorT == 0.0 && vrcLodLevel(tEnter, accum.a) >= 0) {
+            if (!marking && floorT == 0.0 && (tEnter >= lodStartT || accum.a >= uLodOpacityStart)) {
                 vrcLodMarch(ray, tEnter, tFar, accum, firstDepth, firstNormal);
                 break;
             }

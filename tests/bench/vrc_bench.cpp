@@ -13,16 +13,17 @@
 //            its defaults), the model build on the CPU (buildVrcModel) and the GPU
 //            (buildVrcModelGpu), interleaved CPU GPU GPU CPU, wall time of the whole call each,
 //            and whether the two models are identical;
-//   --lod 1 (with --sets): the LoD tables (render.vrc.lod) on each set: one frame per variant at
+//   --lod 1 (with --sets, instead of the build table): the LoD tables (render.vrc.lod) on each set: one frame per variant at
 //            1920x1080 (variants in order, then in reverse; both times shown), transparent at
-//            opacity 0.3 and opaque, the LoD volume's memory, the share of samples per level, and
-//            PSNR against depth peeling of the same view at --psnr-size (default 480x270; depth
-//            peeling at 1080p takes minutes per frame on the dense sets); plus rows rendering the
-//            LoD volume alone from level L up (the shape of the paper's per-level results).
+//            opacity 0.3 and opaque, the LoD volume's memory, the share of samples per level, PSNR
+//            at 1080p against the same mode without LoD and, with --psnr-size WxH, against depth
+//            peeling of the same view at that size (minutes per frame on the dense sets); plus
+//            rows rendering the LoD volume alone from level L up (the shape of the paper's
+//            per-level results).
 //
 //   tubecast_vrc_bench [--segments 100000,1000000] [--points 501] [--resolution 128]
 //                      [--quantization 32,0] [--reps 2] [--threads N] [--frames 0|N]
-//                      [--sets a.json,b.json] [--lod 0|1] [--psnr-size 480x270]
+//                      [--sets a.json,b.json] [--lod 0|1] [--psnr-size WxH]
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
@@ -293,75 +294,102 @@ void lodTable(const BenchSet& set, int psnrWidth, int psnrHeight) {
         return f;
     };
 
-    // Frame times at 1080p: every variant once in order, then once in reverse.
+    // Frame times at 1080p: every variant once in order, then once in reverse. PSNR against the
+    // variant without LoD of the same mode (in order, it comes first), at 1080p.
     const tc::Camera cam = tc::fitCamera(set.scene.camera, set.lines.bounds, 1920.0f / 1080.0f);
-    std::vector<double> first(variants.size()), second(variants.size());
+    std::vector<double> first(variants.size()), second(variants.size()), psnr(variants.size(), 0.0);
     std::vector<nlohmann::json> lodInfo(variants.size());
+    std::vector<float> offTransparent, offOpaque;
     for (int pass = 0; pass < 2; ++pass)
         for (std::size_t k = 0; k < variants.size(); ++k) {
             const std::size_t i = pass == 0 ? k : variants.size() - 1 - k;
-            std::unique_ptr<tc::gl::VrcRenderer> r = renderer(variants[i], 1920, 1080);
-            const Frame f = frame(*r, cam, 1920, 1080);
+            const LodVariant& v = variants[i];
+            std::unique_ptr<tc::gl::VrcRenderer> r = renderer(v, 1920, 1080);
+            Frame f = frame(*r, cam, 1920, 1080);
             (pass == 0 ? first : second)[i] = f.ms;
-            if (pass == 0 && variants[i].lod) {
+            if (pass == 0) {
+                std::vector<float>& off = v.transparent ? offTransparent : offOpaque;
+                if (!v.lod) off = std::move(f.images.rgba);
+                else psnr[i] = tc::compareRgba(f.images.rgba, off).psnr;
+            }
+            if (pass == 0 && v.lod) {
                 r->enableLodStats();
                 frame(*r, cam, 1920, 1080);
                 lodInfo[i] = r->describe()["lod"];
             }
-            std::fprintf(stderr, "%s: %.0f ms (load %s)\n", variants[i].name, f.ms, loadAverage().c_str());
+            std::fprintf(stderr, "%s: %.0f ms (load %s)\n", v.name, f.ms, loadAverage().c_str());
         }
 
-    // PSNR against depth peeling at a smaller size of the same view.
-    const tc::Camera small = tc::fitCamera(set.scene.camera, set.lines.bounds, float(psnrWidth) / float(psnrHeight));
-    tc::Scene peel = set.scene;
-    peel.image.width = psnrWidth;
-    peel.image.height = psnrHeight;
-    peel.render.technique = tc::RenderTechnique::Rasterized;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    peel.render.transparency = tc::Transparency::DepthPeeling;
-    auto start = Clock::now();
-    const Frame peelTransparent = renderOnce(peel, transparentLines, small);
-    const double peelMs = msSince(start);
-    peel.render.transparency = tc::Transparency::Opaque;
-    const Frame exactOpaque = renderOnce(peel, set.lines, small);
+    // PSNR against depth peeling at a smaller size of the same view (slow: minutes on the dense sets).
+    std::vector<double> peelPsnr(variants.size(), 0.0);
+    double peelMs = 0;
+    if (psnrWidth > 0) {
+        const tc::Camera small =
+            tc::fitCamera(set.scene.camera, set.lines.bounds, float(psnrWidth) / float(psnrHeight));
+        tc::Scene peel = set.scene;
+        peel.image.width = psnrWidth;
+        peel.image.height = psnrHeight;
+        peel.render.technique = tc::RenderTechnique::Rasterized;
+        peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+        peel.render.transparency = tc::Transparency::DepthPeeling;
+        const auto start = Clock::now();
+        const Frame peelTransparent = renderOnce(peel, transparentLines, small);
+        peelMs = msSince(start);
+        peel.render.transparency = tc::Transparency::Opaque;
+        const Frame exactOpaque = renderOnce(peel, set.lines, small);
+        for (std::size_t i = 0; i < variants.size(); ++i) {
+            std::unique_ptr<tc::gl::VrcRenderer> r = renderer(variants[i], psnrWidth, psnrHeight);
+            const Frame f = frame(*r, small, psnrWidth, psnrHeight);
+            peelPsnr[i] = tc::compareRgba(f.images.rgba, variants[i].transparent ? peelTransparent.images.rgba
+                                                                                  : exactOpaque.images.rgba)
+                              .psnr;
+        }
+    }
 
-    std::printf("\n%s (%zu segments), 1920x1080, VRC resolution %d, quantization %d; frame ms (in order, reverse); "
-                "PSNR against depth peeling (transparent, opacity 0.3) or the rasterized opaque tubes at %dx%d "
-                "(depth peeling took %.0f ms there); load %s\n\n",
-                set.name.c_str(), set.lines.segmentCount(), model.size.x > 0 ? options.resolution : 0,
-                options.quantization, psnrWidth, psnrHeight, peelMs, loadAverage().c_str());
-    std::printf("| variant | frame ms | vs LoD off | PSNR dB | LoD volume MB | samples per level (%%) |\n");
-    std::printf("|---|---:|---:|---:|---:|---|\n");
+    std::printf("\n%s (%zu segments), 1920x1080, VRC resolution %d, quantization %d, transparent at opacity 0.3; "
+                "frame ms (in order, reverse); PSNR at 1080p against the same mode without LoD%s; load %s\n\n",
+                set.name.c_str(), set.lines.segmentCount(), options.resolution, options.quantization,
+                psnrWidth > 0 ? (", and at " + std::to_string(psnrWidth) + "x" + std::to_string(psnrHeight) +
+                                 " against depth peeling / rasterized opaque (depth peeling " +
+                                 std::to_string(int(peelMs)) + " ms)")
+                                    .c_str()
+                              : "",
+                loadAverage().c_str());
+    std::printf("| variant | frame ms | vs LoD off | PSNR vs LoD off (dB) |%s LoD volume MB | samples per level (%%) |\n",
+                psnrWidth > 0 ? " PSNR vs exact (dB) |" : "");
+    std::printf("|---|---:|---:|---:|%s---:|---|\n", psnrWidth > 0 ? "---:|" : "");
     for (std::size_t i = 0; i < variants.size(); ++i) {
         const LodVariant& v = variants[i];
-        std::unique_ptr<tc::gl::VrcRenderer> r = renderer(v, psnrWidth, psnrHeight);
-        const Frame f = frame(*r, small, psnrWidth, psnrHeight);
-        const tc::ImageMetrics m =
-            tc::compareRgba(f.images.rgba, v.transparent ? peelTransparent.images.rgba : exactOpaque.images.rgba);
         const std::size_t off = v.transparent ? 0 : 5;  // the "LoD off" row of the same mode
         const double ms = 0.5 * (first[i] + second[i]), offMs = 0.5 * (first[off] + second[off]);
         std::string levels = "-", volume = "-";
         if (v.lod && lodInfo[i].is_object()) {
-            volume = std::to_string(lodInfo[i]["volume_mb"].get<double>()).substr(0, 5);
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.1f", lodInfo[i]["volume_mb"].get<double>());
+            volume = buf;
             const std::vector<double> samples = lodInfo[i]["samples_per_level"].get<std::vector<double>>();
             double total = 0;
             for (double x : samples) total += x;
             levels.clear();
             for (std::size_t l = 0; l < samples.size(); ++l)
                 if (samples[l] > 0) {
-                    char buf[32];
-                    std::snprintf(buf, sizeof buf, "%sL%zu %.0f", levels.empty() ? "" : ", ", l, 100.0 * samples[l] / total);
+                    std::snprintf(buf, sizeof buf, "%sL%zu %.0f", levels.empty() ? "" : ", ", l,
+                                  100.0 * samples[l] / total);
                     levels += buf;
                 }
             if (levels.empty()) levels = "none";
         }
-        std::printf("| %s | %.0f, %.0f | %.2fx | %.1f | %s | %s |\n", v.name, first[i], second[i], ms / offMs, m.psnr,
-                    volume.c_str(), levels.c_str());
+        char peelCell[32] = "";
+        if (psnrWidth > 0) std::snprintf(peelCell, sizeof peelCell, " %.1f |", peelPsnr[i]);
+        std::printf("| %s | %.0f, %.0f | %.2fx | %s |%s %s | %s |\n", v.name, first[i], second[i], ms / offMs,
+                    v.lod ? std::to_string(psnr[i]).substr(0, 4).c_str() : "-", peelCell, volume.c_str(),
+                    levels.c_str());
         std::fflush(stdout);
     }
-    if (lodInfo[1].is_object())
-        std::printf("\nLoD levels (grid, MB): %s\n", lodInfo[1]["level_grids"].dump().c_str());
-    if (lodInfo[1].is_object()) std::printf("level MB: %s\n", lodInfo[1]["level_mb"].dump().c_str());
+    if (lodInfo[1].is_object()) {
+        std::printf("\nLoD levels (grid): %s\n", lodInfo[1]["level_grids"].dump().c_str());
+        std::printf("LoD levels (MB): %s\n", lodInfo[1]["level_mb"].dump().c_str());
+    }
 }
 
 }  // namespace
@@ -373,7 +401,7 @@ int main(int argc, char** argv) try {
     std::size_t frameSegments = 0;
     std::vector<std::string> setPaths;
     bool lod = false;
-    int psnrWidth = 480, psnrHeight = 270;
+    int psnrWidth = 0, psnrHeight = 0;
     for (int i = 1; i < argc; i += 2) {
         const std::string flag = argv[i];
         if (i + 1 >= argc) {
@@ -423,9 +451,9 @@ int main(int argc, char** argv) try {
     if (!setPaths.empty()) {
         std::vector<BenchSet> sets;
         for (const std::string& path : setPaths) sets.push_back(loadSet(path));
-        buildTable(sets);
-        if (lod)
-            for (const BenchSet& set : sets) lodTable(set, psnrWidth, psnrHeight);
+        if (!lod) buildTable(sets);
+        for (const BenchSet& set : sets)
+            if (lod) lodTable(set, psnrWidth, psnrHeight);
         return 0;
     }
 
