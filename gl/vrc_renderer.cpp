@@ -167,9 +167,9 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     // fewer pieces tested per voxel (docs/performance.md, "Design notes").
     options.dilate = !scene.render.vrc.neighbors;
     // The GPU build (Kanzler et al. 2019, Sec. 3.3) on a hardware GL; on a software rasterizer
-    // the CPU build, measured as fast or faster there on every bench set (docs/performance.md,
-    // "Voxel ray casting"): llvmpipe runs the compute shaders on the same cores as the CPU build,
-    // with a shader compile and a read-back on top. Both give the same model
+    // the CPU build: llvmpipe runs the compute shaders on the same cores as the CPU build, with a
+    // shader compile and a read-back on top, and was not faster beyond the noise on any bench set
+    // (GPU / CPU 0.87-4.6x; docs/performance.md, "Voxel ray casting"). Both give the same model
     // (tests/gl/vrc_renderer_test.cpp).
     const GLubyte* glRenderer = glGetString(GL_RENDERER);
     const bool gpuBuild = scene.render.vrc.build == VrcSpec::Build::Gpu ||
