@@ -498,6 +498,15 @@ void readVrc(SpecReader r, VrcSpec& v) {
         v.ao.radiusVoxels = a.getFloat("radius_voxels", v.ao.radiusVoxels, 1.0f, 64.0f);
         a.finish();
     }
+    const std::string build = r.getEnum("build", "auto", {"auto", "cpu", "gpu"});
+    v.build = build == "cpu" ? VrcSpec::Build::Cpu : build == "gpu" ? VrcSpec::Build::Gpu : VrcSpec::Build::Auto;
+    if (r.has("lod")) {
+        SpecReader l = r.child("lod");
+        v.lod.enabled = l.getBool("enabled", v.lod.enabled);
+        v.lod.pixelFootprint = l.getFloat("pixel_footprint", v.lod.pixelFootprint, 0.0f, 1024.0f);
+        v.lod.opacityStart = l.getFloat("opacity_start", v.lod.opacityStart, 0.0f, 1.0f);
+        l.finish();
+    }
     r.finish();
 }
 

@@ -282,6 +282,18 @@ struct VrcSpec {
         int sphereRays = 100;
         float radiusVoxels = 15;
     } ao;
+    // Where the voxel model is built: Auto = the GPU build on a hardware GL, the CPU build on a
+    // software rasterizer (where it was measured faster; docs/performance.md).
+    enum class Build { Auto, Cpu, Gpu } build = Build::Auto;
+    // render.vrc.lod: rays leave the exact tubes for the LoD volume (core/vrc_model.h) where a
+    // voxel of some level covers at most pixelFootprint pixels, or (transparent) once the
+    // accumulated opacity reaches opacityStart, sampling ever coarser levels as it grows (the
+    // paper's opacity acceleration, Sec. 5.1).
+    struct Lod {
+        bool enabled = false;
+        float pixelFootprint = 1.0f;  // pixels per level voxel; 0 = no switch by footprint
+        float opacityStart = 0.5f;    // accumulated opacity; 1 = no opacity acceleration
+    } lod;
 };
 
 // The defaults here are what code that builds a Scene gets (tests, benchmarks); a scene file's

@@ -22,6 +22,12 @@ double VrcDensityLevel::total() const {
     return sum;
 }
 
+double VrcLodLevel::total() const {
+    double sum = 0.0;
+    for (const glm::vec4& v : value) sum += v.w;
+    return sum * double(voxelSize) * double(voxelSize) * double(voxelSize);
+}
+
 std::size_t VrcModel::lodBytes() const {
     std::size_t bytes = 0;
     for (const VrcDensityLevel& level : lod) bytes += level.density.size() * sizeof(float);
@@ -552,6 +558,54 @@ VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options)
     }
     if (options.dilate) dilateVrcModel(model);
     return model;
+}
+
+std::vector<VrcLodLevel> buildVrcLodVolume(const VrcModel& model, bool opaque) {
+    std::vector<VrcLodLevel> levels;
+    if (model.voxels.empty()) return levels;
+    VrcLodLevel level0;
+    level0.size = model.size;
+    level0.voxelSize = model.voxelSize;
+    level0.value.assign(model.voxelCount(), glm::vec4(0.0f));
+    const double s = model.voxelSize, volume = s * s * s;
+    const double halfPi = 0.5 * 3.14159265358979323846;
+    // Pieces are stored per voxel (headers): one task per voxel sums its home pieces in order.
+    tbb::parallel_for(std::size_t(0), model.voxelCount(), [&](std::size_t v) {
+        const VrcVoxel& h = model.voxels[v];
+        glm::dvec4 sum(0.0);
+        for (std::uint32_t k = 0; k < (h.count & kCountMask); ++k) {
+            const VrcPiece p = model.piece(h.offset + k);
+            if (p.copy) continue;
+            const double alpha = opaque ? 1.0 : double(p.color.w);
+            const double sigma = halfPi * 0.5 * double(p.ra + p.rb) * double(glm::length(p.b - p.a)) * alpha / volume;
+            sum += glm::dvec4(glm::dvec3(p.color) * sigma, sigma);
+        }
+        level0.value[v] = glm::vec4(sum);
+    });
+    levels.push_back(std::move(level0));
+    while (glm::any(glm::greaterThan(levels.back().size, glm::ivec3(1)))) {
+        const VrcLodLevel& fine = levels.back();
+        VrcLodLevel coarse;
+        coarse.size = (fine.size + 1) / 2;
+        coarse.voxelSize = 2.0f * fine.voxelSize;
+        coarse.value.assign(std::size_t(coarse.size.x) * coarse.size.y * coarse.size.z, glm::vec4(0.0f));
+        tbb::parallel_for(0, coarse.size.z, [&](int z) {
+            for (int y = 0; y < coarse.size.y; ++y)
+                for (int x = 0; x < coarse.size.x; ++x) {
+                    glm::vec4 sum(0.0f);
+                    for (int dz = 0; dz < 2; ++dz)
+                        for (int dy = 0; dy < 2; ++dy)
+                            for (int dx = 0; dx < 2; ++dx) {
+                                const glm::ivec3 c(2 * x + dx, 2 * y + dy, 2 * z + dz);
+                                if (glm::any(glm::greaterThanEqual(c, fine.size))) continue;  // zero padding
+                                sum += fine.value[(std::size_t(c.z) * fine.size.y + c.y) * fine.size.x + c.x];
+                            }
+                    coarse.value[(std::size_t(z) * coarse.size.y + y) * coarse.size.x + x] = sum * 0.125f;
+                }
+        });
+        levels.push_back(std::move(coarse));
+    }
+    return levels;
 }
 
 }  // namespace tc

@@ -47,6 +47,16 @@
 // opacity averaged along the part). Levels above average 2x2x2 blocks; odd sizes are padded with
 // empty voxels (level size ceil(n / 2)), so mean x voxelCount x 8^level, i.e. the total of level
 // 0, is conserved at every level.
+//
+// LoD volume (buildVrcLodVolume, what the ray caster samples with render.vrc.lod): Eq. 1 turned
+// into an extinction coefficient. A tube of length l, radius r and opacity alpha, oriented at
+// random, has a mean projected area of (pi / 2) r l (Cauchy: a quarter of its side surface), so a
+// ray through a voxel of volume s^3 meets on average (pi / 2) r l d / s^3 such tubes over a path
+// d; with the hits Poisson distributed the expected transmittance is exp(-alpha x that), i.e. the
+// extinction coefficient sigma = (pi / 2) sum_i r_i l_i alpha_i / s^3: Eq. 1's length x opacity
+// sum weighted by each line's projected width. Coarser levels average 2x2x2 blocks as the density
+// pyramid (mean extinction; like every averaged pyramid it makes heterogeneous blocks more
+// transparent than the mean of their transmittances).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -193,6 +203,21 @@ std::uint32_t encodeEnd(const VrcModel& model, glm::ivec3 voxel, std::uint32_t f
 // between a vertex end and its lattice cell centre (half a cell diagonal), world units.
 float vrcFaceQuantizationBound(const VrcModel& model);
 float vrcVertexQuantizationBound(const VrcModel& model);
+
+// One level of the ray caster's LoD volume (see LoD volume above).
+struct VrcLodLevel {
+    glm::ivec3 size{0};
+    float voxelSize = 0.0f;        // world units: the model's voxel size x 2^level
+    std::vector<glm::vec4> value;  // x fastest; rgb: colour x sigma (linear), a: sigma (per world unit)
+    // Sum of sigma x voxel volume: the level's total projected line area x opacity (conserved
+    // from level to level but for float rounding).
+    double total() const;
+};
+
+// The LoD volume of `model` (its home pieces; copies are not counted), level 0 at the grid's
+// resolution, each further level ceil(n / 2) per axis, down to one voxel. `opaque`: every tube
+// has alpha 1 (the expected coverage of opaque tubes). Parallel over voxels (tbb), deterministic.
+std::vector<VrcLodLevel> buildVrcLodVolume(const VrcModel& model, bool opaque);
 
 // The Eq. 1 pyramid of `level0`: level L + 1 averages 2x2x2 blocks of level L, padded with zeros
 // to even sizes, down to one voxel.

@@ -96,6 +96,7 @@ inline constexpr GLuint kVrcPieces = 1;       // block 0 of the piece array
 inline constexpr GLuint kVrcPieceBlocks = 4;  // blocks 1 .. VrcRenderer::kMaxPieceBlocks - 1 at 4, 5, ...
 inline constexpr GLuint kVrcShadowLines = 2;
 inline constexpr GLuint kVrcBricks = 3;
+inline constexpr GLuint kVrcLodStats = 11;  // samples per LoD level (VrcRenderer::enableLodStats)
 
 // --- Uniform buffers and atomic counters ---------------------------------------------------------
 inline constexpr GLuint kFrameUniforms = 0;   // gl/frame_uniforms.h
@@ -124,6 +125,7 @@ inline constexpr GLuint kSphereVolume = 9;     // shaders/sphere_ambient.glsl uS
 inline constexpr GLuint kVrcPieceTexels = 10;  // shaders/vrc_raycast.comp, VRC_PIECE_TEXTURE
 inline constexpr GLuint kVrcEq1Density = 11;   // shaders/vrc_lighting.glsl uVrcDensity
 inline constexpr GLuint kVrcAoVolume = 12;     // shaders/vrc_lighting.glsl uVrcAoVolume
+inline constexpr GLuint kVrcLodVolume = 13;    // shaders/vrc_lod.glsl, the LoD atlas
 
 // Points one program reads together must differ.
 constexpr bool distinct(std::initializer_list<GLuint> points) {
@@ -148,9 +150,10 @@ static_assert(distinct({kPositionRadius, kVertexColors, kPolylineIds, kVrcPolyli
 static_assert(distinct({kVrcHeader, kVrcRunEnd, kVrcKeys, kVrcValues, kVrcRawPieces, kVrcGatheredPieces,
                         kVrcPieceVoxel}));
 // The ray caster: the piece blocks take kVrcPieceBlocks .. kVrcPieceBlocks + 6.
-static_assert(distinct({kVrcHeader, kVrcPieces, kVrcShadowLines, kVrcBricks}) && kVrcPieceBlocks > kVrcBricks);
+static_assert(distinct({kVrcHeader, kVrcPieces, kVrcShadowLines, kVrcBricks, kVrcLodStats}) &&
+              kVrcPieceBlocks > kVrcBricks && kVrcLodStats > kVrcPieceBlocks + 6);
 static_assert(distinct({kGBufferAlbedo, kGBufferNormalDepth, kVisibilitySegments, kDensityVolume, kSphereVolume,
-                        kVrcPieceTexels}));
+                        kVrcPieceTexels, kVrcEq1Density, kVrcAoVolume, kVrcLodVolume}));
 
 }  // namespace tc::gl::binding
 
@@ -223,6 +226,7 @@ inline constexpr ShaderBinding kShaderBindings[] = {
     {"SSBO_VRC_PIECE_BLOCKS", binding::kVrcPieceBlocks},
     {"SSBO_VRC_SHADOW_LINES", binding::kVrcShadowLines},
     {"SSBO_VRC_BRICKS", binding::kVrcBricks},
+    {"SSBO_VRC_LOD_STATS", binding::kVrcLodStats},
     {"UBO_FRAME_UNIFORMS", binding::kFrameUniforms},
     {"ATOMIC_CULLED_SEGMENTS", binding::kCulledSegments},
     {"IMAGE_MIP_SOURCE", binding::kMipSource},
@@ -241,6 +245,7 @@ inline constexpr ShaderBinding kShaderBindings[] = {
     {"TEXTURE_DENSITY_VOLUME", binding::kDensityVolume},
     {"TEXTURE_SPHERE_VOLUME", binding::kSphereVolume},
     {"TEXTURE_VRC_PIECE_TEXELS", binding::kVrcPieceTexels},
+    {"TEXTURE_VRC_LOD", binding::kVrcLodVolume},
 };
 
 }  // namespace tc::gl

@@ -55,7 +55,8 @@ Texture precomputeVrcSphereAo(const VrcModel& model, const Buffer& header, const
 
 class VrcRenderer final : public Technique {
 public:
-    // Builds the model (render.vrc), uploads it and compiles the ray caster. Needs a current context.
+    // Builds the model (render.vrc; on the GPU or the CPU by render.vrc.build), uploads it and
+    // compiles the ray caster. Needs a current context.
     // With render.vrc.neighbors off the model gets copies (core/vrc_model.h). The piece array is
     // split over up to kMaxPieceBlocks shader storage blocks of at most
     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE each (128 MiB on llvmpipe; the cap is per block, not in
@@ -76,6 +77,19 @@ public:
     // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
     static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
 
+    // Most LoD levels (kVrcLodMaxLevels of shaders/vrc_lod.glsl; resolution 1024 has 11).
+    static constexpr int kMaxLodLevels = 12;
+    // With render.vrc.lod: count the ray caster's LoD samples per level from the next frame on
+    // (recompiles the ray caster with VRC_LOD_STATS; an atomic add per sample). lodSamples():
+    // the last frame's samples at level 0, 1, ... (kMaxLodLevels entries) and, last, the rays
+    // that entered the LoD volume; describe() reports them too. For tests and benchmarks.
+    void enableLodStats();
+    const std::vector<std::uint32_t>& lodSamples() const { return m_lodSamples; }
+    // The LoD volume is sampled at `level` or coarser (0, the default: as the rules say). With
+    // opacity_start 0 a ray renders the volume at that level alone: the benchmark's per-level
+    // rows (tests/bench/vrc_bench.cpp).
+    void setLodMinLevel(int level) { m_lodMinLevel = level; }
+
     void render(const FrameSetup& setup, FrameImages& out, StageSink& timer) override;
     nlohmann::json describe() const override;
 
@@ -88,6 +102,10 @@ private:
     void uploadBricks(const VrcModel& model);
     void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
     void uploadShadowLines(const VrcModel& model);
+    // The LoD volume (core/vrc_model.h buildVrcLodVolume) as the atlas of shaders/vrc_lod.glsl.
+    void uploadLodVolume(const VrcModel& model);
+    void setLodUniforms(GLuint program) const;
+    nlohmann::json lodDescription() const;
     std::vector<std::string> rayCasterDefines() const;
     // The paper's AO and shadows (shaders/vrc_lighting.glsl): the Eq. 1 pyramid, the precomputed
     // AO, and their defines.
@@ -109,6 +127,7 @@ private:
     std::size_t m_pieces = 0, m_copies = 0, m_bytesPerPiece = 0, m_modelBytes = 0, m_lodBytes = 0, m_segments = 0,
                 m_rawBytes = 0;
     double m_buildMs = 0, m_uploadMs = 0;
+    bool m_gpuBuild = false;         // the model came from buildVrcModelGpu (render.vrc.build)
     bool m_copiesDidNotFit = false;  // render.vrc.neighbors off, but the copies exceeded one SSBO
 
     // Hard shadows: the representative lines of one LoD level (2 x vec4 per voxel).
@@ -123,6 +142,16 @@ private:
     Texture m_aoVolume;
     float m_aoStrength = 1;
     double m_aoPrecomputeMs = 0;
+    // LoD (render.vrc.lod): all levels side by side along x in one RGBA16F 3D texture.
+    Texture m_lodAtlas;
+    glm::ivec3 m_lodAtlasSize{0};
+    std::vector<float> m_lodAtlasX;  // x texel of each level's border
+    std::vector<glm::ivec3> m_lodLevelSizes;
+    std::size_t m_lodBytes3d = 0;
+    double m_lodBuildMs = 0;
+    Buffer m_lodStats;
+    std::vector<std::uint32_t> m_lodSamples;
+    int m_lodMinLevel = 0;
 
     Buffer m_header;
     // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift
@@ -133,6 +162,7 @@ private:
     int m_blockShift = 0;
     Buffer m_bricks;  // empty space skipping: 1 per brick of 4^3 voxels that can hold a surface
     glm::ivec3 m_brickGridSize{1};
+    std::vector<std::string> m_defines;  // the ray caster's, kept for enableLodStats
     Program m_program;
     Buffer m_frameUniforms;  // gl/frame_uniforms.h, set per frame
     int m_width = 0, m_height = 0;

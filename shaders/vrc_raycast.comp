@@ -15,7 +15,9 @@
 // piece array's storage blocks, below), VRC_PIECE_TEXTURE (quantized pieces read through one texture
 // buffer over the whole array instead), VRC_PATH_LENGTH_OPACITY (with TRANSPARENT: a hit's alpha
 // depends on the ray's chord through the hit piece, below), VRC_DENSITY_AO, VRC_PRECOMPUTED_AO,
-// VRC_DENSITY_SHADOWS, VRC_HARD_TUBE_SHADOWS (the paper's lighting, shaders/vrc_lighting.glsl).
+// VRC_DENSITY_SHADOWS, VRC_HARD_TUBE_SHADOWS (the paper's lighting, shaders/vrc_lighting.glsl), VRC_LOD (rays leave the tubes for the
+// LoD volume in the distance and, transparent, at high accumulated opacity: shaders/vrc_lod.glsl),
+// VRC_LOD_STATS (with VRC_LOD: count the samples per level).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -147,6 +149,10 @@ uniform vec3 uGridOrigin;
 uniform float uVoxelSize;
 uniform float uMaxRadius;
 uniform float uOpacityThreshold;
+
+#ifdef VRC_LOD
+#include "vrc_lod.glsl"
+#endif
 
 layout(rgba32f, binding = IMAGE_VRC_COLOR) uniform writeonly image2D uColor;       // premultiplied linear RGBA
 layout(rgba32f, binding = IMAGE_VRC_NORMAL_DEPTH) uniform writeonly image2D uNormalDepth; // world normal, view depth
@@ -552,11 +558,22 @@ void main() {
         floorT = 0.0;
         floorCount = 0u;
         bool marking = false;
+#ifdef VRC_LOD
+        float lodStartT = vrcLodStartT();
+#endif
 #ifdef BRICK_SKIP
         ivec3 curBrick = ivec3(-1);
         bool curBrickEmpty = false;
 #endif
         while (!done) {
+#ifdef VRC_LOD
+            // At a voxel boundary (not between two batches of one voxel): from here on the LoD
+            // volume, if the footprint or the accumulated opacity asks for it.
+            if (!marking && floorT == 0.0 && (tEnter >= lodStartT || accum.a >= uLodOpacityStart)) {
+                vrcLodMarch(ray, tEnter, tFar, accum, firstDepth, firstNormal);
+                break;
+            }
+#endif
 #ifdef BRICK_SKIP
             // Empty space: jump over a whole empty brick (kBrick^3 voxels) to the first voxel past
             // its exit face, instead of stepping (and reading a header) voxel by voxel.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The voxel ray casting tables of docs/performance.md: at 1920x1080 on the bench sets, per set,
-# rasterized opaque, VRC opaque, k-buffer k=8 and VRC transparent (opacity 0.3), each one
+# rasterized opaque, VRC opaque, k-buffer k=8, VRC transparent (opacity 0.3) and the same with
+# render.vrc.lod at its defaults (scripts/bench/vrc_lod.sh has the LoD tables), each one
 # process rendering two frames of the same view; prints frame 1's stage rows and the VRC model
 # statistics from run.json. Depth peeling only on the smallest set (minutes per frame otherwise).
 #   SETS="propeller_120k brain_2m" EXTRA="--set dataset.lines=20050" scripts/bench/vrc_tables.sh
@@ -36,6 +37,8 @@ for set in $SETS; do
     run "$set" vrc_opaque --set render.technique=voxel_raycast
     run "$set" kbuffer --set style.opacity=0.3 --set render.transparency=kbuffer
     run "$set" vrc_transparent --set style.opacity=0.3 --set render.transparency=kbuffer --set render.technique=voxel_raycast
+    run "$set" vrc_transparent_lod --set style.opacity=0.3 --set render.transparency=kbuffer --set render.technique=voxel_raycast \
+        --set render.vrc.lod.enabled=true
 done
 for set in $PEEL; do
     run "$set" depth_peeling --set style.opacity=0.3 --set render.transparency=depth_peeling

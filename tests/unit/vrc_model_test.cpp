@@ -1,6 +1,7 @@
 // The VRC voxel model (core/vrc_model.h): clipping at voxel faces, quantization error bounds,
 // the piecewise approximation's distance to the input (Hausdorff), the header/array layout,
-// connectivity across faces, determinism, and the Eq. 1 density pyramid's totals.
+// connectivity across faces, determinism, the Eq. 1 density pyramid's totals and the ray caster's
+// LoD volume (extinction per voxel, its totals per level).
 #include "core/vrc_model.h"
 
 #include <gtest/gtest.h>
@@ -369,6 +370,61 @@ TEST(VrcModel, a_polyline_inside_one_voxel_is_one_piece_between_its_vertices) {
         const VrcPiece p = m.piece(i);
         EXPECT_TRUE(p.vertexA);
         EXPECT_TRUE(p.vertexB);
+    }
+}
+
+TEST(VrcLodVolume, extinction_of_one_line_is_eq1_length_times_opacity_times_projected_width) {
+    // sigma = (pi / 2) r l alpha / s^3 per voxel: a line of length 1, radius 0.01, alpha 0.4 has a
+    // total sigma x volume of (pi / 2) 0.01 0.4 at every level, a voxel it crosses whole
+    // (pi / 2) r s alpha / s^3, and the colour comes back as rgb x sigma / sigma.
+    const glm::vec4 color(0.2f, 0.5f, 0.9f, 0.4f);
+    const StyledLines lines = makeLines({{{glm::vec3(0, 0, 0), 0.01f, color}, {glm::vec3(1, 0, 0), 0.01f, color}}});
+    for (int q : {0, 32}) {
+        const VrcModel m = build(lines, 11, q);
+        const std::vector<VrcLodLevel> levels = buildVrcLodVolume(m, false);
+        const double pi = 3.14159265358979323846;
+        const double expected = 0.5 * pi * 0.01 * 1.0 * 0.4;
+        ASSERT_GE(levels.size(), 4u);
+        for (std::size_t l = 0; l < levels.size(); ++l) {
+            EXPECT_NEAR(levels[l].total(), expected, 1e-3 * expected) << "level " << l << " q " << q;
+            EXPECT_FLOAT_EQ(levels[l].voxelSize, m.voxelSize * float(1 << l));
+            if (l > 0) {
+                EXPECT_EQ(levels[l].size, (levels[l - 1].size + 1) / 2);
+            }
+        }
+        EXPECT_EQ(levels.back().size, glm::ivec3(1));
+        // A voxel in the middle of the line, crossed whole (q > 0 snaps the ends to bin centres
+        // of the x faces, which keeps the length 1 voxel).
+        const glm::ivec3 mid = glm::ivec3((glm::vec3(0.5f, 0, 0) - m.origin) / m.voxelSize);
+        const glm::vec4 v = levels[0].value[m.index(mid.x, mid.y, mid.z)];
+        const double s = m.voxelSize;
+        EXPECT_NEAR(v.w, 0.5 * pi * 0.01 * s * 0.4 / (s * s * s), 1e-3 * v.w);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c] / v.w, color[c], 2.0 / 255.0);
+        // Opaque: alpha 1 for every tube.
+        EXPECT_NEAR(buildVrcLodVolume(m, true)[0].total(), expected / 0.4, 1e-3 * expected / 0.4);
+    }
+}
+
+TEST(VrcLodVolume, copies_are_not_counted_and_totals_hold_on_random_curves) {
+    const StyledLines lines = makeLines(randomCurves(7, 40, 30, 0.08f));
+    VrcBuildOptions o;
+    o.resolution = 24;
+    o.quantization = 0;
+    const VrcModel plain = buildVrcModel(lines, o);
+    o.dilate = true;
+    const VrcModel dilated = buildVrcModel(lines, o);
+    ASSERT_GT(dilated.copies, 0u);
+    const std::vector<VrcLodLevel> a = buildVrcLodVolume(plain, false), b = buildVrcLodVolume(dilated, false);
+    ASSERT_EQ(a.size(), b.size());
+    // The sum over the pieces, independently of the volume.
+    double expected = 0;
+    for (std::size_t i = 0; i < plain.pieceCount(); ++i) {
+        const VrcPiece p = plain.piece(i);
+        expected += 0.5 * 3.14159265358979323846 * 0.5 * (p.ra + p.rb) * glm::length(p.b - p.a) * p.color.w;
+    }
+    for (std::size_t l = 0; l < a.size(); ++l) {
+        EXPECT_NEAR(a[l].total(), expected, 1e-4 * expected) << "level " << l;
+        EXPECT_NEAR(b[l].total(), expected, 1e-4 * expected) << "level " << l;
     }
 }
 

@@ -32,12 +32,16 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
     EXPECT_FALSE(d.render.vrc.pathLengthOpacity);
     EXPECT_EQ(d.render.vrc.shadowMode, VrcSpec::ShadowMode::Soft);
     EXPECT_EQ(d.render.vrc.shadowLevel, 1);
+    EXPECT_EQ(d.render.vrc.build, VrcSpec::Build::Auto);
+    EXPECT_FALSE(d.render.vrc.lod.enabled);
+    EXPECT_FLOAT_EQ(d.render.vrc.lod.pixelFootprint, 1.0f);
+    EXPECT_FLOAT_EQ(d.render.vrc.lod.opacityStart, 0.5f);
 
     const Scene s = parseScene(json::parse(R"({"dataset": {"generate": "tornado"},
         "render": {"technique": "voxel_raycast", "transparency": "kbuffer",
                    "vrc": {"resolution": 64, "quantization": 0, "neighbors": "on", "opacity_threshold": 0.5,
                            "path_length_opacity": true, "shadows": true, "shadow_aperture_deg": 20, "shadow_mode": "hard",
-                           "shadow_level": 2}}})"),
+                           "shadow_level": 2, "build": "gpu", "lod": {"enabled": true, "pixel_footprint": 4, "opacity_start": 0.25}}}})"),
                                "scene.json");
     EXPECT_EQ(s.render.vrc.resolution, 64);
     EXPECT_EQ(s.render.vrc.quantization, 0);
@@ -48,6 +52,31 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
     EXPECT_FLOAT_EQ(s.render.vrc.shadowApertureDeg, 20.0f);
     EXPECT_EQ(s.render.vrc.shadowMode, VrcSpec::ShadowMode::Hard);
     EXPECT_EQ(s.render.vrc.shadowLevel, 2);
+    EXPECT_EQ(s.render.vrc.build, VrcSpec::Build::Gpu);
+    EXPECT_TRUE(s.render.vrc.lod.enabled);
+    EXPECT_FLOAT_EQ(s.render.vrc.lod.pixelFootprint, 4.0f);
+    EXPECT_FLOAT_EQ(s.render.vrc.lod.opacityStart, 0.25f);
+}
+
+TEST(VrcScene, bad_vrc_lod_keys_are_input_errors_naming_the_key) {
+    auto error = [](const std::string& lod) {
+        return errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+            "render": {"technique": "voxel_raycast", "vrc": {"lod": )" +
+                                   lod + "}}}"));
+    };
+    const std::string enabled = error(R"({"enabled": "on"})");
+    EXPECT_NE(enabled.find("render.vrc.lod.enabled"), std::string::npos) << enabled;
+    const std::string footprint = error(R"({"pixel_footprint": -1})");
+    EXPECT_NE(footprint.find("render.vrc.lod.pixel_footprint"), std::string::npos) << footprint;
+    const std::string start = error(R"({"opacity_start": 1.5})");
+    EXPECT_NE(start.find("render.vrc.lod.opacity_start"), std::string::npos) << start;
+    const std::string typo = error(R"({"enable": true})");
+    EXPECT_NE(typo.find("render.vrc.lod.enable"), std::string::npos) << typo;
+    const std::string build = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"build": "gpgpu"}}})"));
+    EXPECT_NE(build.find("render.vrc.build"), std::string::npos) << build;
+    const std::string notObject = error("true");
+    EXPECT_NE(notObject.find("render.vrc.lod"), std::string::npos) << notObject;
 }
 
 TEST(VrcScene, bad_vrc_keys_are_input_errors_naming_the_key) {
