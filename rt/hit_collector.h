@@ -13,6 +13,7 @@
 // before by `last`).
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -26,6 +27,21 @@ constexpr int kMaxHitsPerPass = 48;
 // (alpha cutoff 1) take fewer passes with a larger K.
 inline int hitsPerPass(float alphaCutoff) {
     return alphaCutoff >= 1.0f ? kMaxHitsPerPass : 16;
+}
+
+// Hits gathered per traversal of a transparent tube ray whose surfaces have about `opacity`: the
+// hits a ray needs to reach the cutoff, so that most rays finish in one pass. A pass costs more
+// the larger K is (the traversal cannot prune behind the K-th nearest hit before it has K), but a
+// second pass costs about as much as the first: K just above the need is fastest. Measured on the
+// 1M spiral set (docs/performance.md, "Ray tracing on the CPU": hits per pixel against K): opacity
+// 0.3, ~24 hits per covered pixel: K = 28-32 fastest, 1.8x faster than K = 16; opacity 0.6, ~10
+// hits: K = 12-16. A tube ray enters and leaves every tube, so n front-facing layers are about 2n
+// hits; n is the number of layers of `opacity` that reach the cutoff, 1 - (1 - opacity)^n >= cutoff.
+inline int hitsPerPass(float alphaCutoff, float opacity) {
+    if (alphaCutoff >= 1.0f) return kMaxHitsPerPass;
+    const float a = std::clamp(opacity, 0.01f, 0.99f);
+    const float layers = std::ceil(std::log(1.0f - alphaCutoff) / std::log(1.0f - a));
+    return int(std::clamp(2.0f * layers + 2.0f, 4.0f, float(kMaxHitsPerPass)));
 }
 
 struct RayHitRecord {

@@ -59,6 +59,14 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     r->m_lines = lines;
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
+    if (r->m_transparent) {
+        // K from the mean opacity of the vertices (rt/hit_collector.h).
+        double opacity = 0;
+        for (const glm::vec4& c : lines.color) opacity += c.w;
+        r->m_defaultHitsPerPass =
+            rt::hitsPerPass(r->m_alphaCutoff, lines.color.empty() ? 1.0f : float(opacity / double(lines.color.size())));
+        r->m_hitsPerPass = r->m_defaultHitsPerPass;
+    }
     // Opaque images are the union of the rounded cones either way; joined tubes have fewer surfaces.
     // (Opaque without neighbour flags, each segment a closed rounded cone, traced no faster: same
     // CPU time within noise on the 1M tornado's opaque frames, `scripts/bench/frame_times.sh
@@ -271,7 +279,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     HitCollector collector;
     rtcInitIntersectContext(&collector.context);
     collector.context.filter = collectHit;
-    collector.capacity = hitsPerPass(m_alphaCutoff);
+    collector.capacity = m_hitsPerPass;
 
     glm::vec3 color(0.0f);
     float alpha = 0.0f;
@@ -366,7 +374,7 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
     if (m_transparent) {
         j["alpha_cutoff"] = m_alphaCutoff;
-        j["hits_per_pass"] = hitsPerPass(m_alphaCutoff);
+        j["hits_per_pass"] = m_hitsPerPass;
         j["joint_epsilon"] = m_jointEpsilon;
     }
     return j;

@@ -10,8 +10,8 @@
 // - transparent (any other mode): per pixel, rtcIntersect1 again and again from just behind the
 //   last hit, compositing front-facing hits front to back until alpha >= render.raytraced.
 //   alpha_cutoff (at most 1 - 1e-6: an exact pass would run to the last hit).
-// Prints one line per frame and `median_ms M hits_per_covered_pixel H` over the frames after the
-// first (as frame_times.sh, whose first frame also pays for warming up).
+// Prints one line per frame and `median_ms M cpu_ms C hits_per_covered_pixel H` (wall and process
+// CPU time) over the frames after the first (as frame_times.sh, whose first frame also warms up).
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -158,6 +159,19 @@ void renderTransparent(RTCScene scene, const Lines& lines, const View& view, flo
     });
 }
 
+// CPU time of the process, all threads: on a shared machine a steadier measure of the work than the
+// wall clock.
+double processCpuMs() {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -243,26 +257,26 @@ int main(int argc, char** argv) {
         return 2;
     }
     std::vector<std::uint32_t> image(std::size_t(w) * std::size_t(h));
-    std::vector<double> ms;
+    std::vector<double> ms, cpuMs;
     double hitsPerPixel = 0;
     for (int f = 0; f < frames; ++f) {
         const View view = viewOf(tc::cameraAtFrame(scene.animation, base, f), w, h);
         std::atomic<std::uint64_t> hits{0};
         const auto start = Clock::now();
+        const double cpu0 = processCpuMs();
         if (transparent)
             renderTransparent(rtScene, lines, view, cutoff, image.data(), hits);
         else
             renderOpaque(rtScene, lines, view, image.data(), hits);
         const double frameMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        const double frameCpuMs = processCpuMs() - cpu0;
         const auto covered = std::count_if(image.begin(), image.end(), [](std::uint32_t c) { return c >> 24; });
         const double perPixel = covered ? double(hits.load()) / double(covered) : 0.0;
-        std::printf("frame %d: %.1f ms, %.1f %% covered, %.2f hits per covered pixel\n", f, frameMs,
-                    100.0 * double(covered) / double(image.size()), perPixel);
-        if (f > 0) ms.push_back(frameMs), hitsPerPixel += perPixel / double(frames - 1);
+        std::printf("frame %d: %.1f ms (CPU %.1f ms), %.1f %% covered, %.2f hits per covered pixel\n", f, frameMs,
+                    frameCpuMs, 100.0 * double(covered) / double(image.size()), perPixel);
+        if (f > 0) ms.push_back(frameMs), cpuMs.push_back(frameCpuMs), hitsPerPixel += perPixel / double(frames - 1);
     }
-    std::sort(ms.begin(), ms.end());
-    const double median = ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
-    std::printf("median_ms %.1f hits_per_covered_pixel %.2f\n", median, hitsPerPixel);
+    std::printf("median_ms %.1f cpu_ms %.1f hits_per_covered_pixel %.2f\n", median(ms), median(cpuMs), hitsPerPixel);
     if (!ppm.empty()) {
         std::ofstream out(ppm, std::ios::binary);
         out << "P6\n" << w << " " << h << "\n255\n";
