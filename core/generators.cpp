@@ -499,10 +499,43 @@ LineSet generateTurbulence(int lines, int points, std::uint32_t seed) {
     return finish(std::move(set));
 }
 
+// Spiral -----------------------------------------------------------------------------------------
+
+LineSet generateSpiral(int lines, int points, std::uint32_t seed) {
+    LineSet set = fixedLineSet(lines, points, {"shell", "parameter"});
+    const glm::vec3 centre(0.5f);
+    forEachLine(lines, [&](int i) {
+        Rng rng(lineSeed(seed, i));
+        // Uniform in the volume of the shell kSpiralMinShell..kSpiralMaxShell: r^3 uniform.
+        const float lo3 = kSpiralMinShell * kSpiralMinShell * kSpiralMinShell;
+        const float hi3 = kSpiralMaxShell * kSpiralMaxShell * kSpiralMaxShell;
+        const float shell = std::cbrt(rng.uniform(lo3, hi3));
+        const glm::vec3 axis = rng.direction();
+        // An orthonormal basis (e1, e2, axis).
+        const glm::vec3 helper = std::abs(axis.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        const glm::vec3 e1 = glm::normalize(glm::cross(axis, helper));
+        const glm::vec3 e2 = glm::cross(axis, e1);
+        const float phase = 2.0f * kPi * rng.uniform();
+        const std::size_t base = std::size_t(i) * std::size_t(points);
+        for (int k = 0; k < points; ++k) {
+            const float s = points > 1 ? float(k) / float(points - 1) : 0.0f;
+            // Away from the poles, where the turns would crowd into zero-length segments.
+            const float theta = kPi * (0.05f + 0.9f * s);
+            const float phi = phase + 2.0f * kPi * float(kSpiralTurns) * s;
+            const glm::vec3 d = std::sin(theta) * (std::cos(phi) * e1 + std::sin(phi) * e2) + std::cos(theta) * axis;
+            const std::size_t v = base + std::size_t(k);
+            set.positions[v] = centre + shell * d;
+            set.attributes[0].values[v] = shell;
+            set.attributes[1].values[v] = s;
+        }
+    });
+    return finish(std::move(set));
+}
+
 // Dispatch -------------------------------------------------------------------------------------
 
 const std::vector<std::string>& generatorNames() {
-    static const std::vector<std::string> names{"tornado", "propeller", "brain", "convection", "turbulence"};
+    static const std::vector<std::string> names{"tornado", "propeller", "brain", "convection", "turbulence", "spiral"};
     return names;
 }
 
@@ -512,6 +545,7 @@ LineSet generateDataset(const std::string& name, int lines, int points, std::uin
     if (name == "brain") return generateBrain(lines, points, seed);
     if (name == "convection") return generateConvection(lines, points, seed);
     if (name == "turbulence") return generateTurbulence(lines, points, seed);
+    if (name == "spiral") return generateSpiral(lines, points, seed);
     throw std::invalid_argument("unknown generator \"" + name + "\"");
 }
 

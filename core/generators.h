@@ -68,6 +68,16 @@ constexpr float kConvectionHeight = 0.25f;
 LineSet generateTurbulence(int lines, int points, std::uint32_t seed);
 glm::vec3 turbulenceVelocity(const glm::vec3& p);  // p in unit-cube coordinates, periodic
 
+// Spirals: every line winds kSpiralTurns times around its own random axis on a sphere about the
+// centre (0.5, 0.5, 0.5), from polar angle 0.05 pi to 0.95 pi at a constant rate per vertex; the
+// spheres' radii are uniform in volume between 0.15 and 0.5, so the lines fill the ball of radius
+// 0.5 (the benchmark scene of the bare Embree baseline, configs/bench/spiral_1m.json). Exactly
+// `lines` polylines of `points` vertices; no vector field behind them. Attributes: "shell" (the
+// line's sphere radius), "parameter" (0 at the first vertex, 1 at the last).
+LineSet generateSpiral(int lines, int points, std::uint32_t seed);
+constexpr int kSpiralTurns = 3;
+constexpr float kSpiralMinShell = 0.15f, kSpiralMaxShell = 0.5f;
+
 // The names dataset.generate accepts, and dispatch by name (throws std::invalid_argument on an
 // unknown name: the scene parser validated it already).
 const std::vector<std::string>& generatorNames();

@@ -137,8 +137,8 @@ void readDataset(SpecReader r, DatasetSpec& d, const std::set<std::string>& over
         d.frame = r.getInt("frame", d.frame, -1, 10'000'000);  // time series (particles)
         if (r.has("trace")) readTrace(r.child("trace"), d.trace.emplace());
     } else {
-        d.generate =
-            r.getEnum("generate", "tornado", {"tornado", "propeller", "brain", "convection", "turbulence", "droplets"});
+        d.generate = r.getEnum("generate", "tornado",
+                               {"tornado", "propeller", "brain", "convection", "turbulence", "spiral", "droplets"});
         if (d.generate == "droplets") {  // particles: "lines"/"points" do not apply
             d.particles = r.getInt("particles", d.particles, 1, 100'000'000);
             d.seed = std::uint32_t(r.getInt("seed", int(d.seed), 0, std::numeric_limits<int>::max()));

@@ -33,7 +33,7 @@ struct TraceSpec {
 
 struct DatasetSpec {
     std::string path;      // a file (resolved relative to the scene file), or
-    std::string generate;  // a built-in generator: "tornado", "propeller", "brain", "convection", "turbulence"
+    std::string generate;  // a built-in generator: generatorNames() (core/generators.h) or "droplets"
     int lines = 200;       // generator parameters
     int points = 100;
     int particles = 50000;  // "droplets": particle count

@@ -13,6 +13,7 @@
 // before by `last`).
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -26,6 +27,24 @@ constexpr int kMaxHitsPerPass = 48;
 // (alpha cutoff 1) take fewer passes with a larger K.
 inline int hitsPerPass(float alphaCutoff) {
     return alphaCutoff >= 1.0f ? kMaxHitsPerPass : 16;
+}
+
+// Hits gathered per traversal of a transparent tube ray whose surfaces have about `opacity`. A
+// tube ray enters and leaves every tube, so n front-facing layers are about 2n hits, n the layers
+// of `opacity` that reach the cutoff: 1 - (1 - opacity)^n >= cutoff. A pass costs more the larger
+// K is (the traversal cannot prune behind the K-th nearest hit before it has K), and a second pass
+// costs about as much as the first, so K just above the need, 2n + 2, is fastest where many layers
+// are needed; where few are, one hit per traversal (K = 1, each pass pruned from its first hit) is.
+// Measured on the 1M spiral set (docs/performance.md, "Ray tracing on the CPU", hit batching):
+// opacity 0.3 (13 layers, ~24 hits per covered pixel): K = 28 2.5x faster than K = 1; opacity
+// 0.6 (6 layers): K = 14 11 % faster; opacity 0.8 (3 layers): K = 1 2x faster than K = 8.
+constexpr int kMinLayersToBatch = 5;
+inline int hitsPerPass(float alphaCutoff, float opacity) {
+    if (alphaCutoff >= 1.0f) return kMaxHitsPerPass;
+    const float a = std::clamp(opacity, 0.01f, 0.99f);
+    const float layers = std::ceil(std::log(1.0f - alphaCutoff) / std::log(1.0f - a));
+    if (layers < float(kMinLayersToBatch)) return 1;
+    return int(std::min(2.0f * layers + 2.0f, float(kMaxHitsPerPass)));
 }
 
 struct RayHitRecord {

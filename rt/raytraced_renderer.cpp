@@ -30,6 +30,31 @@ void collectHit(const RTCFilterFunctionNArguments* args) {
     if (!HitCollector::of(args).offer(hitRecordOf(args))) args->valid[0] = 0;
 }
 
+// Whether the part t in [0, tMax] of `ray` stays farther than `radius` from the segment [a, b]: then
+// it cannot meet a rounded cone on [a, b] whose radii are at most `radius` (the cone lies in that
+// capsule). Closest points of two segments (Ericson, Real-Time Collision Detection, 5.1.9). Any
+// pair of points bounds the distance from above, so a pair chosen off the optimum by rounding
+// could claim "clear" wrongly; that happens only for nearly parallel segments (the solve divides
+// by sin^2 of their angle), which are never claimed clear.
+bool rayStopsClearOfCapsule(const Ray& ray, float tMax, const glm::vec3& a, const glm::vec3& b, float radius) {
+    const glm::vec3 d1 = tMax * ray.dir, d2 = b - a, r = ray.origin - a;
+    const float aa = glm::dot(d1, d1), ee = glm::dot(d2, d2), f = glm::dot(d2, r);
+    const float c = glm::dot(d1, r), bb = glm::dot(d1, d2);
+    const float denom = aa * ee - bb * bb;
+    if (!(aa > 0.0f && ee > 0.0f) || denom <= 1e-3f * aa * ee) return false;  // nearly parallel (< ~1.8 deg)
+    float s = glm::clamp((bb * f - c * ee) / denom, 0.0f, 1.0f);
+    float t = (bb * s + f) / ee;
+    if (t < 0.0f) {
+        t = 0.0f;
+        s = glm::clamp(-c / aa, 0.0f, 1.0f);
+    } else if (t > 1.0f) {
+        t = 1.0f;
+        s = glm::clamp((bb - c) / aa, 0.0f, 1.0f);
+    }
+    const glm::vec3 gap = (ray.origin + s * d1) - (a + t * d2);
+    return glm::dot(gap, gap) > radius * radius;
+}
+
 }  // namespace
 
 struct RaytracedRenderer::PixelContext {
@@ -59,6 +84,14 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     r->m_lines = lines;
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
+    if (r->m_transparent) {
+        // K from the mean opacity of the vertices (rt/hit_collector.h).
+        double opacity = 0;
+        for (const glm::vec4& c : lines.color) opacity += c.w;
+        r->m_defaultHitsPerPass =
+            rt::hitsPerPass(r->m_alphaCutoff, lines.color.empty() ? 1.0f : float(opacity / double(lines.color.size())));
+        r->m_hitsPerPass = r->m_defaultHitsPerPass;
+    }
     // Opaque images are the union of the rounded cones either way; joined tubes have fewer surfaces.
     // (Opaque without neighbour flags, each segment a closed rounded cone, traced no faster: same
     // CPU time within noise on the 1M tornado's opaque frames, `scripts/bench/frame_times.sh
@@ -186,6 +219,8 @@ bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool
             if (miss2 > R2) continue;
             const float tEnter = along - std::sqrt(R2 - miss2);
             if (tEnter > best + slack) continue;
+            if (rayStopsClearOfCapsule(ray, best + slack, glm::vec3(a), glm::vec3(b), std::max(a.w, b.w) + slack))
+                continue;
         }
         consider(s);
     }
@@ -271,7 +306,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     HitCollector collector;
     rtcInitIntersectContext(&collector.context);
     collector.context.filter = collectHit;
-    collector.capacity = hitsPerPass(m_alphaCutoff);
+    collector.capacity = m_hitsPerPass;
 
     glm::vec3 color(0.0f);
     float alpha = 0.0f;
@@ -366,7 +401,7 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
     if (m_transparent) {
         j["alpha_cutoff"] = m_alphaCutoff;
-        j["hits_per_pass"] = hitsPerPass(m_alphaCutoff);
+        j["hits_per_pass"] = m_hitsPerPass;
         j["joint_epsilon"] = m_jointEpsilon;
     }
     return j;

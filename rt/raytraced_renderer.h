@@ -29,6 +29,7 @@
 //   of shaders/cone_tracing.glsl (rt/cone_traced_ao.h); "ray_traced" shoots render.ao.samples
 //   stratified cosine-weighted hemisphere rays per shaded point (rt/ray_traced_ao.h).
 // Images are deterministic: every pixel is computed independently of the thread that runs it.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -41,6 +42,7 @@
 #include "core/styled_lines.h"
 #include "core/technique.h"
 #include "core/tiling.h"
+#include "rt/hit_collector.h"
 #include "rt/primary_rays.h"
 
 namespace tc::rt {
@@ -74,6 +76,13 @@ public:
     // at a time: their filter callback collects hits per ray). Images do not depend on it.
     void setTraversal(Traversal t) { m_traversal = t; }
     Traversal traversal() const { return m_traversal; }
+
+    // How many hits a transparent ray collects per traversal (rt/hit_collector.h): 0 = the default
+    // (hitsPerPass of the alpha cutoff and the lines' mean opacity), 1 = one traversal per hit as a
+    // plain rtcIntersect1 loop would. Images do not depend on it; for tests and
+    // tests/bench/raytraced_bench.cpp.
+    void setHitsPerPass(int k) { m_hitsPerPass = k > 0 ? std::min(k, kMaxHitsPerPass) : m_defaultHitsPerPass; }
+    int hitsPerPass() const { return m_hitsPerPass; }
 
     // Total Embree hits the last render() composited or skipped (transparent: those in front of
     // the cutoff; opaque: 1 per covered pixel), for tests and timings.
@@ -111,6 +120,7 @@ private:
     std::unique_ptr<EmbreeLines> m_embree;
     std::unique_ptr<AoEstimator> m_ao;
     Traversal m_traversal = Traversal::Packet16;
+    int m_hitsPerPass = 16, m_defaultHitsPerPass = 16;
     SceneBounds m_bounds;  // of the BVH: tiles whose rays miss it are background (forEachTile)
     mutable std::uint64_t m_lastHits = 0;
 };

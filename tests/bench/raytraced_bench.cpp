@@ -3,8 +3,10 @@
 //   raytrace per traversal mode (rtcIntersect1 / rtcIntersect8 / rtcIntersect1M), then the output
 //   path of the frame loop: compositeUnder and writePng at the given zlib levels.
 //   tubecast_raytraced_bench SCENE [--frames N] [--set key=value ...] [--modes single,packet8,packet16,stream]
-//                            [--png-levels 6,1] [--png-dir DIR]
-// Prints per-variant medians over the frames (wall ms) and the PNG sizes.
+//                            [--hits-per-pass 1,4,16] [--png-levels 6,1] [--png-dir DIR]
+// Prints per-variant medians over the frames (wall ms) and the PNG sizes. --hits-per-pass (transparent
+// scenes): the raytrace variants again per number of hits collected per traversal (0 = the default),
+// with the Embree hits per covered pixel.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -62,13 +64,14 @@ int main(int argc, char** argv) {
     if (argc < 2) {
         std::cerr << "usage: tubecast_raytraced_bench SCENE [--frames N] [--set k=v ...] [--modes "
                      "single,packet8,packet16,stream]"
-                     " [--png-levels 6,1] [--png-dir DIR]\n";
+                     " [--hits-per-pass 1,4,16] [--png-levels 6,1] [--png-dir DIR]\n";
         return 2;
     }
     std::vector<std::string> overrides{"render.technique=raytraced", "output.name=bench.####"};
     int frames = 3;
     std::vector<std::string> modes{"single", "packet8", "stream"};
     std::vector<std::string> pngLevels{"6", "1"};
+    std::vector<std::string> hitsPerPass{"0"};
     std::string pngDir = std::filesystem::temp_directory_path() / "tubecast_raytraced_bench";
     for (int i = 2; i + 1 < argc; i += 2) {
         const std::string a = argv[i], v = argv[i + 1];
@@ -78,6 +81,8 @@ int main(int argc, char** argv) {
             overrides.push_back(v);
         else if (a == "--modes")
             modes = split(v);
+        else if (a == "--hits-per-pass")
+            hitsPerPass = split(v);
         else if (a == "--png-levels")
             pngLevels = split(v);
         else if (a == "--png-dir")
@@ -109,17 +114,24 @@ int main(int argc, char** argv) {
                                                       {"stream", rt::Traversal::Stream}};
     std::map<std::string, std::vector<double>> ms, cpu;
     std::map<std::string, std::uintmax_t> bytes;
+    std::map<std::string, double> hitsPerPixel;
     FrameImages images;
     for (int f = 0; f < frames; ++f) {
         const Camera camera = cameraAtFrame(scene.animation, base, f);
-        for (const auto& mode : modes) {
-            renderer->setTraversal(byName.at(mode));
-            tc::CpuStageTimer timer;
-            const double c0 = processCpuMs();
-            renderer->render(camera, w, h, images, timer);
-            ms["raytrace " + mode].push_back(timer.totalMs());
-            cpu["raytrace " + mode].push_back(processCpuMs() - c0);
-        }
+        for (const auto& mode : modes)
+            for (const auto& k : hitsPerPass) {
+                renderer->setTraversal(byName.at(mode));
+                renderer->setHitsPerPass(std::stoi(k));
+                const std::string name = "raytrace " + mode + (k == "0" ? "" : " K=" + k);
+                tc::CpuStageTimer timer;
+                const double c0 = processCpuMs();
+                renderer->render(camera, w, h, images, timer);
+                ms[name].push_back(timer.totalMs());
+                cpu[name].push_back(processCpuMs() - c0);
+                std::size_t covered = 0;
+                for (std::size_t i = 0; i < images.pixelCount(); ++i) covered += images.rgba[4 * i + 3] > 0.0f;
+                hitsPerPixel[name] = covered ? double(renderer->lastHitCount()) / double(covered) : 0.0;
+            }
         auto t1 = Clock::now();
         double c1 = processCpuMs();
         compositeUnder(images, scene.image.background);
@@ -142,7 +154,8 @@ int main(int argc, char** argv) {
     for (const auto& [name, v] : ms) {
         std::ostringstream all;
         for (double x : v) all << (all.tellp() > 0 ? " " : "") << int(x + 0.5);
-        const std::string size = bytes.count(name) ? std::to_string(bytes[name] / 1024) + " KiB" : "";
+        std::string size = bytes.count(name) ? std::to_string(bytes[name] / 1024) + " KiB" : "";
+        if (hitsPerPixel.count(name)) size = std::to_string(hitsPerPixel[name]) + " hits per covered pixel";
         std::printf("| %s | %.1f | %.1f | %s | %s |\n", name.c_str(), median(v), median(cpu[name]), all.str().c_str(),
                     size.c_str());
     }

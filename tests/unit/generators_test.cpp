@@ -1,6 +1,6 @@
 // Built-in generators (core/generators.h): the tornado streamlines are deterministic, in the
 // unit cube and evenly spaced; the benchmark stand-ins (propeller, brain, convection, turbulence)
-// are deterministic, have the documented sizes, stay in their domains and follow their fields.
+// and the spirals are deterministic, have the documented sizes, stay in their domains and follow their fields.
 #include "core/generators.h"
 
 #include <gtest/gtest.h>
@@ -202,10 +202,11 @@ TEST_P(StandIn, PolylinesAreValidLineSets) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Generators, StandIn, ::testing::Values("propeller", "brain", "convection", "turbulence"));
+INSTANTIATE_TEST_SUITE_P(Generators, StandIn,
+                         ::testing::Values("propeller", "brain", "convection", "turbulence", "spiral"));
 
 TEST(Generators, StandInsWithFixedLengthsHaveLinesTimesPointsMinusOneSegments) {
-    for (const char* name : {"propeller", "brain", "convection"}) {
+    for (const char* name : {"propeller", "brain", "convection", "spiral"}) {
         for (auto [lines, points] : {std::pair{1, 2}, std::pair{37, 11}, std::pair{250, 64}}) {
             LineSet set = generateDataset(name, lines, points, 2);
             EXPECT_EQ(set.polylineCount(), std::size_t(lines)) << name;
@@ -261,6 +262,38 @@ TEST(Generators, StandInsStayInTheirDocumentedDomains) {
             ASSERT_TRUE(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1 && p.z >= 0 && p.z <= 1)
                 << p.x << ", " << p.y << ", " << p.z;
     }
+}
+
+TEST(Generators, SpiralsLieOnTheirShellsInsideTheBallAndFillIt) {
+    // The benchmark's 2000 x 500 spiral set: 998,000 segments, every vertex at its line's shell
+    // radius from the centre, shells spanning 0.15..0.5, and (3 turns each) all polar directions.
+    LineSet set = generateSpiral(2000, 500, 1);
+    EXPECT_EQ(set.polylineCount(), 2000u);
+    EXPECT_EQ(set.segmentCount(), 998'000u);
+    const Attribute& shell = set.attributes[0];
+    ASSERT_EQ(shell.name, "shell");
+    for (std::size_t v = 0; v < set.vertexCount(); ++v) {
+        const float r = glm::length(set.positions[v] - glm::vec3(0.5f));
+        ASSERT_NEAR(r, shell.values[v], 1e-5f) << "vertex " << v;
+        ASSERT_TRUE(r >= kSpiralMinShell - 1e-5f && r <= kSpiralMaxShell + 1e-5f) << "vertex " << v << ": " << r;
+    }
+    EXPECT_LT(shell.min, kSpiralMinShell + 0.01f);
+    EXPECT_GT(shell.max, kSpiralMaxShell - 0.01f);
+    // The bounds reach the ball's extent on every axis (random axes, so some line passes near each
+    // pole of the ball) and never beyond.
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_LT(set.bounds.lo[a], 0.02f) << a;
+        EXPECT_GE(set.bounds.lo[a], 0.0f - 1e-5f) << a;
+        EXPECT_GT(set.bounds.hi[a], 0.98f) << a;
+        EXPECT_LE(set.bounds.hi[a], 1.0f + 1e-5f) << a;
+    }
+    // Segments are short against the tube radius of the benchmark (0.004) times a few: the spiral
+    // is smooth at 500 points.
+    float longest = 0.0f;
+    for (std::size_t p = 0; p < set.polylineCount(); ++p)
+        for (std::uint32_t v = set.offsets[p] + 1; v < set.offsets[p + 1]; ++v)
+            longest = std::max(longest, glm::length(set.positions[v] - set.positions[v - 1]));
+    EXPECT_LT(longest, 0.03f);
 }
 
 // Central-difference tangents against the field's direction at interior vertices.

@@ -12,6 +12,7 @@
 #include "core/cpu_reference.h"
 #include "core/transparent_reference.h"
 #include "rt/cone_traced_ao.h"
+#include "rt/hit_collector.h"
 #include "rt/raytraced_renderer.h"
 
 namespace tc {
@@ -285,6 +286,60 @@ TEST(Raytraced, opaque_images_are_identical_with_single_rays_packets_and_streams
             EXPECT_EQ(images[k].id, images[0].id) << k;
         }
     }
+}
+
+TEST(Raytraced, transparent_images_are_identical_for_every_number_of_hits_per_traversal) {
+    // The 70 stacked tubes of the test above (up to 70 entries and exits per ray) and bent tubes
+    // without cap clipping (joint beads): one hit per traversal, a few, the default and the most
+    // must composite the same hits in the same order, cut off or exact.
+    std::vector<PolylineSpec> stack;
+    for (int k = 0; k < 70; ++k) {
+        const float z = -1.0f + 2.0f * float(k) / 69.0f;
+        const float a = 0.05f + 0.01f * float(k % 7);
+        stack.push_back({{{-0.8f, -0.1f + 0.002f * k, z, 0.3f}, {0.8f, 0.1f - 0.002f * k, z, 0.3f}},
+                         {0.2f + 0.01f * k, 0.5f, 0.9f - 0.01f * k, a},
+                         {0.9f, 0.3f, 0.1f, a}});
+    }
+    const StyledLines stacked = makeLines(stack), bent = makeLines(randomPolylines(9u, 12, false, 0.2f, 0.6f));
+    for (const StyledLines* lines : {&stacked, &bent})
+        for (float cutoff : {0.99f, 1.0f}) {
+            auto r =
+                rt::RaytracedRenderer::create(sceneFor(Transparency::DepthPeeling, lines == &stacked, cutoff), *lines);
+            const Camera cam = cameraAt({0.1f, 0.2f, 3.0f});
+            std::vector<FrameImages> images;
+            std::vector<std::uint64_t> hits;
+            for (int k : {1, 3, 0, rt::kMaxHitsPerPass}) {
+                r->setHitsPerPass(k);
+                FrameImages img;
+                tc::CpuStageTimer timer;
+                r->render(cam, 40, 32, img, timer);
+                images.push_back(std::move(img));
+                hits.push_back(r->lastHitCount());
+            }
+            ASSERT_GT(hits[0], 40u * 32u) << "most pixels see several hits";
+            for (std::size_t k = 1; k < images.size(); ++k) {
+                EXPECT_EQ(images[k].rgba, images[0].rgba) << k;
+                EXPECT_EQ(images[k].depth, images[0].depth) << k;
+                EXPECT_EQ(images[k].normal, images[0].normal) << k;
+                EXPECT_EQ(images[k].id, images[0].id) << k;
+                EXPECT_EQ(hits[k], hits[0]) << k;
+            }
+        }
+}
+
+TEST(Raytraced, hits_per_traversal_cover_the_layers_the_alpha_cutoff_needs) {
+    // 1 - 0.7^13 >= 0.99 > 1 - 0.7^12: 13 layers, each entered and left.
+    EXPECT_EQ(rt::hitsPerPass(0.99f, 0.3f), 2 * 13 + 2);
+    EXPECT_EQ(rt::hitsPerPass(0.99f, 0.6f), 2 * 6 + 2);
+    // Few layers: one hit per traversal.
+    EXPECT_EQ(rt::hitsPerPass(0.99f, 0.8f), 1);
+    EXPECT_EQ(rt::hitsPerPass(0.99f, 1.0f), 1);
+    EXPECT_EQ(rt::hitsPerPass(0.99f, 0.05f), rt::kMaxHitsPerPass);
+    EXPECT_EQ(rt::hitsPerPass(1.0f, 0.9f), rt::kMaxHitsPerPass);  // exact: every hit
+    // The renderer takes K from its lines' mean opacity.
+    auto r = rt::RaytracedRenderer::create(sceneFor(Transparency::DepthPeeling, true, 0.99f),
+                                           makeLines(randomPolylines(3u, 6, true, 0.6f, 0.6f)));
+    EXPECT_EQ(r->hitsPerPass(), rt::hitsPerPass(0.99f, 0.6f));
 }
 
 TEST(Raytraced, a_target_reused_across_frames_gets_the_same_image_as_a_fresh_one) {

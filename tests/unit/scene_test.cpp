@@ -195,7 +195,7 @@ TEST(Scene, DatasetWithBothPathAndGenerateIsAnError) {
 TEST(Scene, UnknownGeneratorListsTheValidOnes) {
     EXPECT_EQ(errorOf(json::parse(R"({"dataset": {"generate": "hurricane"}})")),
               "scene.json: dataset.generate: expected one of \"tornado\", \"propeller\", \"brain\", \"convection\", "
-              "\"turbulence\", \"droplets\", got \"hurricane\"");
+              "\"turbulence\", \"spiral\", \"droplets\", got \"hurricane\"");
 }
 
 TEST(Scene, GeneratorParametersAreCheckedAndLimited) {
