@@ -468,283 +468,284 @@ void VrcRenderer::applyLightingUniforms(GLuint p) const {
         glProgramUniform1i(p, uniformLocation(p, "uVrcAoVolume"), GLint(binding::kVrcAoVolume));
         glBindTextureUnit(binding::kVrcAoVolume, m_aoVolume.id());
     }
-    void VrcRenderer::uploadLodVolume(const VrcModel& model) {
-        const auto t = std::chrono::steady_clock::now();
-        const std::vector<VrcLodLevel> levels = buildVrcLodVolume(model, !m_transparent);
-        if (levels.size() > std::size_t(kMaxLodLevels))
-            throw std::logic_error("VrcRenderer: " + std::to_string(levels.size()) + " LoD levels, more than " +
-                                   std::to_string(kMaxLodLevels));
-        // Levels side by side along x, each with a one-texel zero border (shaders/vrc_lod.glsl).
-        glm::ivec3 atlas(0, levels[0].size.y + 2, levels[0].size.z + 2);
-        m_lodAtlasX.clear();
-        m_lodLevelSizes.clear();
-        for (const VrcLodLevel& level : levels) {
-            m_lodLevelSizes.push_back(level.size);
-            m_lodAtlasX.push_back(float(atlas.x));
-            atlas.x += level.size.x + 2;
+}
+
+void VrcRenderer::uploadLodVolume(const VrcModel& model) {
+    const auto t = std::chrono::steady_clock::now();
+    const std::vector<VrcLodLevel> levels = buildVrcLodVolume(model, !m_transparent);
+    if (levels.size() > std::size_t(kMaxLodLevels))
+        throw std::logic_error("VrcRenderer: " + std::to_string(levels.size()) + " LoD levels, more than " +
+                               std::to_string(kMaxLodLevels));
+    // Levels side by side along x, each with a one-texel zero border (shaders/vrc_lod.glsl).
+    glm::ivec3 atlas(0, levels[0].size.y + 2, levels[0].size.z + 2);
+    m_lodAtlasX.clear();
+    m_lodLevelSizes.clear();
+    for (const VrcLodLevel& level : levels) {
+        m_lodLevelSizes.push_back(level.size);
+        m_lodAtlasX.push_back(float(atlas.x));
+        atlas.x += level.size.x + 2;
+    }
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
+    if (atlas.x > maxSize || atlas.y > maxSize || atlas.z > maxSize)
+        throw InputError("render.vrc.lod: the LoD volume needs a " + std::to_string(atlas.x) + " x " +
+                         std::to_string(atlas.y) + " x " + std::to_string(atlas.z) +
+                         " texture, more than GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize) +
+                         "; lower render.vrc.resolution");
+    m_lodAtlasSize = atlas;
+    m_lodAtlas = Texture::create(GL_TEXTURE_3D);
+    glTextureStorage3D(m_lodAtlas.id(), 1, GL_RGBA16F, atlas.x, atlas.y, atlas.z);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(m_lodAtlas.id(), 0, GL_RGBA, GL_FLOAT, zero);
+    for (std::size_t l = 0; l < levels.size(); ++l)
+        glTextureSubImage3D(m_lodAtlas.id(), 0, GLint(m_lodAtlasX[l]) + 1, 1, 1, levels[l].size.x, levels[l].size.y,
+                            levels[l].size.z, GL_RGBA, GL_FLOAT, levels[l].value.data());
+    glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(m_lodAtlas.id(), wrap, GL_CLAMP_TO_EDGE);
+    m_lodBytes3d = std::size_t(atlas.x) * atlas.y * atlas.z * 8;
+    m_lodBuildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+void VrcRenderer::setLodUniforms(GLuint p) const {
+    if (m_lodAtlas.id() == 0) return;
+    const glm::vec3 inv = 1.0f / glm::vec3(m_lodAtlasSize);
+    glProgramUniform3fv(p, uniformLocation(p, "uLodAtlasInvSize"), 1, &inv[0]);
+    glProgramUniform1fv(p, uniformLocation(p, "uLodAtlasX"), GLsizei(m_lodAtlasX.size()), m_lodAtlasX.data());
+    glProgramUniform1i(p, uniformLocation(p, "uLodLevels"), GLint(m_lodAtlasX.size()));
+    glProgramUniform1i(p, uniformLocation(p, "uLodMinLevel"), m_lodMinLevel);
+    glProgramUniform1f(p, uniformLocation(p, "uLodFootprint"), m_spec.lod.pixelFootprint);
+    // Opaque rays end at their first hit: only the footprint applies. opacity_start = 1 is off.
+    const bool acceleration = m_transparent && m_spec.lod.opacityStart < 1.0f;
+    glProgramUniform1f(p, uniformLocation(p, "uLodOpacityStart"), acceleration ? m_spec.lod.opacityStart : 2.0f);
+    glBindTextureUnit(binding::kVrcLodVolume, m_lodAtlas.id());
+}
+
+void VrcRenderer::enableLodStats() {
+    if (m_lodAtlas.id() == 0 || m_lodStats.id() != 0) return;
+    m_defines.push_back("VRC_LOD_STATS");
+    m_program = compileProgram({{GL_COMPUTE_SHADER, "vrc_raycast.comp"}}, m_defines);
+    m_lodStats = makeBuffer((kMaxLodLevels + 1) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+std::vector<std::string> VrcRenderer::rayCasterDefines() const {
+    std::vector<std::string> defines;
+    if (m_quantization > 0) {
+        defines.push_back("QUANTIZED");
+        defines.push_back("VRC_Q " + std::to_string(m_quantization));
+    }
+    if (m_transparent) defines.push_back("TRANSPARENT");
+    // Only the compositing reads a hit's alpha: opaque rendering ignores the key.
+    if (m_transparent && m_spec.pathLengthOpacity) defines.push_back("VRC_PATH_LENGTH_OPACITY");
+    defines.push_back("BRICK_SKIP");
+    defines.push_back("VRC_BRICK " + std::to_string(kBrick));
+    defines.push_back("VRC_GROUP_SIZE " + std::to_string(kGroupSize));
+    defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(m_pieceBlockCount));
+    defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(m_blockShift));
+    if (m_pieceTexture.id() != 0) defines.push_back("VRC_PIECE_TEXTURE");
+    if (m_spec.neighbors) defines.push_back("NEIGHBORS");
+    return defines;
+}
+
+PixelBuffers VrcRenderer::pixelBuffers(const Scene&) {
+    return {16 + 16 + 4 + 4, 0, "voxel_raycast"};  // resize(): colour, normal + depth, id, AO image
+}
+
+void VrcRenderer::resize(int width, int height) {
+    if (width == m_width && height == m_height) return;
+    m_width = width;
+    m_height = height;
+    m_color = makeTexture2D(GL_RGBA32F, width, height);
+    m_normalDepth = makeTexture2D(GL_RGBA32F, width, height);
+    m_id = makeTexture2D(GL_R32UI, width, height);
+    m_aoImage = makeTexture2D(GL_R32F, width, height);
+}
+
+void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
+    const int w = setup.width, h = setup.height;
+    resize(w, h);
+
+    timer.begin("raycast");
+    uploadFrameUniforms(m_frameUniforms, frameUniforms(setup, m_lighting));
+    const GLuint p = m_program.id();
+    glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
+    glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
+    glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
+    glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), m_maxRadius);
+    glProgramUniform1f(p, uniformLocation(p, "uOpacityThreshold"), m_spec.opacityThreshold);
+    if (m_ao) {
+        m_ao->apply(p);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowTanHalfAperture"),
+                           std::tan(0.5f * glm::radians(m_spec.shadowApertureDeg)));
+        glProgramUniform1f(p, uniformLocation(p, "uShadowDistance"), m_shadowDistance);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowStrength"), 1.0f);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowStartOffset"), m_shadowStartOffset);
+    }
+    applyLightingUniforms(p);
+    if (m_shadowLines.id() != 0) {
+        glProgramUniform3i(p, uniformLocation(p, "uShadowGridSize"), m_shadowGridSize.x, m_shadowGridSize.y,
+                           m_shadowGridSize.z);
+        glProgramUniform1f(p, uniformLocation(p, "uShadowVoxelSize"), m_shadowVoxelSize);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcShadowLines, m_shadowLines.id());
+    }
+    glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y,
+                       m_brickGridSize.z);
+    setLodUniforms(p);
+    if (m_lodStats.id() != 0) {
+        const std::uint32_t zero = 0;
+        glClearNamedBufferData(m_lodStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcLodStats, m_lodStats.id());
+    }
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcBricks, m_bricks.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, m_header.id());
+    {
+        const std::size_t perBlock = std::size_t(1) << m_blockShift, bytesPerPiece = m_bytesPerPiece;
+        for (std::size_t b = 0; b < m_pieceBlockCount; ++b) {
+            const std::size_t first = std::min(b * perBlock, m_piecesInBuffer - 1);
+            const std::size_t n = std::max<std::size_t>(1, std::min(perBlock, m_piecesInBuffer - first));
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER,
+                              b == 0 ? binding::kVrcPieces : binding::kVrcPieceBlocks + GLuint(b - 1),
+                              m_pieceBuffer.id(), GLintptr(first * bytesPerPiece), GLsizeiptr(n * bytesPerPiece));
         }
-        GLint maxSize = 0;
-        glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
-        if (atlas.x > maxSize || atlas.y > maxSize || atlas.z > maxSize)
-            throw InputError("render.vrc.lod: the LoD volume needs a " + std::to_string(atlas.x) + " x " +
-                             std::to_string(atlas.y) + " x " + std::to_string(atlas.z) +
-                             " texture, more than GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize) +
-                             "; lower render.vrc.resolution");
-        m_lodAtlasSize = atlas;
-        m_lodAtlas = Texture::create(GL_TEXTURE_3D);
-        glTextureStorage3D(m_lodAtlas.id(), 1, GL_RGBA16F, atlas.x, atlas.y, atlas.z);
-        const float zero[4] = {0, 0, 0, 0};
-        glClearTexImage(m_lodAtlas.id(), 0, GL_RGBA, GL_FLOAT, zero);
-        for (std::size_t l = 0; l < levels.size(); ++l)
-            glTextureSubImage3D(m_lodAtlas.id(), 0, GLint(m_lodAtlasX[l]) + 1, 1, 1, levels[l].size.x, levels[l].size.y,
-                                levels[l].size.z, GL_RGBA, GL_FLOAT, levels[l].value.data());
-        glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-            glTextureParameteri(m_lodAtlas.id(), wrap, GL_CLAMP_TO_EDGE);
-        m_lodBytes3d = std::size_t(atlas.x) * atlas.y * atlas.z * 8;
-        m_lodBuildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+    }
+    if (m_pieceTexture.id() != 0) glBindTextureUnit(binding::kVrcPieceTexels, m_pieceTexture.id());
+    glBindImageTexture(binding::kVrcColor, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kVrcNormalDepth, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(binding::kVrcId, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+    glBindImageTexture(binding::kVrcAo, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glDispatchCompute(GLuint((w + kGroupSize - 1) / kGroupSize), GLuint((h + kGroupSize - 1) / kGroupSize), 1);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glUseProgram(0);
+    timer.setItems(std::uint64_t(w) * std::uint64_t(h));
+    timer.end();
+    if (m_lodStats.id() != 0) {
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        m_lodSamples.assign(kMaxLodLevels + 1, 0u);
+        glGetNamedBufferSubData(m_lodStats.id(), 0, GLsizeiptr(m_lodSamples.size() * sizeof(std::uint32_t)),
+                                m_lodSamples.data());
     }
 
-    void VrcRenderer::setLodUniforms(GLuint p) const {
-        if (m_lodAtlas.id() == 0) return;
-        const glm::vec3 inv = 1.0f / glm::vec3(m_lodAtlasSize);
-        glProgramUniform3fv(p, uniformLocation(p, "uLodAtlasInvSize"), 1, &inv[0]);
-        glProgramUniform1fv(p, uniformLocation(p, "uLodAtlasX"), GLsizei(m_lodAtlasX.size()), m_lodAtlasX.data());
-        glProgramUniform1i(p, uniformLocation(p, "uLodLevels"), GLint(m_lodAtlasX.size()));
-        glProgramUniform1i(p, uniformLocation(p, "uLodMinLevel"), m_lodMinLevel);
-        glProgramUniform1f(p, uniformLocation(p, "uLodFootprint"), m_spec.lod.pixelFootprint);
-        // Opaque rays end at their first hit: only the footprint applies. opacity_start = 1 is off.
-        const bool acceleration = m_transparent && m_spec.lod.opacityStart < 1.0f;
-        glProgramUniform1f(p, uniformLocation(p, "uLodOpacityStart"), acceleration ? m_spec.lod.opacityStart : 2.0f);
-        glBindTextureUnit(binding::kVrcLodVolume, m_lodAtlas.id());
+    timer.begin("readback");
+    const std::size_t n = std::size_t(w) * h;
+    out.width = w;
+    out.height = h;
+    out.rgba.resize(4 * n);
+    readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), out.rgba.data());
+    std::vector<float> normalDepth(4 * n);
+    readTextureFlipped(m_normalDepth.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), normalDepth.data());
+    out.id.resize(n);
+    readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
+    out.normal.resize(3 * n);
+    out.depth.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = normalDepth[4 * i + c];
+        out.depth[i] = normalDepth[4 * i + 3];
     }
-
-    void VrcRenderer::enableLodStats() {
-        if (m_lodAtlas.id() == 0 || m_lodStats.id() != 0) return;
-        m_defines.push_back("VRC_LOD_STATS");
-        m_program = compileProgram({{GL_COMPUTE_SHADER, "vrc_raycast.comp"}}, m_defines);
-        m_lodStats = makeBuffer((kMaxLodLevels + 1) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    out.ao.clear();
+    if (m_aoEnabled) {
+        out.ao.resize(n);
+        readTextureFlipped(m_aoImage.id(), GL_RED, GL_FLOAT, w, h, 1, sizeof(float), out.ao.data());
     }
+    timer.end();
+}
 
-    std::vector<std::string> VrcRenderer::rayCasterDefines() const {
-        std::vector<std::string> defines;
-        if (m_quantization > 0) {
-            defines.push_back("QUANTIZED");
-            defines.push_back("VRC_Q " + std::to_string(m_quantization));
-        }
-        if (m_transparent) defines.push_back("TRANSPARENT");
-        // Only the compositing reads a hit's alpha: opaque rendering ignores the key.
-        if (m_transparent && m_spec.pathLengthOpacity) defines.push_back("VRC_PATH_LENGTH_OPACITY");
-        defines.push_back("BRICK_SKIP");
-        defines.push_back("VRC_BRICK " + std::to_string(kBrick));
-        defines.push_back("VRC_GROUP_SIZE " + std::to_string(kGroupSize));
-        defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(m_pieceBlockCount));
-        defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(m_blockShift));
-        if (m_pieceTexture.id() != 0) defines.push_back("VRC_PIECE_TEXTURE");
-        if (m_spec.neighbors) defines.push_back("NEIGHBORS");
-        return defines;
+nlohmann::json VrcRenderer::lodDescription() const {
+    nlohmann::json d = {
+        {"levels", m_lodAtlasX.size()},
+        {"pixel_footprint", m_spec.lod.pixelFootprint},
+        {"opacity_start", m_transparent ? nlohmann::json(m_spec.lod.opacityStart) : nlohmann::json("opaque")},
+        {"volume_mb", double(m_lodBytes3d) / (1024.0 * 1024.0)},
+        {"build_ms", m_lodBuildMs}};
+    // Per level: the voxels and their MB at 8 bytes (RGBA16F), the borders of the atlas excluded.
+    nlohmann::json sizes = nlohmann::json::array(), mb = nlohmann::json::array();
+    for (const glm::ivec3& n : m_lodLevelSizes) {
+        sizes.push_back({n.x, n.y, n.z});
+        mb.push_back(double(n.x) * n.y * n.z * 8.0 / (1024.0 * 1024.0));
     }
-
-    PixelBuffers VrcRenderer::pixelBuffers(const Scene&) {
-        return {16 + 16 + 4 + 4, 0, "voxel_raycast"};  // resize(): colour, normal + depth, id, AO image
+    d["level_grids"] = sizes;
+    d["level_mb"] = mb;
+    if (!m_lodSamples.empty()) {
+        d["samples_per_level"] = std::vector<std::uint32_t>(m_lodSamples.begin(), m_lodSamples.end() - 1);
+        d["rays"] = m_lodSamples.back();
     }
+    return d;
+}
 
-    void VrcRenderer::resize(int width, int height) {
-        if (width == m_width && height == m_height) return;
-        m_width = width;
-        m_height = height;
-        m_color = makeTexture2D(GL_RGBA32F, width, height);
-        m_normalDepth = makeTexture2D(GL_RGBA32F, width, height);
-        m_id = makeTexture2D(GL_R32UI, width, height);
-        m_aoImage = makeTexture2D(GL_R32F, width, height);
-    }
+nlohmann::json VrcRenderer::describe() const {
+    const double mb = 1024.0 * 1024.0;
+    return {
+        {"technique", "voxel_raycast"},
+        {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
+        {"grid", {m_size.x, m_size.y, m_size.z}},
+        {"voxel_size", m_voxelSize},
+        // Above 1 tubes are cut one voxel out of their axis' voxels (docs/scene-spec.md, vrc.neighbors).
+        {"max_radius_voxels", m_voxelSize > 0 ? m_maxRadius / m_voxelSize : 0.0f},
+        {"quantization", m_quantization},
+        {"neighbors", m_spec.neighbors},
+        {"opacity_threshold", m_spec.opacityThreshold},
+        {"path_length_opacity", m_transparent && m_spec.pathLengthOpacity},
+        {"pieces", m_pieces},
+        {"copies", m_copies},
+        {"copies_did_not_fit", m_copiesDidNotFit},
+        {"piece_blocks", m_pieceBlockCount},
+        {"piece_texture", m_pieceTexture.id() != 0},
+        {"segments", m_segments},
+        {"bytes_per_piece", m_bytesPerPiece},
+        {"model_mb", double(m_modelBytes) / mb},
+        {"raw_lines_mb", double(m_rawBytes) / mb},
+        {"build_ms", m_buildMs},
+        {"build", m_gpuBuild ? "gpu" : "cpu"},
+        {"upload_ms", m_uploadMs},
+        {"lod", m_lodAtlas.id() != 0 ? lodDescription() : nlohmann::json(false)},
+        {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
+        {"shadow_mode", !m_spec.shadows                                         ? "none"
+                        : m_spec.shadowMode == VrcSpec::ShadowMode::Soft        ? "soft"
+                        : m_spec.shadowMode == VrcSpec::ShadowMode::Hard        ? "hard"
+                        : m_spec.shadowMode == VrcSpec::ShadowMode::DensityCone ? "density_cone"
+                                                                                : "hard_tubes"},
+        {"ao_method", !m_aoEnabled                                           ? "none"
+                      : m_spec.ao.method == VrcSpec::Ao::Method::DensityRays ? "density_rays"
+                      : m_spec.ao.method == VrcSpec::Ao::Method::Precomputed ? "precomputed"
+                                                                             : "cone_traced"},
+        {"ao_precompute_ms", m_aoPrecomputeMs},
+        {"hard_shadows", m_shadowLines.id() != 0
+                             ? nlohmann::json{{"level", m_shadowLevel},
+                                              {"grid", {m_shadowGridSize.x, m_shadowGridSize.y, m_shadowGridSize.z}},
+                                              {"build_ms", m_representativeMs}}
+                             : nlohmann::json(false)},
+        {"ambient_occlusion", m_ao && m_aoEnabled && m_spec.ao.method == VrcSpec::Ao::Method::ConeTraced
+                                  ? m_ao->describe()
+                                  : nlohmann::json(m_aoEnabled)}};
+}
 
-    void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& timer) {
-        const int w = setup.width, h = setup.height;
-        resize(w, h);
-
-        timer.begin("raycast");
-        uploadFrameUniforms(m_frameUniforms, frameUniforms(setup, m_lighting));
-        const GLuint p = m_program.id();
-        glProgramUniform3i(p, uniformLocation(p, "uGridSize"), m_size.x, m_size.y, m_size.z);
-        glProgramUniform3fv(p, uniformLocation(p, "uGridOrigin"), 1, &m_origin[0]);
-        glProgramUniform1f(p, uniformLocation(p, "uVoxelSize"), m_voxelSize);
-        glProgramUniform1f(p, uniformLocation(p, "uMaxRadius"), m_maxRadius);
-        glProgramUniform1f(p, uniformLocation(p, "uOpacityThreshold"), m_spec.opacityThreshold);
-        if (m_ao) {
-            m_ao->apply(p);
-            glProgramUniform1f(p, uniformLocation(p, "uShadowTanHalfAperture"),
-                               std::tan(0.5f * glm::radians(m_spec.shadowApertureDeg)));
-            glProgramUniform1f(p, uniformLocation(p, "uShadowDistance"), m_shadowDistance);
-            glProgramUniform1f(p, uniformLocation(p, "uShadowStrength"), 1.0f);
-            glProgramUniform1f(p, uniformLocation(p, "uShadowStartOffset"), m_shadowStartOffset);
-        }
-        applyLightingUniforms(p);
-        if (m_shadowLines.id() != 0) {
-            glProgramUniform3i(p, uniformLocation(p, "uShadowGridSize"), m_shadowGridSize.x, m_shadowGridSize.y,
-                               m_shadowGridSize.z);
-            glProgramUniform1f(p, uniformLocation(p, "uShadowVoxelSize"), m_shadowVoxelSize);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcShadowLines, m_shadowLines.id());
-        }
-        glProgramUniform3i(p, uniformLocation(p, "uBrickGridSize"), m_brickGridSize.x, m_brickGridSize.y,
-                           m_brickGridSize.z);
-        setLodUniforms(p);
-        if (m_lodStats.id() != 0) {
-            const std::uint32_t zero = 0;
-            glClearNamedBufferData(m_lodStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcLodStats, m_lodStats.id());
-        }
-        glUseProgram(p);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcBricks, m_bricks.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcHeader, m_header.id());
-        {
-            const std::size_t perBlock = std::size_t(1) << m_blockShift, bytesPerPiece = m_bytesPerPiece;
-            for (std::size_t b = 0; b < m_pieceBlockCount; ++b) {
-                const std::size_t first = std::min(b * perBlock, m_piecesInBuffer - 1);
-                const std::size_t n = std::max<std::size_t>(1, std::min(perBlock, m_piecesInBuffer - first));
-                glBindBufferRange(GL_SHADER_STORAGE_BUFFER,
-                                  b == 0 ? binding::kVrcPieces : binding::kVrcPieceBlocks + GLuint(b - 1),
-                                  m_pieceBuffer.id(), GLintptr(first * bytesPerPiece), GLsizeiptr(n * bytesPerPiece));
-            }
-        }
-        if (m_pieceTexture.id() != 0) glBindTextureUnit(binding::kVrcPieceTexels, m_pieceTexture.id());
-        glBindImageTexture(binding::kVrcColor, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(binding::kVrcNormalDepth, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(binding::kVrcId, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
-        glBindImageTexture(binding::kVrcAo, m_aoImage.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        glDispatchCompute(GLuint((w + kGroupSize - 1) / kGroupSize), GLuint((h + kGroupSize - 1) / kGroupSize), 1);
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glUseProgram(0);
-        timer.setItems(std::uint64_t(w) * std::uint64_t(h));
-        timer.end();
-        if (m_lodStats.id() != 0) {
-            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-            m_lodSamples.assign(kMaxLodLevels + 1, 0u);
-            glGetNamedBufferSubData(m_lodStats.id(), 0, GLsizeiptr(m_lodSamples.size() * sizeof(std::uint32_t)),
-                                    m_lodSamples.data());
-        }
-
-        timer.begin("readback");
-        const std::size_t n = std::size_t(w) * h;
-        out.width = w;
-        out.height = h;
-        out.rgba.resize(4 * n);
-        readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), out.rgba.data());
-        std::vector<float> normalDepth(4 * n);
-        readTextureFlipped(m_normalDepth.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), normalDepth.data());
-        out.id.resize(n);
-        readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
-        out.normal.resize(3 * n);
-        out.depth.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = normalDepth[4 * i + c];
-            out.depth[i] = normalDepth[4 * i + 3];
-        }
-        out.ao.clear();
-        if (m_aoEnabled) {
-            out.ao.resize(n);
-            readTextureFlipped(m_aoImage.id(), GL_RED, GL_FLOAT, w, h, 1, sizeof(float), out.ao.data());
-        }
-        timer.end();
-    }
-
-    nlohmann::json VrcRenderer::lodDescription() const {
-        nlohmann::json d = {
-            {"levels", m_lodAtlasX.size()},
-            {"pixel_footprint", m_spec.lod.pixelFootprint},
-            {"opacity_start", m_transparent ? nlohmann::json(m_spec.lod.opacityStart) : nlohmann::json("opaque")},
-            {"volume_mb", double(m_lodBytes3d) / (1024.0 * 1024.0)},
-            {"build_ms", m_lodBuildMs}};
-        // Per level: the voxels and their MB at 8 bytes (RGBA16F), the borders of the atlas excluded.
-        nlohmann::json sizes = nlohmann::json::array(), mb = nlohmann::json::array();
-        for (const glm::ivec3& n : m_lodLevelSizes) {
-            sizes.push_back({n.x, n.y, n.z});
-            mb.push_back(double(n.x) * n.y * n.z * 8.0 / (1024.0 * 1024.0));
-        }
-        d["level_grids"] = sizes;
-        d["level_mb"] = mb;
-        if (!m_lodSamples.empty()) {
-            d["samples_per_level"] = std::vector<std::uint32_t>(m_lodSamples.begin(), m_lodSamples.end() - 1);
-            d["rays"] = m_lodSamples.back();
-        }
-        return d;
-    }
-
-    nlohmann::json VrcRenderer::describe() const {
-        const double mb = 1024.0 * 1024.0;
-        return {{"technique", "voxel_raycast"},
-                {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
-                {"grid", {m_size.x, m_size.y, m_size.z}},
-                {"voxel_size", m_voxelSize},
-                // Above 1 tubes are cut one voxel out of their axis' voxels (docs/scene-spec.md, vrc.neighbors).
-                {"max_radius_voxels", m_voxelSize > 0 ? m_maxRadius / m_voxelSize : 0.0f},
-                {"quantization", m_quantization},
-                {"neighbors", m_spec.neighbors},
-                {"opacity_threshold", m_spec.opacityThreshold},
-                {"path_length_opacity", m_transparent && m_spec.pathLengthOpacity},
-                {"pieces", m_pieces},
-                {"copies", m_copies},
-                {"copies_did_not_fit", m_copiesDidNotFit},
-                {"piece_blocks", m_pieceBlockCount},
-                {"piece_texture", m_pieceTexture.id() != 0},
-                {"segments", m_segments},
-                {"bytes_per_piece", m_bytesPerPiece},
-                {"model_mb", double(m_modelBytes) / mb},
-                {"raw_lines_mb", double(m_rawBytes) / mb},
-                {"build_ms", m_buildMs},
-                {"build", m_gpuBuild ? "gpu" : "cpu"},
-                {"upload_ms", m_uploadMs},
-                {"lod", m_lodAtlas.id() != 0 ? lodDescription() : nlohmann::json(false)},
-                {"soft_shadows", m_spec.shadows && m_spec.shadowMode == VrcSpec::ShadowMode::Soft},
-                {"shadow_mode", !m_spec.shadows                                         ? "none"
-                                : m_spec.shadowMode == VrcSpec::ShadowMode::Soft        ? "soft"
-                                : m_spec.shadowMode == VrcSpec::ShadowMode::Hard        ? "hard"
-                                : m_spec.shadowMode == VrcSpec::ShadowMode::DensityCone ? "density_cone"
-                                                                                        : "hard_tubes"},
-                {"ao_method", !m_aoEnabled                                           ? "none"
-                              : m_spec.ao.method == VrcSpec::Ao::Method::DensityRays ? "density_rays"
-                              : m_spec.ao.method == VrcSpec::Ao::Method::Precomputed ? "precomputed"
-                                                                                     : "cone_traced"},
-                {"ao_precompute_ms", m_aoPrecomputeMs},
-                {"hard_shadows",
-                 m_shadowLines.id() != 0
-                     ? nlohmann::json{{"level", m_shadowLevel},
-                                      {"grid", {m_shadowGridSize.x, m_shadowGridSize.y, m_shadowGridSize.z}},
-                                      {"build_ms", m_representativeMs}}
-                     : nlohmann::json(false)},
-                {"ambient_occlusion", m_ao && m_aoEnabled && m_spec.ao.method == VrcSpec::Ao::Method::ConeTraced
-                                          ? m_ao->describe()
-                                          : nlohmann::json(m_aoEnabled)}};
-    }
-
-    TechniqueDescriptor voxelRaycastTechnique() {
-        TechniqueDescriptor d;
-        d.name = "voxel_raycast";
-        d.summary =
-            "rays through a voxel model of the lines (quantized pieces per voxel); opaque, or transparent "
-            "composited front to back along each ray";
-        d.paper = "Kanzler, Rautenhaus & Westermann 2019";
-        d.backend = TechniqueBackend::Gl;
-        d.data = {DataKind::Lines};
-        // Chosen explicitly only: on the densest sets it beats the k-buffer, on small ones it loses
-        // (docs/performance.md).
-        d.autoData = {};
-        // Every transparent mode name means the same here: front-to-back compositing along the ray.
-        d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
-                          Transparency::DepthPeeling};
-        d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
-        d.exactTransparency = Transparency::DepthPeeling;
-        d.ao = {AoSpec::Method::ConeTraced};
-        d.pixelBuffers = [](const Scene& scene, DataKind) { return VrcRenderer::pixelBuffers(scene); };
-        d.create = [](const Scene& scene, const TechniqueData& data,
-                      const TechniqueHooks&) -> std::unique_ptr<Technique> {
-            // Region clipping is not implemented for the voxel model's ray marching (its per-voxel
-            // line lists would need the entry-point rule of core/region.h at every sample).
-            if (!data.region.unbounded()) refuseRegion(scene, "render.technique", "voxel_raycast");
-            return VrcRenderer::create(scene, *data.lines);
-        };
-        return d;
-    }
+TechniqueDescriptor voxelRaycastTechnique() {
+    TechniqueDescriptor d;
+    d.name = "voxel_raycast";
+    d.summary =
+        "rays through a voxel model of the lines (quantized pieces per voxel); opaque, or transparent "
+        "composited front to back along each ray";
+    d.paper = "Kanzler, Rautenhaus & Westermann 2019";
+    d.backend = TechniqueBackend::Gl;
+    d.data = {DataKind::Lines};
+    // Chosen explicitly only: on the densest sets it beats the k-buffer, on small ones it loses
+    // (docs/performance.md).
+    d.autoData = {};
+    // Every transparent mode name means the same here: front-to-back compositing along the ray.
+    d.transparency = {Transparency::Opaque, Transparency::ObjectOrder, Transparency::KBuffer,
+                      Transparency::DepthPeeling};
+    d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
+    d.exactTransparency = Transparency::DepthPeeling;
+    d.ao = {AoSpec::Method::ConeTraced};
+    d.pixelBuffers = [](const Scene& scene, DataKind) { return VrcRenderer::pixelBuffers(scene); };
+    d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
+        // Region clipping is not implemented for the voxel model's ray marching (its per-voxel
+        // line lists would need the entry-point rule of core/region.h at every sample).
+        if (!data.region.unbounded()) refuseRegion(scene, "render.technique", "voxel_raycast");
+        return VrcRenderer::create(scene, *data.lines);
+    };
+    return d;
+}
 
 }  // namespace tc::gl
