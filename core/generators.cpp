@@ -512,8 +512,8 @@ LineSet generateSpiral(int lines, int points, std::uint32_t seed) {
         const float shell = std::cbrt(rng.uniform(lo3, hi3));
         const glm::vec3 axis = rng.direction();
         // An orthonormal basis (e1, e2, axis).
-        const glm::vec3 helper = std::abs(axis.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-        const glm::vec3 e1 = glm::normalize(glm::cross(axis, helper));
+        const glm::vec3 other = std::abs(axis.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        const glm::vec3 e1 = glm::normalize(glm::cross(axis, other));
         const glm::vec3 e2 = glm::cross(axis, e1);
         const float phase = 2.0f * kPi * rng.uniform();
         const std::size_t base = std::size_t(i) * std::size_t(points);

@@ -8,7 +8,7 @@
 # set; every scene is rendered at WIDTH x HEIGHT). Env: BENCH (the bench binary, default
 # build/tests/bench/tubecast_raster_floor_bench), BASELINE (a second bench command, e.g. a copy
 # built from an earlier commit, or a wrapper passing --shader-dir with an earlier commit's shaders:
-# then both run in one session, baseline / current / current / baseline, and the table has both
+# then both run in one invocation, baseline / current / current / baseline, and the table has both
 # multiples), ROUNDS (4 per run), WIDTH / HEIGHT (1920x1080).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
