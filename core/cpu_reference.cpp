@@ -29,8 +29,7 @@ FrameImages renderReferenceOpaque(const StyledLines& lines, const Camera& camera
                 for (std::size_t s = 0; s < segments; ++s) {
                     const glm::vec4& a = lines.positionRadius[lines.segmentVertices[2 * s]];
                     const glm::vec4& b = lines.positionRadius[lines.segmentVertices[2 * s + 1]];
-                    const auto hit =
-                        nearestPositiveHit(intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w}));
+                    const auto hit = firstSurfaceHit(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
                     if (hit && hit->t < best) {
                         best = hit->t;
                         bestSeg = s;

@@ -7,6 +7,9 @@ namespace tc {
 namespace {
 
 // One implementation for float and double (the double one exists to measure the float one).
+// nIn / nOut are the candidates' outward normals NOT yet normalized: the callers normalize only
+// the ones they return (of up to six candidates, as shaders/rounded_cone.glsl), and normalizing
+// the same vector later gives the same bits as normalizing it at once.
 template <typename T>
 struct IntervalT {
     bool hit = false;
@@ -55,11 +58,11 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
         hit = true;
         if (ta < tIn) {
             tIn = ta;
-            nIn = glm::normalize(perp - sq * dir);
+            nIn = perp - sq * dir;
         }
         if (tb > tOut) {
             tOut = tb;
-            nOut = glm::normalize(perp + sq * dir);
+            nOut = perp + sq * dir;
         }
     };
     sphere(oa + ac * u, r0);
@@ -96,7 +99,7 @@ IntervalT<T> intersectImpl(glm::vec<3, T> o, glm::vec<3, T> dir, glm::vec<3, T> 
                 T yc = w + t * m2;  // y - rc s: the normal's axial part
                 T ya = yc + c2 * ac;
                 if (!(ya >= T(0) && ya <= L * c2)) return;
-                V n = glm::normalize(c2 * (oa + t * dir) - u * yc);
+                V n = c2 * (oa + t * dir) - u * yc;
                 hit = true;
                 if (entry && t < tIn) {
                     tIn = t;
@@ -168,12 +171,23 @@ std::optional<SurfaceHit> nearestPositiveHit(const ConeInterval& iv) {
 
 ConeInterval intersectRoundedCone(const Ray& ray, const RoundedCone& c) {
     IntervalT<float> i = intersectImpl<float>(ray.origin, ray.dir, c.x0, c.r0, c.x1, c.r1);
-    return {i.hit, i.tIn, i.tOut, i.nIn, i.nOut};
+    if (!i.hit) return {false, 0.0f, 0.0f, glm::vec3(0.0f), glm::vec3(0.0f)};
+    return {true, i.tIn, i.tOut, glm::normalize(i.nIn), glm::normalize(i.nOut)};
+}
+
+std::optional<SurfaceHit> firstSurfaceHit(const Ray& ray, const RoundedCone& c) {
+    // nearestPositiveHit(intersectRoundedCone(ray, c)) with one normalization instead of two.
+    IntervalT<float> i = intersectImpl<float>(ray.origin, ray.dir, c.x0, c.r0, c.x1, c.r1);
+    if (!i.hit) return std::nullopt;
+    if (i.tIn > 0.0f) return SurfaceHit{i.tIn, glm::normalize(i.nIn)};
+    if (i.tOut > 0.0f) return SurfaceHit{i.tOut, glm::normalize(i.nOut)};
+    return std::nullopt;
 }
 
 ConeIntervalD intersectRoundedCone(const RayD& ray, const RoundedConeD& c) {
     IntervalT<double> i = intersectImpl<double>(ray.origin, ray.dir, c.x0, c.r0, c.x1, c.r1);
-    return {i.hit, i.tIn, i.tOut, i.nIn, i.nOut};
+    if (!i.hit) return {false, 0.0, 0.0, glm::dvec3(0.0), glm::dvec3(0.0)};
+    return {true, i.tIn, i.tOut, glm::normalize(i.nIn), glm::normalize(i.nOut)};
 }
 
 float sdRoundedCone(glm::vec3 p, const RoundedCone& c) {

@@ -41,6 +41,9 @@ struct SurfaceHit {
     glm::vec3 normal;
 };
 std::optional<SurfaceHit> nearestPositiveHit(const ConeInterval& iv);
+// nearestPositiveHit(intersectRoundedCone(ray, cone)), bit for bit, normalizing only the normal it
+// returns: the per-pixel test of the CPU reference and of the Embree path's exact re-intersection.
+std::optional<SurfaceHit> firstSurfaceHit(const Ray& ray, const RoundedCone& cone);
 
 // Signed distance from p to the rounded cone: exact outside; inside negative, with the magnitude
 // of the distance to the boundary piece (sphere 0, lateral, sphere 1) whose region holds p, so

@@ -189,7 +189,7 @@ bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool
         const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
         const glm::vec4& a = L.positionRadius[v0];
         const glm::vec4& b = L.positionRadius[v1];
-        const auto hit = nearestPositiveHit(intersectRoundedCone(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w}));
+        const auto hit = firstSurfaceHit(ray, {glm::vec3(a), a.w, glm::vec3(b), b.w});
         if (!hit) return;
         const float t = hit->t;
         const glm::vec3 n = hit->normal;

@@ -24,6 +24,9 @@
 # against the exact peeling of that size (VTK_REF_TIMEOUT seconds, default 1800; if it does not
 # finish, against VTK_REF_PEELS peels, default 64, then say so); peel counts VTK_PEELS (default
 # "1 2 4 8 16"); the peel count reaching the goal is then timed at 1920x1080.
+# ONLY=vtk: the VTK rows, with tubecast's exact image (whose run.json gives VTK the camera) and
+# raytraced at alpha_cutoff 0.99 (the cheapest tubecast setting within 40 dB on this scene) timed
+# in the same run, so the three compare at one load.
 # Prints the sweep and the summary as Markdown tables; outputs stay in $OUT
 # (default /tmp/tubecast-bench/equal_quality).
 set -euo pipefail
@@ -62,6 +65,12 @@ peel_settings=("rasterized|depth_peeling (exact)|render.technique=rasterized ren
 for l in "${peel_layers[@]}"; do
   peel_settings+=("rasterized|depth_peeling max_layers $l|render.technique=rasterized render.transparency=depth_peeling render.depth_peeling.max_layers=$l")
 done
+passes=2
+if [ "${ONLY:-}" = vtk ]; then
+  settings=("raytraced|alpha_cutoff 0.99|render.technique=raytraced render.transparency=depth_peeling render.raytraced.alpha_cutoff=0.99"
+    "raytraced|alpha_cutoff 1|render.technique=raytraced render.transparency=depth_peeling render.raytraced.alpha_cutoff=1")
+  peel_settings=()
+fi
 
 median_frame() {  # timings.csv: median `frame` ms over the frames after the first (the first if only one)
   awk -F, -v all="$(awk -F, '$2 == "frame"' "$1" | wc -l)" '$2 == "frame" && ($1 > 0 || all == 1) { print $4 }' "$1" |
@@ -91,7 +100,7 @@ results=$OUT/results.tsv  # technique, label, psnr, ms pass 1, load 1, ms pass 2
 : > "$results"
 declare -A ms1 ms2 load1 load2
 n=${#settings[@]}
-for pass in 1 2; do
+for pass in $(seq 1 $passes); do
   for ((i = 0; i < n; i++)); do
     j=$([ $pass = 1 ] && echo $i || echo $((n - 1 - i)))
     IFS='|' read -r tech label sets <<<"${settings[$j]}"

@@ -252,6 +252,36 @@ TEST(RoundedCone, nearest_positive_hit_is_the_entry_ahead_else_the_exit_else_not
     EXPECT_FALSE(nearestPositiveHit(intersectRoundedCone({{0.5f, -1, 0}, {1, 0, 0}}, c)).has_value());
 }
 
+// firstSurfaceHit normalizes only the normal it returns; the CPU reference and the Embree path's
+// re-intersection rely on it giving nearestPositiveHit(intersectRoundedCone) bit for bit.
+TEST(RoundedCone, first_surface_hit_is_nearest_positive_hit_bit_for_bit) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.01f, 0.3f);
+    int hits = 0, insides = 0;
+    for (int i = 0; i < 20000; ++i) {
+        RoundedCone c{{u(rng), u(rng), u(rng)}, r(rng), {u(rng), u(rng), u(rng)}, r(rng)};
+        if (i % 7 == 0) c.x1 = c.x0;  // zero-length segments
+        // Origins spread around the cone (some inside it), directions towards its middle jittered.
+        const glm::vec3 mid = 0.5f * (c.x0 + c.x1);
+        const glm::vec3 origin = mid + (i % 5 == 0 ? 0.1f : 2.0f) * glm::vec3(u(rng), u(rng), u(rng));
+        const glm::vec3 dir = glm::normalize(mid - origin + 0.3f * glm::vec3(u(rng), u(rng), u(rng)));
+        const Ray ray{origin, dir};
+        const ConeInterval iv = intersectRoundedCone(ray, c);
+        const auto expected = nearestPositiveHit(iv);
+        const auto got = firstSurfaceHit(ray, c);
+        ASSERT_EQ(got.has_value(), expected.has_value()) << i;
+        if (!got) continue;
+        ++hits;
+        if (iv.tIn <= 0.0f) ++insides;
+        EXPECT_EQ(got->t, expected->t) << i;
+        EXPECT_EQ(got->normal.x, expected->normal.x) << i;
+        EXPECT_EQ(got->normal.y, expected->normal.y) << i;
+        EXPECT_EQ(got->normal.z, expected->normal.z) << i;
+    }
+    EXPECT_GT(hits, 5000);    // the rays do meet their cones
+    EXPECT_GT(insides, 100);  // and the exit branch is taken
+}
+
 TEST(RoundedCone, grazing_and_degenerate_rays_never_produce_nan) {
     std::mt19937 rng(12);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
