@@ -77,86 +77,87 @@ std::uint32_t pack(const glm::vec4& c) {
     return b(c.x) | b(c.y) << 8 | b(c.z) << 16 | b(c.w) << 24;
 }
 
-void renderOpaque(RTCScene scene, const Lines& lines, const View& view, std::uint32_t* image,
-                  std::atomic<std::uint64_t>& hits) {
+// Calls tile(x0, y0, context, n) for every kTile x kTile tile of the image, tiles in parallel
+// (oneTBB), with one intersect context per task (`flags` set) and a hit counter `n` added to `hits`.
+template <typename TileFn>
+void forEachTile(const View& view, RTCIntersectContextFlags flags, std::atomic<std::uint64_t>& hits, TileFn&& tile) {
     const int tilesX = (view.width + kTile - 1) / kTile, tilesY = (view.height + kTile - 1) / kTile;
     tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
         std::uint64_t n = 0;
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        for (int t = range.begin(); t != range.end(); ++t) {
-            const int x0 = (t % tilesX) * kTile, y0 = (t / tilesX) * kTile;
-            for (int y = y0; y < std::min(y0 + kTile, view.height); ++y) {
-                alignas(32) int valid[8];
-                alignas(32) RTCRayHit8 rh;
-                for (int j = 0; j < 8; ++j) {
-                    const int x = std::min(x0 + j, view.width - 1);
-                    valid[j] = x0 + j < view.width ? -1 : 0;
-                    const glm::vec3 d = view.dir(x, y);
-                    rh.ray.org_x[j] = view.eye.x, rh.ray.org_y[j] = view.eye.y, rh.ray.org_z[j] = view.eye.z;
-                    rh.ray.dir_x[j] = d.x, rh.ray.dir_y[j] = d.y, rh.ray.dir_z[j] = d.z;
-                    rh.ray.tnear[j] = 0.0f, rh.ray.tfar[j] = kInf;
-                    rh.ray.time[j] = 0.0f, rh.ray.mask[j] = ~0u, rh.ray.id[j] = 0, rh.ray.flags[j] = 0;
-                    rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
-                    rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
-                }
-                rtcIntersect8(valid, scene, &context, &rh);
-                for (int j = 0; j < 8 && x0 + j < view.width; ++j) {
-                    glm::vec4 c(0.0f);
-                    if (rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID) {
-                        ++n;
-                        const glm::vec3 d(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
-                        const glm::vec3 ng(rh.hit.Ng_x[j], rh.hit.Ng_y[j], rh.hit.Ng_z[j]);
-                        c = glm::vec4(lambert(lines.color[rh.hit.primID[j]], ng, d), 1.0f);
-                    }
-                    image[std::size_t(y) * std::size_t(view.width) + std::size_t(x0 + j)] = pack(c);
-                }
-            }
-        }
+        context.flags = flags;
+        for (int t = range.begin(); t != range.end(); ++t) tile((t % tilesX) * kTile, (t / tilesX) * kTile, context, n);
         hits += n;
     });
 }
 
+void renderOpaque(RTCScene scene, const Lines& lines, const View& view, std::uint32_t* image,
+                  std::atomic<std::uint64_t>& hits) {
+    forEachTile(view, RTC_INTERSECT_CONTEXT_FLAG_COHERENT, hits,
+                [&](int x0, int y0, RTCIntersectContext& context, std::uint64_t& n) {
+                    for (int y = y0; y < std::min(y0 + kTile, view.height); ++y) {
+                        alignas(32) int valid[8];
+                        alignas(32) RTCRayHit8 rh;
+                        for (int j = 0; j < 8; ++j) {
+                            const int x = std::min(x0 + j, view.width - 1);
+                            valid[j] = x0 + j < view.width ? -1 : 0;
+                            const glm::vec3 d = view.dir(x, y);
+                            rh.ray.org_x[j] = view.eye.x, rh.ray.org_y[j] = view.eye.y, rh.ray.org_z[j] = view.eye.z;
+                            rh.ray.dir_x[j] = d.x, rh.ray.dir_y[j] = d.y, rh.ray.dir_z[j] = d.z;
+                            rh.ray.tnear[j] = 0.0f, rh.ray.tfar[j] = kInf;
+                            rh.ray.time[j] = 0.0f, rh.ray.mask[j] = ~0u, rh.ray.id[j] = 0, rh.ray.flags[j] = 0;
+                            rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
+                            rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+                        }
+                        rtcIntersect8(valid, scene, &context, &rh);
+                        for (int j = 0; j < 8 && x0 + j < view.width; ++j) {
+                            glm::vec4 c(0.0f);
+                            if (rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID) {
+                                ++n;
+                                const glm::vec3 d(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
+                                const glm::vec3 ng(rh.hit.Ng_x[j], rh.hit.Ng_y[j], rh.hit.Ng_z[j]);
+                                c = glm::vec4(lambert(lines.color[rh.hit.primID[j]], ng, d), 1.0f);
+                            }
+                            image[std::size_t(y) * std::size_t(view.width) + std::size_t(x0 + j)] = pack(c);
+                        }
+                    }
+                });
+}
+
 void renderTransparent(RTCScene scene, const Lines& lines, const View& view, float cutoff, std::uint32_t* image,
                        std::atomic<std::uint64_t>& hits) {
-    const int tilesX = (view.width + kTile - 1) / kTile, tilesY = (view.height + kTile - 1) / kTile;
-    tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
-        std::uint64_t n = 0;
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        for (int t = range.begin(); t != range.end(); ++t) {
-            const int x0 = (t % tilesX) * kTile, y0 = (t / tilesX) * kTile;
-            for (int y = y0; y < std::min(y0 + kTile, view.height); ++y)
-                for (int x = x0; x < std::min(x0 + kTile, view.width); ++x) {
-                    const glm::vec3 d = view.dir(x, y);
-                    glm::vec3 color(0.0f);
-                    float alpha = 0.0f, tnear = 0.0f;
-                    while (alpha < cutoff) {
-                        RTCRayHit rh;
-                        rh.ray.org_x = view.eye.x, rh.ray.org_y = view.eye.y, rh.ray.org_z = view.eye.z;
-                        rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
-                        rh.ray.tnear = tnear, rh.ray.tfar = kInf;
-                        rh.ray.time = 0.0f, rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
-                        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                        rtcIntersect1(scene, &context, &rh);
-                        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-                        ++n;
-                        const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-                        if (glm::dot(ng, d) < 0.0f) {  // entering a tube; leaving it adds nothing
-                            const glm::vec4& albedo = lines.color[rh.hit.primID];
-                            const float w = (1.0f - alpha) * albedo.w;
-                            color += w * lambert(albedo, ng, d);
-                            alpha += w;
+    forEachTile(view, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT, hits,
+                [&](int x0, int y0, RTCIntersectContext& context, std::uint64_t& n) {
+                    for (int y = y0; y < std::min(y0 + kTile, view.height); ++y)
+                        for (int x = x0; x < std::min(x0 + kTile, view.width); ++x) {
+                            const glm::vec3 d = view.dir(x, y);
+                            glm::vec3 color(0.0f);
+                            float alpha = 0.0f, tnear = 0.0f;
+                            while (alpha < cutoff) {
+                                RTCRayHit rh;
+                                rh.ray.org_x = view.eye.x, rh.ray.org_y = view.eye.y, rh.ray.org_z = view.eye.z;
+                                rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+                                rh.ray.tnear = tnear, rh.ray.tfar = kInf;
+                                rh.ray.time = 0.0f, rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
+                                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                                rtcIntersect1(scene, &context, &rh);
+                                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+                                ++n;
+                                const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+                                if (glm::dot(ng, d) < 0.0f) {  // entering a tube; leaving it adds nothing
+                                    const glm::vec4& albedo = lines.color[rh.hit.primID];
+                                    const float w = (1.0f - alpha) * albedo.w;
+                                    color += w * lambert(albedo, ng, d);
+                                    alpha += w;
+                                }
+                                tnear = std::nextafter(rh.ray.tfar, kInf);
+                            }
+                            image[std::size_t(y) * std::size_t(view.width) + std::size_t(x)] =
+                                pack(glm::vec4(color, alpha));
                         }
-                        tnear = std::nextafter(rh.ray.tfar, kInf);
-                    }
-                    image[std::size_t(y) * std::size_t(view.width) + std::size_t(x)] = pack(glm::vec4(color, alpha));
-                }
-        }
-        hits += n;
-    });
+                });
 }
 
 // CPU time of the process, all threads: on a shared machine a steadier measure of the work than the
