@@ -54,12 +54,7 @@ DensityVolume DensityVolume::create(const DensityGrid& grid, const Config& confi
     glTextureStorage3D(tex, volume.m_levels, internalFormat, grid.size.x, grid.size.y, grid.size.z);
     // Rows of a 1-voxel-wide R32F grid are 4 bytes: the default unpack alignment of 4 holds.
     glTextureSubImage3D(tex, 0, 0, 0, 0, grid.size.x, grid.size.y, grid.size.z, GL_RED, GL_FLOAT, grid.density.data());
-    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        glTextureParameteri(tex, wrap, GL_CLAMP_TO_BORDER);
-    const float border[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glTextureParameterfv(tex, GL_TEXTURE_BORDER_COLOR, border);
+    setVolumeSampling(tex, true, VolumeEdge::ZeroBorder);
 
     if (config.mips == MipMethod::GenerateMipmap) {
         glGenerateTextureMipmap(tex);

@@ -63,6 +63,18 @@ Texture makeTexture2D(GLenum internalFormat, int width, int height) {
     return texture;
 }
 
+void setVolumeSampling(GLuint texture, bool mipmapped, VolumeEdge edge) {
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, mipmapped ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    const GLint wrap = edge == VolumeEdge::ZeroBorder ? GL_CLAMP_TO_BORDER : GL_CLAMP_TO_EDGE;
+    for (GLenum axis : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(texture, axis, wrap);
+    if (edge == VolumeEdge::ZeroBorder) {
+        const float border[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        glTextureParameterfv(texture, GL_TEXTURE_BORDER_COLOR, border);
+    }
+}
+
 namespace {
 std::string framebufferStatusName(GLenum status) {
     switch (status) {

@@ -118,6 +118,12 @@ Buffer makeBuffer(std::size_t bytes, const void* data = nullptr, GLbitfield flag
 // clamp-to-edge wrapping: render targets and lookup tables are read texel-exact.
 Texture makeTexture2D(GLenum internalFormat, int width, int height);
 
+// How a 3D volume texture is sampled: trilinear (and between mip levels with `mipmapped`); outside
+// the grid either zero (ZeroBorder: a density volume is empty outside its grid) or the border
+// voxels' values (ClampToEdge: a lookup table over the grid).
+enum class VolumeEdge { ZeroBorder, ClampToEdge };
+void setVolumeSampling(GLuint texture, bool mipmapped, VolumeEdge edge);
+
 // Bytes of storage makeBuffer and makeTexture2D have allocated in this process so far (never
 // decreases): tests measure what a technique allocates per pixel of its target with it.
 std::uint64_t allocatedStorageBytes();

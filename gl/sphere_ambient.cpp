@@ -61,12 +61,7 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
         m_levels = DensityVolume::fullLevels(size);
         m_volume = Texture::create(GL_TEXTURE_3D);
         glTextureStorage3D(m_volume.id(), m_levels, GL_RGBA32F, size.x, size.y, size.z);
-        glTextureParameteri(m_volume.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-        glTextureParameteri(m_volume.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-            glTextureParameteri(m_volume.id(), wrap, GL_CLAMP_TO_BORDER);
-        const float border[4] = {0, 0, 0, 0};
-        glTextureParameterfv(m_volume.id(), GL_TEXTURE_BORDER_COLOR, border);
+        setVolumeSampling(m_volume.id(), true, VolumeEdge::ZeroBorder);
         m_accumulator = makeBuffer(voxels * 8 * sizeof(GLuint));  // shaders/sphere_voxelize.comp
         const GLuint zero = 0;
         glClearNamedBufferData(m_accumulator.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

@@ -387,12 +387,7 @@ VrcDensityTexture uploadVrcDensity(const VrcModel& model) {
         TC_CHECK(n == level.size);
         glTextureSubImage3D(tex, l, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT, level.density.data());
     }
-    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        glTextureParameteri(tex, wrap, GL_CLAMP_TO_BORDER);
-    const float border[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glTextureParameterfv(tex, GL_TEXTURE_BORDER_COLOR, border);
+    setVolumeSampling(tex, true, VolumeEdge::ZeroBorder);
     return d;
 }
 
@@ -413,11 +408,8 @@ Texture precomputeVrcSphereAo(const VrcModel& model, const Buffer& header, const
         compileProgram({{GL_COMPUTE_SHADER, "vrc_ao_precompute.comp"}}, {std::string("VRC_AO_PRECOMPUTE")});
     Texture ao = Texture::create(GL_TEXTURE_3D);
     glTextureStorage3D(ao.id(), 1, GL_R16F, model.size.x, model.size.y, model.size.z);
-    glTextureParameteri(ao.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(ao.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     // Clamped to the edge: a hit in a border voxel reads the border voxels' AO, not "unoccluded".
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        glTextureParameteri(ao.id(), wrap, GL_CLAMP_TO_EDGE);
+    setVolumeSampling(ao.id(), false, VolumeEdge::ClampToEdge);
     const GLuint p = program.id();
     setDensityUniforms(p, density);
     glProgramUniform3i(p, uniformLocation(p, "uGridSize"), model.size.x, model.size.y, model.size.z);
@@ -500,10 +492,7 @@ void VrcRenderer::uploadLodVolume(const VrcModel& model) {
     for (std::size_t l = 0; l < levels.size(); ++l)
         glTextureSubImage3D(m_lodAtlas.id(), 0, GLint(m_lodAtlasX[l]) + 1, 1, 1, levels[l].size.x, levels[l].size.y,
                             levels[l].size.z, GL_RGBA, GL_FLOAT, levels[l].value.data());
-    glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(m_lodAtlas.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        glTextureParameteri(m_lodAtlas.id(), wrap, GL_CLAMP_TO_EDGE);
+    setVolumeSampling(m_lodAtlas.id(), false, VolumeEdge::ClampToEdge);
     m_lodBytes3d = std::size_t(atlas.x) * atlas.y * atlas.z * 8;
     m_lodBuildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
