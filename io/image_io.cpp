@@ -109,6 +109,7 @@ void writePng(const FrameImages& frame, const std::string& path, const std::map<
     // Strips of rows (writeImage), each converted in parallel and sRGB by table (core/srgb8.h):
     // with the formula, three powf per pixel cost more than the compression (docs/performance.md,
     // "Design notes").
+    const Srgb8Encoder& srgb8 = srgb8Encoder();
     auto fillRows = [&](int y0, int y1, unsigned char* pixels) {
         const std::size_t first = std::size_t(y0) * w;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::size_t(y1) * w, 4096),
@@ -122,7 +123,11 @@ void writePng(const FrameImages& frame, const std::string& path, const std::map<
                                       if (!opaque) out[3] = 0;
                                       continue;
                                   }
-                                  for (int c = 0; c < 3; ++c) out[c] = linearToSrgb8(in[c] / alpha);
+                                  // Straight colour; x / 1 is x, so opaque pixels skip the divisions.
+                                  if (alpha == 1.0f)
+                                      for (int c = 0; c < 3; ++c) out[c] = srgb8(in[c]);
+                                  else
+                                      for (int c = 0; c < 3; ++c) out[c] = srgb8(in[c] / alpha);
                                   if (!opaque) out[3] = quantise(alpha);
                               }
                           });
