@@ -86,6 +86,12 @@ std::uint8_t quantise(float v) {
     return std::uint8_t(std::lround(clamp01(v) * 255.0f));
 }
 
+// quantise(v) == 255 without the rounding call: lround rounds halves away from zero, so the code is
+// 255 exactly when clamp01(v) * 255 >= 254.5 (NaN: clamp01 gives 0); the two agree on every float.
+bool quantisesTo255(float v) {
+    return clamp01(v) * 255.0f >= 254.5f;
+}
+
 }  // namespace
 
 void writePng(const FrameImages& frame, const std::string& path, const std::map<std::string, std::string>& text,
@@ -101,7 +107,7 @@ void writePng(const FrameImages& frame, const std::string& path, const std::map<
         tbb::blocked_range<std::size_t>(0, n, 1 << 16), true,
         [&](const tbb::blocked_range<std::size_t>& range, bool all) {
             for (std::size_t i = range.begin(); all && i != range.end(); ++i)
-                all = quantise(frame.rgba[4 * i + 3]) == 255;
+                all = quantisesTo255(frame.rgba[4 * i + 3]);
             return all;
         },
         [](bool a, bool b) { return a && b; });

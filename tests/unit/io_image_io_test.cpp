@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <utility>
 
 #include "core/color.h"
 #include "core/error.h"
@@ -92,6 +93,19 @@ TEST(WritePng, opaque_frames_are_rgb_with_the_same_pixels_and_any_transparency_k
     for (std::size_t i = 0; i + 4 < rgb.rgba.size(); ++i) EXPECT_EQ(rgb.rgba[i], rgba.rgba[i]) << "channel " << i;
     EXPECT_EQ(rgb.rgba.back(), 1.0f);
     EXPECT_NEAR(rgba.rgba.back(), a, 1e-6f);
+
+    // The decision is by the 8-bit code of alpha: 0.999 x 255 = 254.7 stores as 255 (RGB),
+    // 0.998 x 255 = 254.49 as 254 (RGBA).
+    for (auto [alpha, channels] : {std::pair{0.999f, 3}, std::pair{0.998f, 4}}) {
+        FrameImages h = f;
+        setPixel(h, 0, 0, 0.1f * alpha, 0.2f * alpha, 0.3f * alpha, alpha);
+        const std::string path = testDir() + "/threshold.png";
+        writePng(h, path);
+        in = OIIO::ImageInput::open(path);
+        ASSERT_TRUE(in);
+        EXPECT_EQ(in->spec().nchannels, channels) << alpha;
+        in->close();
+    }
 }
 
 TEST(WritePng, leaves_no_temp_file_and_replaces_the_previous_one) {
