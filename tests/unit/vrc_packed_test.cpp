@@ -97,7 +97,9 @@ void expectRoundTrip(const VrcModel& model, const VrcPackedModel& packed, bool e
     for (std::size_t v = 0; v < model.voxelCount(); ++v) {
         const std::uint32_t count = model.voxels[v].count & kCountMask;
         ASSERT_EQ(packed.counts[v], count);
-        if (count) ASSERT_EQ(packed.offsets[v], model.voxels[v].offset);
+        if (count) {
+            ASSERT_EQ(packed.offsets[v], model.voxels[v].offset);
+        }
         for (std::uint32_t k = 0; k < count; ++k) {
             const std::size_t i = model.voxels[v].offset + k;
             const VrcPiece ref = model.piece(i), got = unpackVrcPiece(packed, v, i);
@@ -108,7 +110,9 @@ void expectRoundTrip(const VrcModel& model, const VrcPackedModel& packed, bool e
                 if (vertex) {
                     ++vertexEnds;
                     EXPECT_LE(glm::length(g - r), vertexBound) << "piece " << i;
-                    if (vertexBound < 1e-5f) EXPECT_EQ(g, r);
+                    if (vertexBound < 1e-5f) {
+                        EXPECT_EQ(g, r);
+                    }
                 } else {
                     ASSERT_EQ(g, r) << "piece " << i;  // bit-identical
                 }
@@ -176,9 +180,9 @@ TEST(VrcPacked, constant_colour_and_radius_at_q64_with_copies_round_trips_bit_fo
     EXPECT_EQ(p.paletteSize, 1);
     EXPECT_EQ(p.paletteMaxError, 0);
     EXPECT_EQ(vrcPaperVertexResnapBound(p), 0.0f);
-    EXPECT_EQ(p.layout.bytesPerPiece(), 6);  // 43 + 6 bits
+    EXPECT_EQ(p.layout.bytesPerPiece(), 7);  // 43 + 6 bits
     EXPECT_EQ(p.headerBytes(), model.voxelCount() * 5);
-    EXPECT_EQ(p.pieceBytes(), model.pieceCount() * 6);
+    EXPECT_EQ(p.pieceBytes(), model.pieceCount() * 7);
     expectRoundTrip(model, p, true, true);
 }
 
