@@ -500,6 +500,8 @@ void readVrc(SpecReader r, VrcSpec& v) {
     }
     const std::string build = r.getEnum("build", "auto", {"auto", "cpu", "gpu"});
     v.build = build == "cpu" ? VrcSpec::Build::Cpu : build == "gpu" ? VrcSpec::Build::Gpu : VrcSpec::Build::Auto;
+    v.encoding = r.getEnum("encoding", "compact16", {"compact16", "paper"}) == "paper" ? VrcSpec::Encoding::Paper
+                                                                                       : VrcSpec::Encoding::Compact16;
     if (r.has("lod")) {
         SpecReader l = r.child("lod");
         v.lod.enabled = l.getBool("enabled", v.lod.enabled);

@@ -285,6 +285,11 @@ struct VrcSpec {
     // Where the voxel model is built: Auto = the GPU build on a hardware GL, the CPU build on a
     // software rasterizer (where it was measured faster; docs/performance.md).
     enum class Build { Auto, Cpu, Gpu } build = Build::Auto;
+    // render.vrc.encoding: compact16 = 16 bytes per piece and an 8-byte voxel header
+    // (core/vrc_model.h); paper = the packed encoding of Kanzler et al. 2019, Sec. 3.2 / Table I
+    // (core/vrc_packed.h), 4-7 bytes per piece and 5 per voxel, falling back to compact16 where a
+    // model does not fit it (run.json `encoding_fallback`).
+    enum class Encoding { Compact16, Paper } encoding = Encoding::Compact16;
     // render.vrc.lod: rays leave the exact tubes for the LoD volume (core/vrc_model.h) where a
     // voxel of some level covers at most pixelFootprint pixels, or (transparent) once the
     // accumulated opacity reaches opacityStart, sampling ever coarser levels as it grows (the

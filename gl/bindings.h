@@ -97,6 +97,9 @@ inline constexpr GLuint kVrcPieceBlocks = 4;  // blocks 1 .. VrcRenderer::kMaxPi
 inline constexpr GLuint kVrcShadowLines = 2;
 inline constexpr GLuint kVrcBricks = 3;
 inline constexpr GLuint kVrcLodStats = 11;  // samples per LoD level (VrcRenderer::enableLodStats)
+// render.vrc.encoding "paper" (core/vrc_packed.h): the voxels' first piece indices take kVrcHeader,
+// their 1-byte counts (four per word) this point.
+inline constexpr GLuint kVrcPaperCounts = 12;
 
 // --- Uniform buffers and atomic counters ---------------------------------------------------------
 inline constexpr GLuint kFrameUniforms = 0;   // gl/frame_uniforms.h
@@ -126,6 +129,7 @@ inline constexpr GLuint kVrcPieceTexels = 10;  // shaders/vrc_raycast.comp, VRC_
 inline constexpr GLuint kVrcEq1Density = 11;   // shaders/vrc_lighting.glsl uVrcDensity
 inline constexpr GLuint kVrcAoVolume = 12;     // shaders/vrc_lighting.glsl uVrcAoVolume
 inline constexpr GLuint kVrcLodVolume = 13;    // shaders/vrc_lod.glsl, the LoD atlas
+inline constexpr GLuint kVrcGlobalIds = 14;    // shaders/vrc_raycast.comp, VRC_GLOBAL_IDS
 
 // Points one program reads together must differ.
 constexpr bool distinct(std::initializer_list<GLuint> points) {
@@ -150,10 +154,10 @@ static_assert(distinct({kPositionRadius, kVertexColors, kPolylineIds, kVrcPolyli
 static_assert(distinct({kVrcHeader, kVrcRunEnd, kVrcKeys, kVrcValues, kVrcRawPieces, kVrcGatheredPieces,
                         kVrcPieceVoxel}));
 // The ray caster: the piece blocks take kVrcPieceBlocks .. kVrcPieceBlocks + 6.
-static_assert(distinct({kVrcHeader, kVrcPieces, kVrcShadowLines, kVrcBricks, kVrcLodStats}) &&
+static_assert(distinct({kVrcHeader, kVrcPieces, kVrcShadowLines, kVrcBricks, kVrcLodStats, kVrcPaperCounts}) &&
               kVrcPieceBlocks > kVrcBricks && kVrcLodStats > kVrcPieceBlocks + 6);
 static_assert(distinct({kGBufferAlbedo, kGBufferNormalDepth, kVisibilitySegments, kDensityVolume, kSphereVolume,
-                        kVrcPieceTexels, kVrcEq1Density, kVrcAoVolume, kVrcLodVolume}));
+                        kVrcPieceTexels, kVrcEq1Density, kVrcAoVolume, kVrcLodVolume, kVrcGlobalIds}));
 
 }  // namespace tc::gl::binding
 
@@ -227,6 +231,7 @@ inline constexpr ShaderBinding kShaderBindings[] = {
     {"SSBO_VRC_SHADOW_LINES", binding::kVrcShadowLines},
     {"SSBO_VRC_BRICKS", binding::kVrcBricks},
     {"SSBO_VRC_LOD_STATS", binding::kVrcLodStats},
+    {"SSBO_VRC_PAPER_COUNTS", binding::kVrcPaperCounts},
     {"UBO_FRAME_UNIFORMS", binding::kFrameUniforms},
     {"ATOMIC_CULLED_SEGMENTS", binding::kCulledSegments},
     {"IMAGE_MIP_SOURCE", binding::kMipSource},
@@ -246,6 +251,7 @@ inline constexpr ShaderBinding kShaderBindings[] = {
     {"TEXTURE_SPHERE_VOLUME", binding::kSphereVolume},
     {"TEXTURE_VRC_PIECE_TEXELS", binding::kVrcPieceTexels},
     {"TEXTURE_VRC_LOD", binding::kVrcLodVolume},
+    {"TEXTURE_VRC_GLOBAL_IDS", binding::kVrcGlobalIds},
 };
 
 }  // namespace tc::gl

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 
@@ -230,6 +231,38 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     r->m_segments = lines.segmentCount();
     r->m_rawBytes = LineGeometry::uploadBytes(lines);  // what the rasterized paths upload
 
+    r->m_headerBytes = model.voxelCount() * sizeof(VrcVoxel);
+
+    // render.vrc.encoding "paper": pack the model (core/vrc_packed.h), or say why not and keep
+    // the 16-byte encoding.
+    std::optional<VrcPackedModel> packed;
+    if (scene.render.vrc.encoding == VrcSpec::Encoding::Paper && !model.voxels.empty()) {
+        const auto tp = std::chrono::steady_clock::now();
+        if (r->m_spec.neighbors) {
+            // The neighbour tests blend a line once per ray interval across the 27 voxels of a
+            // block, comparing line ids of different voxels: the 5-bit ids are local to a voxel.
+            r->m_encodingFallback =
+                "render.vrc.neighbors: on compares line ids across voxels, which the paper's local line ids cannot";
+        } else {
+            VrcPackResult result = packVrcModel(model);
+            GLint maxTexels = 0;
+            glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+            if (!result.ok()) {
+                r->m_encodingFallback = result.reason;
+            } else if (result.model.bytes.size() / 4 > std::size_t(maxTexels)) {
+                r->m_encodingFallback = "the packed pieces need " + std::to_string(result.model.bytes.size() / 4) +
+                                        " words, more than GL_MAX_TEXTURE_BUFFER_SIZE (" + std::to_string(maxTexels) +
+                                        ")";
+            } else {
+                packed = std::move(result.model);
+            }
+        }
+        r->m_packMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tp).count();
+        if (!packed)
+            std::cerr << "warning: render.vrc.encoding \"paper\" falls back to \"compact16\": " << r->m_encodingFallback
+                      << "\n";
+    }
+
     const auto t0 = std::chrono::steady_clock::now();
     if (model.voxels.empty()) {
         // No lines: one empty voxel keeps the shader's buffers valid.
@@ -237,11 +270,18 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
         r->m_header = makeBuffer(sizeof empty, &empty);
         r->m_size = glm::ivec3(1);
         r->m_voxelSize = 1;
-    } else {
+    } else if (!packed) {
         r->m_header = makeBuffer(model.voxels.size() * sizeof(VrcVoxel), model.voxels.data());
     }
     r->uploadBricks(model);
-    r->uploadPieces(model, maxBlockBytes);
+    if (packed) {
+        r->uploadPaper(*packed, scene.output.aovId);
+        r->m_bytesPerPiece = std::size_t(packed->layout.bytesPerPiece());
+        r->m_headerBytes = packed->headerBytes();
+        r->m_modelBytes = packed->bytesTotal();
+    } else {
+        r->uploadPieces(model, maxBlockBytes);
+    }
     glFinish();
     r->m_uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -346,6 +386,36 @@ void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes)
     }
 }
 
+void VrcRenderer::uploadPaper(const VrcPackedModel& packed, bool globalIds) {
+    m_paper = true;
+    m_paperLayout = packed.layout;
+    m_paperRadiusCode = packed.constantRadius;
+    m_palette = packed.palette;
+    m_paletteColors = packed.paletteSize;
+    m_paletteExact = packed.paletteExact;
+    m_paletteMaxError = packed.paletteMaxError;
+    m_header = makeBuffer(packed.offsets.size() * sizeof(std::uint32_t), packed.offsets.data());
+    std::vector<std::uint8_t> counts(packed.counts);
+    counts.resize((counts.size() + 3) / 4 * 4, 0u);
+    m_paperCounts = makeBuffer(counts.size(), counts.data());
+    const std::vector<std::uint32_t> words = packed.words();
+    m_pieceBuffer = makeBuffer(words.size() * sizeof(std::uint32_t), words.data());
+    m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
+    glTextureBuffer(m_pieceTexture.id(), GL_R32UI, m_pieceBuffer.id());
+    m_pieceBlockCount = 0;
+    m_piecesInBuffer = packed.pieceCount;
+    if (globalIds) {
+        // The id image needs the polyline ids the 5-bit local ids stand in for: 4 bytes per piece
+        // beside the encoding, only when the id output is asked for.
+        std::vector<std::uint32_t> ids(packed.globalIds);
+        if (ids.empty()) ids.push_back(0u);
+        m_globalIdBuffer = makeBuffer(ids.size() * sizeof(std::uint32_t), ids.data());
+        m_globalIdTexture = Texture::create(GL_TEXTURE_BUFFER);
+        glTextureBuffer(m_globalIdTexture.id(), GL_R32UI, m_globalIdBuffer.id());
+        m_globalIdBytes = packed.globalIds.size() * sizeof(std::uint32_t);
+    }
+}
+
 void VrcRenderer::uploadShadowLines(const VrcModel& model) {
     // Representative lines of the chosen level (core/vrc_representative.h), two vec4 per
     // voxel: a.xyz + radius, b.xyz + weight (0 = no line).
@@ -444,8 +514,12 @@ void VrcRenderer::uploadLighting(const VrcModel& model, bool aoEnabled, std::vec
     if (densityShadows) defines.push_back("VRC_DENSITY_SHADOWS");
     if (precomputedAo) {
         defines.push_back("VRC_PRECOMPUTED_AO");
-        m_aoVolume = precomputeVrcSphereAo(model, m_header, m_eq1Density, m_spec.ao.sphereRays, m_spec.ao.radiusVoxels,
-                                           &m_aoPrecomputeMs);
+        // The precomputation reads the 16-byte model's header (its neighbourhood bits); with the
+        // packed encoding it is uploaded for this pass only.
+        const Buffer compactHeader =
+            m_paper ? makeBuffer(model.voxels.size() * sizeof(VrcVoxel), model.voxels.data()) : Buffer();
+        m_aoVolume = precomputeVrcSphereAo(model, m_paper ? compactHeader : m_header, m_eq1Density,
+                                           m_spec.ao.sphereRays, m_spec.ao.radiusVoxels, &m_aoPrecomputeMs);
     }
 }
 
@@ -520,7 +594,16 @@ void VrcRenderer::enableLodStats() {
 
 std::vector<std::string> VrcRenderer::rayCasterDefines() const {
     std::vector<std::string> defines;
-    if (m_quantization > 0) {
+    if (m_paper) {
+        defines.push_back("VRC_PAPER");
+        defines.push_back("VRC_Q " + std::to_string(m_quantization));
+        defines.push_back("VRC_PAPER_BYTES " + std::to_string(m_paperLayout.bytesPerPiece()));
+        defines.push_back("VRC_PAPER_BIN_BITS " + std::to_string(m_paperLayout.binBits));
+        defines.push_back("VRC_PAPER_M " + std::to_string(m_paperLayout.interiorLattice));
+        if (m_paperLayout.copies) defines.push_back("VRC_PAPER_COPIES");
+        if (m_paperLayout.radiusVaries) defines.push_back("VRC_PAPER_RADII");
+        if (m_globalIdTexture.id() != 0) defines.push_back("VRC_GLOBAL_IDS");
+    } else if (m_quantization > 0) {
         defines.push_back("QUANTIZED");
         defines.push_back("VRC_Q " + std::to_string(m_quantization));
     }
@@ -532,7 +615,7 @@ std::vector<std::string> VrcRenderer::rayCasterDefines() const {
     defines.push_back("VRC_GROUP_SIZE " + std::to_string(kGroupSize));
     defines.push_back("VRC_PIECE_BLOCKS " + std::to_string(m_pieceBlockCount));
     defines.push_back("VRC_BLOCK_SHIFT " + std::to_string(m_blockShift));
-    if (m_pieceTexture.id() != 0) defines.push_back("VRC_PIECE_TEXTURE");
+    if (m_pieceTexture.id() != 0 && !m_paper) defines.push_back("VRC_PIECE_TEXTURE");
     if (m_spec.neighbors) defines.push_back("NEIGHBORS");
     return defines;
 }
@@ -600,6 +683,12 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
         }
     }
     if (m_pieceTexture.id() != 0) glBindTextureUnit(binding::kVrcPieceTexels, m_pieceTexture.id());
+    if (m_paper) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kVrcPaperCounts, m_paperCounts.id());
+        glProgramUniform1uiv(p, uniformLocation(p, "uVrcPalette"), GLsizei(m_palette.size()), m_palette.data());
+        glProgramUniform1ui(p, uniformLocation(p, "uVrcRadiusCode"), m_paperRadiusCode);
+        if (m_globalIdTexture.id() != 0) glBindTextureUnit(binding::kVrcGlobalIds, m_globalIdTexture.id());
+    }
     glBindImageTexture(binding::kVrcColor, m_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(binding::kVrcNormalDepth, m_normalDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(binding::kVrcId, m_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
@@ -664,7 +753,7 @@ nlohmann::json VrcRenderer::lodDescription() const {
 
 nlohmann::json VrcRenderer::describe() const {
     const double mb = 1024.0 * 1024.0;
-    return {
+    nlohmann::json d = {
         {"technique", "voxel_raycast"},
         {"transparency", m_transparent ? "front_to_back_along_ray" : "opaque"},
         {"grid", {m_size.x, m_size.y, m_size.z}},
@@ -682,7 +771,13 @@ nlohmann::json VrcRenderer::describe() const {
         {"piece_texture", m_pieceTexture.id() != 0},
         {"segments", m_segments},
         {"bytes_per_piece", m_bytesPerPiece},
+        {"header_bytes", m_headerBytes},
+        {"model_bytes", m_modelBytes},
         {"model_mb", double(m_modelBytes) / mb},
+        {"encoding", m_paper ? "paper" : "compact16"},
+        {"encoding_requested", m_spec.encoding == VrcSpec::Encoding::Paper ? "paper" : "compact16"},
+        {"encoding_fallback",
+         m_encodingFallback.empty() ? nlohmann::json(nullptr) : nlohmann::json(m_encodingFallback)},
         {"raw_lines_mb", double(m_rawBytes) / mb},
         {"build_ms", m_buildMs},
         {"build", m_gpuBuild ? "gpu" : "cpu"},
@@ -707,6 +802,21 @@ nlohmann::json VrcRenderer::describe() const {
         {"ambient_occlusion", m_ao && m_aoEnabled && m_spec.ao.method == VrcSpec::Ao::Method::ConeTraced
                                   ? m_ao->describe()
                                   : nlohmann::json(m_aoEnabled)}};
+    if (m_paper)
+        d["paper_encoding"] = {{"bits_per_piece", m_paperLayout.bitsPerPiece()},
+                               {"end_bits", m_paperLayout.endBits},
+                               {"interior_lattice", m_paperLayout.interiorLattice},
+                               {"home_offset_bits", m_paperLayout.copies ? kPaperOffsetBits : 0},
+                               {"radius", m_paperLayout.radiusVaries ? "two unorm8 per piece" : "one for the model"},
+                               {"palette_colors", m_paletteColors},
+                               {"palette_exact", m_paletteExact},
+                               // Largest colour channel error of the palette, in units of 1/255.
+                               {"palette_max_error", m_paletteMaxError},
+                               {"piece_bytes", m_pieces * m_bytesPerPiece},
+                               // Beside the encoding, only with the id output: the pieces' global polyline ids.
+                               {"global_id_bytes", m_globalIdBytes},
+                               {"pack_ms", m_packMs}};
+    return d;
 }
 
 TechniqueDescriptor voxelRaycastTechnique() {

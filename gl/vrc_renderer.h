@@ -11,6 +11,7 @@
 // precomputed, render.vrc.shadow_mode density_cone / hard_tubes) read the Eq. 1 pyramid of the
 // model or its pieces instead (shaders/vrc_lighting.glsl, uploadLighting).
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/scene.h"
@@ -18,6 +19,7 @@
 #include "core/technique.h"
 #include "core/technique_registry.h"
 #include "core/vrc_model.h"
+#include "core/vrc_packed.h"
 #include "gl/ambient_occlusion.h"
 #include "gl/objects.h"
 
@@ -101,6 +103,9 @@ private:
     // lines, and the ray caster's defines for what was uploaded.
     void uploadBricks(const VrcModel& model);
     void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
+    // render.vrc.encoding "paper": the packed model (core/vrc_packed.h) as the header buffers, one
+    // GL_R32UI texture buffer of the piece words and, with the id image requested, the global ids.
+    void uploadPaper(const VrcPackedModel& packed, bool globalIds);
     void uploadShadowLines(const VrcModel& model);
     // The LoD volume (core/vrc_model.h buildVrcLodVolume) as the atlas of shaders/vrc_lod.glsl.
     void uploadLodVolume(const VrcModel& model);
@@ -153,7 +158,21 @@ private:
     std::vector<std::uint32_t> m_lodSamples;
     int m_lodMinLevel = 0;
 
-    Buffer m_header;
+    Buffer m_header;  // compact16: (offset, count) per voxel; paper: the first piece per voxel
+    // render.vrc.encoding: the packed encoding is in use (m_paper), or why it was not
+    // (m_encodingFallback, empty when compact16 was asked for or paper is in use).
+    bool m_paper = false;
+    std::string m_encodingFallback;
+    VrcPaperLayout m_paperLayout;
+    std::uint32_t m_paperRadiusCode = 0;
+    std::vector<std::uint32_t> m_palette;
+    int m_paletteColors = 0, m_paletteMaxError = 0;
+    bool m_paletteExact = true;
+    std::size_t m_headerBytes = 0, m_globalIdBytes = 0;
+    double m_packMs = 0;
+    Buffer m_paperCounts;       // 1-byte counts, four voxels per word
+    Buffer m_globalIdBuffer;    // per piece, the polyline id (only with the id image)
+    Texture m_globalIdTexture;  // GL_R32UI over m_globalIdBuffer
     // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift
     // pieces; quantized pieces are read through m_pieceTexture (GL_RGBA32UI over the whole buffer).
     Buffer m_pieceBuffer;

@@ -195,7 +195,7 @@ float vrcDensityConeOcclusion(vec3 pos, vec3 dir, VrcOwnLine own) {
 // meets is found in the voxel where it meets it).
 bool vrcShadowRayHitsVoxel(Ray ray, ivec3 v, float tEnter, float tExit) {
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize))) return false;
-    uvec2 h = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x];
+    uvec2 h = vrcHeaderAt((v.z * uGridSize.y + v.y) * uGridSize.x + v.x);
     uint count = h.y & kVrcCountMask;
     for (uint k = 0u; k < count; ++k) {
         VrcPiece p = vrcPiece(h.x + k, v);
@@ -235,7 +235,7 @@ float vrcHardTubeVisibility(vec3 pos, vec3 n) {
     for (int steps = 0; steps < 8192; ++steps) {
         float tExit = min(min(tMax.x, tMax.y), tMax.z);
 #ifdef NEIGHBORS
-        if ((vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x].y & kVrcNeighbourhoodBit) != 0u)
+        if ((vrcHeaderCount((v.z * uGridSize.y + v.y) * uGridSize.x + v.x) & kVrcNeighbourhoodBit) != 0u)
             for (int k = 0; k < 27; ++k)
                 if (vrcShadowRayHitsVoxel(ray, v + ivec3(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1), tEnter, tExit))
                     return 0.0;

@@ -17,7 +17,12 @@
 // depends on the ray's chord through the hit piece, below), VRC_DENSITY_AO, VRC_PRECOMPUTED_AO,
 // VRC_DENSITY_SHADOWS, VRC_HARD_TUBE_SHADOWS (the paper's lighting, shaders/vrc_lighting.glsl), VRC_LOD (rays leave the tubes for the
 // LoD volume in the distance and, transparent, at high accumulated opacity: shaders/vrc_lod.glsl),
-// VRC_LOD_STATS (with VRC_LOD: count the samples per level).
+// VRC_LOD_STATS (with VRC_LOD: count the samples per level), VRC_PAPER (render.vrc.encoding "paper":
+// the packed pieces and 5-byte headers of core/vrc_packed.h instead of QUANTIZED's, with
+// VRC_PAPER_BYTES, VRC_PAPER_BIN_BITS, VRC_PAPER_M, VRC_PAPER_COPIES, VRC_PAPER_RADII and VRC_Q;
+// never with NEIGHBORS), VRC_GLOBAL_IDS (with VRC_PAPER: the polyline id image reads the
+// pieces' global ids from a side array; else the 5-bit local ids serve, which only tell lines
+// apart within a voxel).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -39,9 +44,38 @@ uniform float uShadowStartOffset;
 
 layout(local_size_x = VRC_GROUP_SIZE, local_size_y = VRC_GROUP_SIZE) in;  // gl/vrc_renderer.cpp
 
+#ifdef VRC_PAPER
+// Header (Kanzler et al. 2019, Sec. 6.2: 5 bytes per voxel): the first piece per voxel, and the
+// piece count in one byte, four voxels per word (x fastest).
+layout(std430, binding = SSBO_VRC_HEADER) readonly buffer VrcPaperOffsets { uint vrcPaperOffsets[]; };
+layout(std430, binding = SSBO_VRC_PAPER_COUNTS) readonly buffer VrcPaperCounts { uint vrcPaperCounts[]; };
+// The packed pieces as 32-bit words (GL_R32UI); piece i is the bit string at byte i x VRC_PAPER_BYTES.
+layout(binding = TEXTURE_VRC_PIECE_TEXELS) uniform usamplerBuffer vrcPaperWords;
+#ifdef VRC_GLOBAL_IDS
+layout(binding = TEXTURE_VRC_GLOBAL_IDS) uniform usamplerBuffer vrcGlobalIds;
+#endif
+uniform uint uVrcPalette[256];  // RGBA8
+uniform uint uVrcRadiusCode;    // without VRC_PAPER_RADII: every end's unorm16 radius (of uMaxRadius)
+// (offset, count) of voxel vi, as the 16-byte model's header (no neighbourhood bit: never NEIGHBORS).
+uint vrcHeaderCount(int vi) {
+    return (vrcPaperCounts[vi >> 2] >> (8u * uint(vi & 3))) & 0xFFu;
+}
+uvec2 vrcHeaderAt(int vi) {
+    return uvec2(vrcPaperOffsets[vi], vrcHeaderCount(vi));
+}
+#else
 // Header: (offset, count | neighbourhood bit) per voxel, x fastest.
 layout(std430, binding = SSBO_VRC_HEADER) readonly buffer VrcHeader { uvec2 vrcVoxels[]; };
-#ifdef QUANTIZED
+uvec2 vrcHeaderAt(int vi) {
+    return vrcVoxels[vi];
+}
+uint vrcHeaderCount(int vi) {
+    return vrcVoxels[vi].y;
+}
+#endif
+#ifdef VRC_PAPER
+// The pieces are words of vrcPaperWords (above), decoded by vrcPiece.
+#elif defined(QUANTIZED)
 // ends (2 x 16-bit codes), polyline id, RGBA8 colour, 2 x unorm16 radius (of uMaxRadius).
 #define VRC_PIECE_T uvec4
 #else
@@ -53,6 +87,7 @@ struct VrcExactPiece {
 };
 #define VRC_PIECE_T VrcExactPiece
 #endif
+#ifndef VRC_PAPER
 // The piece array in VRC_PIECE_BLOCKS blocks of 2^VRC_BLOCK_SHIFT pieces (one shader storage
 // block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe): block 0 at
 // SSBO_VRC_PIECES, blocks 1.. at SSBO_VRC_PIECE_BLOCKS + 0, 1, ... (gl/vrc_renderer.cpp). Piece i is in block i >> VRC_BLOCK_SHIFT.
@@ -137,6 +172,7 @@ VRC_PIECE_T vrcFetchPiece(uint i) {
 #endif
 #endif
 }
+#endif  // !VRC_PAPER
 
 #ifdef BRICK_SKIP
 // Per brick of kBrick^3 voxels: 0 when no voxel in it can hold a surface (gl/vrc_renderer.cpp).
@@ -171,14 +207,17 @@ struct VrcPiece {
     bool vertexA, vertexB;
 };
 
-#ifdef QUANTIZED
+#if defined(QUANTIZED) || defined(VRC_PAPER)
 // Twin of tc::decodeEnd (core/vrc_model.cpp). The quantization is a compile-time constant
 // (VRC_Q, set by gl/vrc_renderer.cpp): llvmpipe has no vector integer division, so a division by
 // a uniform runs as one scalar division per lane; by a constant it becomes shifts or a multiply.
 const uint kVrcQ = uint(VRC_Q);
+#ifdef VRC_PAPER
+const uint kVrcM = uint(VRC_PAPER_M);  // the packed encoding's interior lattice (core/vrc_packed.h)
+#else
 const uint kVrcM = min(kVrcQ, 16u);  // interior lattice (kInteriorLattice)
-vec3 vrcDecodeEnd(ivec3 v, uint code) {
-    uint face = code >> 13u, bin = code & 0x1FFFu;
+#endif
+vec3 vrcDecodeEnd(ivec3 v, uint face, uint bin) {
     vec3 p = vec3(v);
     if (face == kVrcInteriorFace) {
         uvec3 cell = uvec3(bin % kVrcM, bin / kVrcM % kVrcM, bin / (kVrcM * kVrcM));
@@ -194,6 +233,35 @@ vec3 vrcDecodeEnd(ivec3 v, uint code) {
 }
 #endif
 
+#ifdef VRC_PAPER
+// Twin of tc::unpackVrcPiece (core/vrc_packed.cpp). Field widths and shifts are constants.
+const uint kPaperBytes = uint(VRC_PAPER_BYTES);
+const uint kPaperBinBits = uint(VRC_PAPER_BIN_BITS);
+const uint kPaperEndBits = kPaperBinBits + 3u;
+const uint kPaperColorShift = 2u * kPaperEndBits;
+const uint kPaperLineShift = kPaperColorShift + 8u;
+const uint kPaperOffsetShift = kPaperLineShift + 5u;
+#ifdef VRC_PAPER_COPIES
+const uint kPaperRadiusShift = kPaperOffsetShift + 6u;
+#else
+const uint kPaperRadiusShift = kPaperOffsetShift;
+#endif
+// Bits [shift, shift + n) of the 96-bit value a (a.x lowest), n < 32, shift + n <= 96.
+uint vrcPaperField(uvec3 a, uint shift, uint n) {
+    uint lo = shift < 32u ? a.x : (shift < 64u ? a.y : a.z);
+    uint hi = shift < 32u ? a.y : a.z;
+    uint r = shift & 31u;
+    uint v = r == 0u ? lo : ((lo >> r) | (hi << (32u - r)));
+    return v & ((1u << n) - 1u);
+}
+vec3 vrcPaperEnd(ivec3 home, uint code) {
+    uint face = code >> kPaperBinBits, bin = code & ((1u << kPaperBinBits) - 1u);
+    // Face ids 6 and 7: a vertex end, the id's low bit above the bin bits of its lattice index.
+    if (face >= kVrcInteriorFace) return vrcDecodeEnd(home, kVrcInteriorFace, ((face - kVrcInteriorFace) << kPaperBinBits) | bin);
+    return vrcDecodeEnd(home, face, bin);
+}
+#endif
+
 // Home voxel offset of a copy (core/vrc_model.h, Copies): 2-bit two's complement per axis.
 ivec3 vrcHomeOffset(uint bits) {
     return ivec3(bitfieldExtract(int(bits), 0, 2), bitfieldExtract(int(bits), 2, 2), bitfieldExtract(int(bits), 4, 2));
@@ -201,12 +269,47 @@ ivec3 vrcHomeOffset(uint bits) {
 
 VrcPiece vrcPiece(uint i, ivec3 v) {
     VrcPiece p;
-#ifdef QUANTIZED
+#ifdef VRC_PAPER
+    // The piece's bytes start in word byte / 4 at bit 8 (byte & 3): align three words (at most
+    // 3 + 9 bytes are read; the array is padded by two words).
+    uint byte = i * kPaperBytes;
+    int w = int(byte >> 2u);
+    uint s = 8u * (byte & 3u);
+    uint w0 = texelFetch(vrcPaperWords, w).x, w1 = texelFetch(vrcPaperWords, w + 1).x;
+#if VRC_PAPER_BYTES > 5
+    uint w2 = texelFetch(vrcPaperWords, w + 2).x;
+#else
+    uint w2 = 0u;  // s + 40 bits <= 64: two words hold the piece
+#endif
+    uvec3 a = s == 0u ? uvec3(w0, w1, w2) : uvec3((w0 >> s) | (w1 << (32u - s)), (w1 >> s) | (w2 << (32u - s)), w2 >> s);
+    uint codeA = vrcPaperField(a, 0u, kPaperEndBits), codeB = vrcPaperField(a, kPaperEndBits, kPaperEndBits);
+#ifdef VRC_PAPER_COPIES
+    ivec3 home = v + vrcHomeOffset(vrcPaperField(a, kPaperOffsetShift, 6u));
+#else
+    ivec3 home = v;
+#endif
+#ifdef VRC_PAPER_RADII
+    uint radii = vrcPaperField(a, kPaperRadiusShift, 16u);
+    float r0 = uMaxRadius * float(radii & 0xFFu) / 255.0, r1 = uMaxRadius * float(radii >> 8u) / 255.0;
+#else
+    // The 16-byte model's expression: the same radius bit for bit.
+    float r0 = uMaxRadius * float(uVrcRadiusCode) / 65535.0, r1 = r0;
+#endif
+    p.cone = RoundedCone(vrcPaperEnd(home, codeA), r0, vrcPaperEnd(home, codeB), r1);
+    p.color = unpackUnorm4x8(uVrcPalette[vrcPaperField(a, kPaperColorShift, 8u)]);
+#ifdef VRC_GLOBAL_IDS
+    p.line = texelFetch(vrcGlobalIds, int(i)).x;
+#else
+    p.line = vrcPaperField(a, kPaperLineShift, 5u);
+#endif
+    p.vertexA = (codeA >> kPaperBinBits) >= kVrcInteriorFace;
+    p.vertexB = (codeB >> kPaperBinBits) >= kVrcInteriorFace;
+#elif defined(QUANTIZED)
     uvec4 c = vrcFetchPiece(i);
     uint codeA = c.x & 0xFFFFu, codeB = c.x >> 16u;
     ivec3 home = v + vrcHomeOffset(c.y >> 26u);
-    p.cone = RoundedCone(vrcDecodeEnd(home, codeA), uMaxRadius * float(c.w & 0xFFFFu) / 65535.0,
-                         vrcDecodeEnd(home, codeB), uMaxRadius * float(c.w >> 16u) / 65535.0);
+    p.cone = RoundedCone(vrcDecodeEnd(home, codeA >> 13u, codeA & 0x1FFFu), uMaxRadius * float(c.w & 0xFFFFu) / 65535.0,
+                         vrcDecodeEnd(home, codeB >> 13u, codeB & 0x1FFFu), uMaxRadius * float(c.w >> 16u) / 65535.0);
     p.color = unpackUnorm4x8(c.z);
     p.line = c.y & 0x03FFFFFFu;
     p.vertexA = (codeA >> 13u) == kVrcInteriorFace;
@@ -429,7 +532,7 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 // the candidates (docs/performance.md, "Design notes").
 void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize))) return;
-    uvec2 h = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x];
+    uvec2 h = vrcHeaderAt((v.z * uGridSize.y + v.y) * uGridSize.x + v.x);
     uint count = h.y & kVrcCountMask;
     for (uint base = 0u; base < count; base += 32u) {
         uint n = min(count - base, 32u);
@@ -604,7 +707,7 @@ void main() {
             }
 #endif
             float tExit = min(min(tMax.x, tMax.y), tMax.z);
-            uint header = vrcVoxels[(v.z * uGridSize.y + v.y) * uGridSize.x + v.x].y;
+            uint header = vrcHeaderCount((v.z * uGridSize.y + v.y) * uGridSize.x + v.x);
 #ifdef NEIGHBORS
             bool occupied = (header & kVrcNeighbourhoodBit) != 0u;
 #else

@@ -33,6 +33,7 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
     EXPECT_EQ(d.render.vrc.shadowMode, VrcSpec::ShadowMode::Soft);
     EXPECT_EQ(d.render.vrc.shadowLevel, 1);
     EXPECT_EQ(d.render.vrc.build, VrcSpec::Build::Auto);
+    EXPECT_EQ(d.render.vrc.encoding, VrcSpec::Encoding::Compact16);
     EXPECT_FALSE(d.render.vrc.lod.enabled);
     EXPECT_FLOAT_EQ(d.render.vrc.lod.pixelFootprint, 1.0f);
     EXPECT_FLOAT_EQ(d.render.vrc.lod.opacityStart, 0.5f);
@@ -41,7 +42,7 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
         "render": {"technique": "voxel_raycast", "transparency": "kbuffer",
                    "vrc": {"resolution": 64, "quantization": 0, "neighbors": "on", "opacity_threshold": 0.5,
                            "path_length_opacity": true, "shadows": true, "shadow_aperture_deg": 20, "shadow_mode": "hard",
-                           "shadow_level": 2, "build": "gpu", "lod": {"enabled": true, "pixel_footprint": 4, "opacity_start": 0.25}}}})"),
+                           "shadow_level": 2, "build": "gpu", "encoding": "paper", "lod": {"enabled": true, "pixel_footprint": 4, "opacity_start": 0.25}}}})"),
                                "scene.json");
     EXPECT_EQ(s.render.vrc.resolution, 64);
     EXPECT_EQ(s.render.vrc.quantization, 0);
@@ -53,6 +54,7 @@ TEST(VrcScene, voxel_raycast_keys_parse_with_documented_defaults) {
     EXPECT_EQ(s.render.vrc.shadowMode, VrcSpec::ShadowMode::Hard);
     EXPECT_EQ(s.render.vrc.shadowLevel, 2);
     EXPECT_EQ(s.render.vrc.build, VrcSpec::Build::Gpu);
+    EXPECT_EQ(s.render.vrc.encoding, VrcSpec::Encoding::Paper);
     EXPECT_TRUE(s.render.vrc.lod.enabled);
     EXPECT_FLOAT_EQ(s.render.vrc.lod.pixelFootprint, 4.0f);
     EXPECT_FLOAT_EQ(s.render.vrc.lod.opacityStart, 0.25f);
@@ -75,6 +77,9 @@ TEST(VrcScene, bad_vrc_lod_keys_are_input_errors_naming_the_key) {
     const std::string build = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
         "render": {"technique": "voxel_raycast", "vrc": {"build": "gpgpu"}}})"));
     EXPECT_NE(build.find("render.vrc.build"), std::string::npos) << build;
+    const std::string encoding = errorOf(json::parse(R"({"dataset": {"generate": "tornado"},
+        "render": {"technique": "voxel_raycast", "vrc": {"encoding": "packed"}}})"));
+    EXPECT_NE(encoding.find("render.vrc.encoding"), std::string::npos) << encoding;
     const std::string notObject = error("true");
     EXPECT_NE(notObject.find("render.vrc.lod"), std::string::npos) << notObject;
 }
