@@ -298,6 +298,7 @@ Scene referenceScene(const Scene& scene) {
     if (scene.render.referenceRaytraced) {
         ref.render.technique = RenderTechnique::Raytraced;
         ref.render.raytracedAlphaCutoff = 1.0f;
+        ref.render.raytracedExactSurface = true;
         if (scene.render.transparency != Transparency::Opaque) ref.render.transparency = Transparency::DepthPeeling;
     } else {
         ref.render.technique = RenderTechnique::Rasterized;

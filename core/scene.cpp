@@ -535,6 +535,8 @@ void readRender(SpecReader r, RenderSpec& rs) {
     if (r.has("raytraced")) {
         SpecReader rt = r.child("raytraced");
         rs.raytracedAlphaCutoff = rt.getFloat("alpha_cutoff", rs.raytracedAlphaCutoff, 0.01f, 1.0f);
+        rs.raytracedExactSurface =
+            rt.getEnum("surface", rs.raytracedExactSurface ? "exact" : "embree", {"embree", "exact"}) == "exact";
         rt.finish();
     }
     std::string transparency = r.getEnum(

@@ -315,6 +315,9 @@ struct RenderSpec {
     bool referenceDepthPeeling = false;  // render.reference: "depth_peeling" -> quality.csv
     bool referenceRaytraced = false;     // render.reference: "raytraced" (exact) -> quality.csv
     float raytracedAlphaCutoff = 0.99f;  // render.raytraced.alpha_cutoff; 1 = exact compositing
+    // render.raytraced.surface: the opaque visible surface as Embree's curve intersector finds it
+    // (false) or recomputed by the CPU reference's rule, bit for bit (true; rt/raytraced_renderer.h).
+    bool raytracedExactSurface = false;
     AoSpec ao;
     CullingSpec culling;
     OpacityOptimizationSpec opacity;

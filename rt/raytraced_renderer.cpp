@@ -1,5 +1,7 @@
 #include "rt/raytraced_renderer.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -84,6 +86,7 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     r->m_lines = lines;
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
+    r->m_exactSurface = rs.raytracedExactSurface;
     if (r->m_transparent) {
         // K from the mean opacity of the vertices (rt/hit_collector.h).
         double opacity = 0;
@@ -125,6 +128,10 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
     const bool ortho = camera.projection == Projection::Orthographic;
     const bool clips = !m_region.unbounded();
+    // "embree" surface: Embree's round curves do not report the inner wall a ray starting inside
+    // a tube sees; such a frame takes the exact surface.
+    const bool exactSurface =
+        !m_transparent && !clips && (m_exactSurface || originsMayStartInTubes(camera, window, width, height));
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
@@ -157,7 +164,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
                         Surface s;
                         if (regionSurface(c, s)) shadeSurface(c, s);
                     } else {
-                        shadeOpaque(c, firstHits[k]);
+                        shadeOpaque(c, firstHits[k], exactSurface);
                     }
                     hits += c.hits;
                     storePixel(out, c.pixel, c.rgba, c.depth, c.normal, c.id);
@@ -168,6 +175,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
         },
         &m_bounds);
     m_lastHits = totalHits.load();
+    m_lastExactSurface = exactSurface || (!m_transparent && clips);
     sink.setItems(m_lastHits);
     sink.end();
 }
@@ -229,17 +237,53 @@ bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool
     return true;
 }
 
-void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit) const {
+void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit, bool exactSurface) const {
     c.hits = 1;
     Surface s;
     bool anyCandidate = false;
-    if (!visibleSurface(c.ray, hit, false, s, anyCandidate)) {
-        // Grazing: Embree hit what the exact intersector calls a miss; keep Embree's answer.
+    if (!exactSurface || !visibleSurface(c.ray, hit, false, s, anyCandidate)) {
+        // render.raytraced.surface "embree" (or, exact, grazing: Embree hit what the exact
+        // intersector calls a miss): Embree's hit as it is.
         s.t = hit.t;
         s.segment = hit.prim;
         s.normal = glm::dot(hit.ng, hit.ng) > 0.0f ? glm::normalize(hit.ng) : -c.ray.dir;
     }
     shadeSurface(c, s);
+}
+
+bool RaytracedRenderer::originsMayStartInTubes(const Camera& camera, const ImageWindow& window, int width,
+                                               int height) const {
+    // The ray origins: the eye (perspective) or the image rectangle on the plane through it
+    // (orthographic), held in the sphere around the eye through the rectangle's corners; with a
+    // margin for the rounding of the distances. (Embree's rtcPointQuery visits no curve
+    // primitives, so the segments are scanned here, and only when the sphere meets the data's
+    // bounds: a camera outside the data costs one box test per frame.)
+    const int fw = fullWidthOf(window, width), fh = fullHeightOf(window, height);
+    // Corners one pixel beyond the image: sample jitter moves the rays by up to half a pixel.
+    float radius = 0.0f;
+    for (float px : {-1.5f, float(fw) + 0.5f})
+        for (float py : {-1.5f, float(fh) + 0.5f})
+            radius = std::max(radius, glm::length(pixelRay(camera, fw, fh, px, py).origin - camera.eye));
+    const glm::vec3 eye = camera.eye;
+    radius += 1e-4f * (m_lines.maxRadius + glm::length(eye) + radius);
+    const glm::vec3 nearest = glm::clamp(eye, m_lines.bounds.lo, m_lines.bounds.hi);
+    if (m_lines.bounds.empty() || glm::length(nearest - eye) > radius) return false;
+    const StyledLines& L = m_lines;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, L.segmentCount(), 1 << 14), false,
+        [&](const tbb::blocked_range<std::size_t>& range, bool found) {
+            for (std::size_t s = range.begin(); !found && s != range.end(); ++s) {
+                const glm::vec4& a = L.positionRadius[L.segmentVertices[2 * s]];
+                const glm::vec4& b = L.positionRadius[L.segmentVertices[2 * s + 1]];
+                // Bounding sphere of the rounded cone first.
+                const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b));
+                const float reach = 0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + std::max(a.w, b.w) + radius;
+                if (glm::dot(m - eye, m - eye) > reach * reach) continue;
+                found = sdRoundedCone(eye, {glm::vec3(a), a.w, glm::vec3(b), b.w}) <= radius;
+            }
+            return found;
+        },
+        [](bool x, bool y) { return x || y; });
 }
 
 RayInterval RaytracedRenderer::regionRayInterval(const Ray& ray) const {
@@ -399,6 +443,7 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"bvh_memory_mb", double(m_embree->bytes()) / (1024.0 * 1024.0)},
                         {"bvh_peak_memory_mb", double(m_embree->peakBytes()) / (1024.0 * 1024.0)},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
+    if (!m_transparent) j["surface"] = m_exactSurface || !m_region.unbounded() ? "exact" : "embree";
     if (m_transparent) {
         j["alpha_cutoff"] = m_alphaCutoff;
         j["hits_per_pass"] = m_hitsPerPass;

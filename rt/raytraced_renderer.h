@@ -3,11 +3,18 @@
 // Embree 3 round linear curves (rt/embree_lines.h) over 8x8 pixel tiles with oneTBB. Same camera
 // rays (core/camera.h), shading (core/shading.h), colour pipeline and AOVs as the GL techniques,
 // so switching technique gives the same picture up to float differences:
-// - Opaque: the first hit along each pixel-centre ray. Embree finds the segment; its depth and
-//   normal are then recomputed with core/rounded_cone.h on that segment and its polyline
-//   neighbours, by the rule of core/cpu_reference.h (visible t = tIn if > 0 else tOut if > 0, the
-//   nearest wins, ties to the lower segment), so depth / normal / id equal the CPU reference's
-//   wherever Embree and the reference agree on the segment.
+// - Opaque: the first hit along each pixel-centre ray. render.raytraced.surface "embree" (the
+//   default): Embree's round-curve hit as it is (distance, geometric normal, segment), the same
+//   surface as the CPU reference's to float rounding (tests/unit/raytraced_test.cpp bounds the
+//   difference). "exact": Embree finds the segment; its depth and normal are then recomputed with
+//   core/rounded_cone.h on that segment and its polyline neighbours, by the rule of
+//   core/cpu_reference.h (visible t = tIn if > 0 else tOut if > 0, the nearest wins, ties to the
+//   lower segment), so depth / normal / id equal the CPU reference's bit for bit wherever Embree
+//   and the reference agree on the segment; that costs about a fifth of the frame on a dense set
+//   (docs/performance.md, "Ray tracing on the CPU"). Embree's round curves do not show the inner
+//   wall to a ray that starts inside a tube: a frame whose rays may start in one (the eye in a
+//   tube, or a tube across an orthographic image rectangle; an Embree point query per frame)
+//   takes "exact". A region (below) always uses "exact".
 // - Transparent (render.transparency other than "opaque"): every tube entry along the ray, one
 //   contribution per front-facing hit, composited front to back in exact depth order ("under",
 //   premultiplied, as core/transparent_reference.h), stopping once the accumulated alpha reaches
@@ -87,6 +94,9 @@ public:
     // Total Embree hits the last render() composited or skipped (transparent: those in front of
     // the cutoff; opaque: 1 per covered pixel), for tests and timings.
     std::uint64_t lastHitCount() const { return m_lastHits; }
+    // Whether the last opaque render() used the exact surface (render.raytraced.surface "exact",
+    // a region, or rays that may start inside a tube; see the header), for tests and timings.
+    bool lastFrameExactSurface() const { return m_lastExactSurface; }
 
 private:
     RaytracedRenderer() = default;
@@ -101,7 +111,9 @@ private:
         glm::vec3 normal{0.0f};
     };
     bool visibleSurface(const Ray& ray, const FirstHit& hit, bool inRegion, Surface& s, bool& anyCandidate) const;
-    void shadeOpaque(PixelContext& px, const FirstHit& hit) const;
+    void shadeOpaque(PixelContext& px, const FirstHit& hit, bool exactSurface) const;
+    // Whether a primary ray of this frame may start inside a tube (conservative).
+    bool originsMayStartInTubes(const Camera& camera, const ImageWindow& window, int width, int height) const;
     void shadeSurface(PixelContext& px, const Surface& s) const;
     // Region opaque rays: the first Embree hit whose surface (visibleSurface) lies in the box,
     // traced from the box's entry; false: background.
@@ -114,6 +126,7 @@ private:
     LightingSpec m_lighting;
     bool m_transparent = false;
     bool m_joinNeighbours = true;
+    bool m_exactSurface = false;
     float m_alphaCutoff = 0.99f;
     float m_jointEpsilon = 0;  // world units: hits of adjacent segments this close count once
     RegionBox m_region;
@@ -123,6 +136,7 @@ private:
     int m_hitsPerPass = 16, m_defaultHitsPerPass = 16;
     SceneBounds m_bounds;  // of the BVH: tiles whose rays miss it are background (forEachTile)
     mutable std::uint64_t m_lastHits = 0;
+    mutable bool m_lastExactSurface = false;
 };
 
 }  // namespace tc::rt

@@ -12,7 +12,8 @@
 # on the writer thread). Ratios are baseline / tubecast: >= 1 means tubecast is as fast or faster.
 # TUBECAST (default build/cli/tubecast) and BASELINE (default
 # build/tests/bench/tubecast_embree_baseline) choose the binaries; with TUBECAST_BEFORE=BINARY an
-# older tubecast runs too (order A B C C B A) and gets its own row.
+# older tubecast runs too (order A B C C B A) and gets its own row; with EXACT=1 instead, tubecast
+# with render.raytraced.surface "exact" (opaque rows; the key changes nothing transparent).
 # `batching`: transparent hits collected one per traversal against in batches (rt/hit_collector.h),
 # on the spiral set at 960x540, alpha cutoff 0.99, per opacity (fewer hits per pixel the more
 # opaque): process CPU ms of the baseline's rtcIntersect1 loop, then of tubecast_raytraced_bench
@@ -49,6 +50,8 @@ scenes=("$@"); [ ${#scenes[@]} -gt 0 ] || scenes=(configs/bench/spiral_1m.json c
 tubecast=${TUBECAST:-build/cli/tubecast}
 baseline=${BASELINE:-build/tests/bench/tubecast_embree_baseline}
 before=${TUBECAST_BEFORE:-}
+exact=()
+if [ "${EXACT:-0}" = 1 ]; then before=$tubecast; exact=(--set render.raytraced.surface=exact); fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 orbit="animation={\"type\":\"orbit\",\"frames\":$frames,\"degrees\":30}"
@@ -84,9 +87,9 @@ for scene in "${scenes[@]}"; do
     load0=$(cut -d' ' -f1-3 /proc/loadavg)
     run_baseline "$work/a" "$scene" "${sets[@]}"
     run_tubecast "$tubecast" "$work/b" "$scene" "${sets[@]}"
-    if [ -n "$before" ]; then
-      run_tubecast "$before" "$work/c" "$scene" "${sets[@]}"
-      run_tubecast "$before" "$work/c" "$scene" "${sets[@]}"
+    if [ -n "$before" ] && { [ ${#exact[@]} -eq 0 ] || [ "$mode" = opaque ]; }; then
+      run_tubecast "$before" "$work/c" "$scene" "${sets[@]}" "${exact[@]}"
+      run_tubecast "$before" "$work/c" "$scene" "${sets[@]}" "${exact[@]}"
     fi
     run_tubecast "$tubecast" "$work/b" "$scene" "${sets[@]}"
     run_baseline "$work/a" "$scene" "${sets[@]}"
@@ -96,7 +99,8 @@ for scene in "${scenes[@]}"; do
     for who in b c; do
       [ -f "$work/$who.raytrace" ] || continue
       r=$(median < "$work/$who.raytrace"); i=$(median < "$work/$who.interval")
-      label=$name; [ "$who" = c ] && label="$name (TUBECAST_BEFORE)"
+      label=$name
+      [ "$who" = c ] && { [ ${#exact[@]} -gt 0 ] && label="$name (surface exact)" || label="$name (TUBECAST_BEFORE)"; }
       echo "| $label | $mode | $a | $r | $i | $(ratio "$a" "$r") | $(ratio "$a" "$i") | $load0 -> $load1 |"
     done
   done

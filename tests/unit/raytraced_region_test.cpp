@@ -152,6 +152,8 @@ Scene raytracedScene(Transparency t, bool capClipping = true) {
     s.render.transparency = t;
     s.render.capClipping = capClipping;
     s.render.raytracedAlphaCutoff = 1.0f;
+    // Regions always take the exact surface; the whole frame they compose to is that one.
+    s.render.raytracedExactSurface = true;
     return s;
 }
 

@@ -177,6 +177,14 @@ TEST(Scene, KeyframesAreParsedAndTheFrameCountIsTheLastKeyPlusOne) {
 
 // ---- dataset ---------------------------------------------------------------------------------
 
+TEST(Scene, RaytracedSurfaceIsEmbreeByDefaultAndExactOnRequest) {
+    EXPECT_FALSE(parseScene(kMinimal, "scene.json").render.raytracedExactSurface);
+    EXPECT_TRUE(parseScene(with(R"({"render": {"raytraced": {"surface": "exact"}}})"), "scene.json")
+                    .render.raytracedExactSurface);
+    EXPECT_NE(errorOf(with(R"({"render": {"raytraced": {"surface": "precise"}}})")).find("render.raytraced.surface"),
+              std::string::npos);
+}
+
 TEST(Scene, MissingDatasetIsAnError) {
     EXPECT_EQ(errorOf(json::object()),
               "scene.json: dataset: missing required key (\"path\" to a file or \"generate\": \"tornado\")");
