@@ -69,6 +69,33 @@ std::uint32_t radius8(std::uint32_t r16) {
     return (r16 * 255u + 32767u) / 65535u;
 }
 
+// The local line id of each piece of voxel h (the index of its polyline among the voxel's
+// distinct polylines, in order of first appearance) into `local`; returns how many distinct
+// polylines the voxel holds. Sorting, not a linear search per piece: dense bundles put thousands
+// of pieces of hundreds of polylines in one voxel.
+std::uint32_t localLineIds(const VrcModel& model, const VrcVoxel& h, std::vector<std::uint32_t>& local) {
+    const std::uint32_t count = h.count & kCountMask;
+    local.resize(count);
+    thread_local std::vector<std::uint64_t> byLine;  // line << 32 | position
+    thread_local std::vector<std::uint32_t> firsts;
+    byLine.resize(count);
+    for (std::uint32_t k = 0; k < count; ++k)
+        byLine[k] = (std::uint64_t(model.compact[std::size_t(h.offset) + k].line & kLineMask) << 32) | k;
+    std::sort(byLine.begin(), byLine.end());
+    firsts.clear();
+    for (std::uint32_t k = 0; k < count; ++k)
+        if (k == 0 || (byLine[k] >> 32) != (byLine[k - 1] >> 32)) firsts.push_back(std::uint32_t(byLine[k]));
+    std::sort(firsts.begin(), firsts.end());
+    std::uint32_t id = 0;
+    for (std::uint32_t k = 0; k < count; ++k) {
+        if (k == 0 || (byLine[k] >> 32) != (byLine[k - 1] >> 32))
+            id = std::uint32_t(std::lower_bound(firsts.begin(), firsts.end(), std::uint32_t(byLine[k])) -
+                               firsts.begin());
+        local[std::uint32_t(byLine[k])] = id;
+    }
+    return std::uint32_t(firsts.size());
+}
+
 }  // namespace
 
 int vrcPaperInteriorLattice(int quantization) {
@@ -78,8 +105,10 @@ int vrcPaperInteriorLattice(int quantization) {
     return m;
 }
 
-VrcPaperLayout vrcPaperLayout(int quantization, bool copies, bool radiusVaries) {
+VrcPaperLayout vrcPaperLayout(int quantization, bool copies, bool radiusVaries, int lineBits, int countBytes) {
     TC_CHECK(quantization >= 1 && quantization <= kMaxQuantization);
+    TC_CHECK(lineBits >= kPaperLineBits && lineBits <= kPaperMaxLineBits);
+    TC_CHECK(countBytes == 1 || countBytes == 2);
     VrcPaperLayout l;
     l.quantization = quantization;
     l.binBits = 2 * ceilLog2(quantization);
@@ -87,6 +116,8 @@ VrcPaperLayout vrcPaperLayout(int quantization, bool copies, bool radiusVaries) 
     l.interiorLattice = vrcPaperInteriorLattice(quantization);
     l.copies = copies;
     l.radiusVaries = radiusVaries;
+    l.lineBits = lineBits;
+    l.countBytes = countBytes;
     return l;
 }
 
@@ -200,29 +231,26 @@ VrcPackResult packVrcModel(const VrcModel& model) {
         return result;
     }
     const std::size_t voxels = model.voxels.size();
-    // The voxels that do not fit the 1-byte count or the 5-bit local line id: how many, and the
-    // first (lowest index: deterministic).
-    std::atomic<std::size_t> badVoxel{voxels}, tooManyPieces{0}, tooManyLines{0};
+    // The widest count and local line id any voxel needs; the voxels beyond what the layout can
+    // hold: how many, and the first (lowest index: deterministic).
+    std::atomic<std::size_t> badVoxel{voxels}, tooManyPieces{0}, tooManyLines{0}, widePieces{0}, wideLines{0};
+    std::atomic<std::uint32_t> mostPieces{0}, mostLines{0};
+    auto raise = [](std::atomic<std::uint32_t>& to, std::uint32_t v) {
+        std::uint32_t cur = to.load();
+        while (v > cur && !to.compare_exchange_weak(cur, v)) {
+        }
+    };
     tbb::parallel_for(std::size_t(0), voxels, [&](std::size_t v) {
-        const VrcVoxel& h = model.voxels[v];
-        const std::uint32_t count = h.count & kCountMask;
+        thread_local std::vector<std::uint32_t> local;
+        const std::uint32_t count = model.voxels[v].count & kCountMask;
+        const std::uint32_t lines = localLineIds(model, model.voxels[v], local);
         bool bad = false;
-        if (count > std::uint32_t(kPaperMaxPiecesPerVoxel)) {
-            ++tooManyPieces;
-            bad = true;
-        }
-        std::uint32_t lines[kPaperMaxLinesPerVoxel];
-        int n = 0;
-        for (std::uint32_t k = 0; k < count; ++k) {
-            const std::uint32_t line = model.compact[h.offset + k].line & kLineMask;
-            if (std::find(lines, lines + n, line) != lines + n) continue;
-            if (n == kPaperMaxLinesPerVoxel) {
-                ++tooManyLines;
-                bad = true;
-                break;
-            }
-            lines[n++] = line;
-        }
+        if (count > std::uint32_t(kPaperMaxPiecesPerVoxel)) ++tooManyPieces, bad = true;
+        if (lines > (1u << kPaperMaxLineBits)) ++tooManyLines, bad = true;
+        if (count > 255u) ++widePieces;
+        if (lines > (1u << kPaperLineBits)) ++wideLines;
+        raise(mostPieces, count);
+        raise(mostLines, lines);
         if (bad) {
             std::size_t cur = badVoxel.load();
             while (v < cur && !badVoxel.compare_exchange_weak(cur, v)) {
@@ -231,16 +259,20 @@ VrcPackResult packVrcModel(const VrcModel& model) {
     });
     result.tooManyPieces = tooManyPieces.load();
     result.tooManyLines = tooManyLines.load();
+    result.widePieces = widePieces.load();
+    result.wideLines = wideLines.load();
     if (badVoxel.load() < voxels) {
         const glm::ivec3 c = model.coords(badVoxel.load());
-        result.reason = std::to_string(tooManyPieces.load()) +
-                        " voxels hold more than 255 pieces (a 1-byte count) and " +
-                        std::to_string(tooManyLines.load()) +
-                        " more than 32 distinct polylines (the 5-bit local line id), the first at (" +
-                        std::to_string(c.x) + ", " + std::to_string(c.y) + ", " + std::to_string(c.z) +
-                        "); a higher render.vrc.resolution (smaller voxels) may fit";
+        result.reason = std::to_string(tooManyPieces.load()) + " voxels hold more than " +
+                        std::to_string(kPaperMaxPiecesPerVoxel) + " pieces (a 2-byte count) and " +
+                        std::to_string(tooManyLines.load()) + " more than " + std::to_string(1 << kPaperMaxLineBits) +
+                        " distinct polylines (a " + std::to_string(kPaperMaxLineBits) +
+                        "-bit local line id), the first at (" + std::to_string(c.x) + ", " + std::to_string(c.y) +
+                        ", " + std::to_string(c.z) + "); a higher render.vrc.resolution (smaller voxels) may fit";
         return result;
     }
+    const int lineBits = std::max(kPaperLineBits, ceilLog2(int(std::max(mostLines.load(), 1u))));
+    const int countBytes = mostPieces.load() > 255u ? 2 : 1;
 
     const std::size_t pieces = model.compact.size();
     VrcPackedModel& p = result.model;
@@ -260,7 +292,7 @@ VrcPackResult packVrcModel(const VrcModel& model) {
                 break;
             }
     }
-    p.layout = vrcPaperLayout(model.quantization, model.copies > 0, radiusVaries);
+    p.layout = vrcPaperLayout(model.quantization, model.copies > 0, radiusVaries, lineBits, countBytes);
     if (radiusVaries) p.constantRadius = 0;
 
     std::vector<std::uint32_t> colors(pieces);
@@ -284,22 +316,19 @@ VrcPackResult packVrcModel(const VrcModel& model) {
         const VrcVoxel& h = model.voxels[v];
         const std::uint32_t count = h.count & kCountMask;
         p.offsets[v] = count > 0 ? h.offset : 0u;
-        p.counts[v] = std::uint8_t(count);
-        std::uint32_t lines[kPaperMaxLinesPerVoxel];
-        int n = 0;
+        p.counts[v] = std::uint16_t(count);
+        thread_local std::vector<std::uint32_t> local;
+        localLineIds(model, h, local);
         for (std::uint32_t k = 0; k < count; ++k) {
             const std::size_t i = std::size_t(h.offset) + k;
             const VrcCompactPiece& c = model.compact[i];
-            const std::uint32_t line = c.line & kLineMask;
-            const int local = int(std::find(lines, lines + n, line) - lines);
-            if (local == n) lines[n++] = line;
-            p.globalIds[i] = line;
+            p.globalIds[i] = c.line & kLineMask;
             // Pieces start at whole bytes: no two pieces share a byte, so voxels pack in parallel.
             std::uint8_t* out = p.bytes.data() + i * bytesPerPiece;
             putBits(out, 0, repackEnd(layout, c.ends & 0xFFFFu), layout.endBits);
             putBits(out, std::size_t(layout.endBits), repackEnd(layout, c.ends >> 16), layout.endBits);
             putBits(out, std::size_t(layout.colorShift()), palette.index[i], kPaperColorBits);
-            putBits(out, std::size_t(layout.lineShift()), std::uint32_t(local), kPaperLineBits);
+            putBits(out, std::size_t(layout.lineShift()), local[k], layout.lineBits);
             if (layout.copies) putBits(out, std::size_t(layout.offsetShift()), c.line >> kLineBits, kPaperOffsetBits);
             if (layout.radiusVaries)
                 putBits(out, std::size_t(layout.radiusShift()),
@@ -309,6 +338,14 @@ VrcPackResult packVrcModel(const VrcModel& model) {
     return result;
 }
 
+std::vector<std::uint32_t> VrcPackedModel::countWords() const {
+    const std::size_t perWord = layout.countBytes == 1 ? 4 : 2;
+    std::vector<std::uint32_t> w((counts.size() + perWord - 1) / perWord, 0u);
+    for (std::size_t v = 0; v < counts.size(); ++v)
+        w[v / perWord] |= std::uint32_t(counts[v]) << (32 / perWord * (v % perWord));
+    return w;
+}
+
 VrcPaperFields vrcPaperFields(const VrcPackedModel& packed, std::size_t i) {
     const VrcPaperLayout& l = packed.layout;
     const std::uint8_t* in = packed.bytes.data() + i * std::size_t(l.bytesPerPiece());
@@ -316,7 +353,7 @@ VrcPaperFields vrcPaperFields(const VrcPackedModel& packed, std::size_t i) {
     f.endA = getBits(in, 0, l.endBits);
     f.endB = getBits(in, std::size_t(l.endBits), l.endBits);
     f.color = getBits(in, std::size_t(l.colorShift()), kPaperColorBits);
-    f.line = getBits(in, std::size_t(l.lineShift()), kPaperLineBits);
+    f.line = getBits(in, std::size_t(l.lineShift()), l.lineBits);
     f.offset = l.copies ? getBits(in, std::size_t(l.offsetShift()), kPaperOffsetBits) : 0u;
     f.radius = l.radiusVaries ? getBits(in, std::size_t(l.radiusShift()), kPaperRadiusBits) : 0u;
     return f;

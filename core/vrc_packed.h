@@ -6,7 +6,9 @@
 // is the GPU twin of unpackVrcPiece below); docs/scene-spec.md says where it differs from the paper.
 //
 // Header: per voxel the index of its first piece (4 bytes, `offsets`) and its piece count
-// (1 byte, `counts`): at most 255 pieces per voxel, as the paper.
+// (`counts`): 1 byte (at most 255 pieces per voxel, as the paper), or 2 bytes in a model where
+// some voxel holds more (a 6-byte header; the paper's data sets never needed it, dense fiber
+// bundles do).
 //
 // Piece: a bit string of `bitsPerPiece` bits, least significant bit first, rounded up to whole
 // bytes; piece i starts at byte i x bytesPerPiece of `bytes`. Fields in order:
@@ -26,7 +28,9 @@
 //   local line     5 bits: the index of the piece's polyline among the distinct polylines of its
 //                  storage voxel, in order of first appearance (the paper's local line ID). The
 //                  ray caster compares line ids only within one voxel (a line is blended once per
-//                  voxel), which this id serves; the id image needs global ids (globalIds).
+//                  voxel), which this id serves; the id image needs global ids (globalIds). A
+//                  model with a voxel of more than 32 polylines widens the field for all pieces
+//                  to ceil(log2(most polylines in a voxel)) bits, at most kPaperMaxLineBits.
 //   home offset    6 bits, only in a model with copies (dilateVrcModel): the 16-byte model's
 //                  top 6 bits of the line field (core/vrc_model.h, Copies).
 //   radius         0 bits when every piece end has the same radius (the paper's single user
@@ -35,7 +39,7 @@
 //                  agree on the radius there, and tapered tubes keep their taper).
 // Bits at q = 4, 8 | 16, 32 | 64 without copies and with one radius: 27, 31 | 35, 39 | 43, i.e.
 // 4 | 5 | 6 bytes, Table I's (4, 8) | (16, 32) | (64, 128) rows; copies add 6 bits (q = 32: 45
-// bits, 6 bytes).
+// bits, 6 bytes; with an 8-bit local line 48 bits, still 6 bytes).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -46,9 +50,9 @@
 
 namespace tc {
 
-inline constexpr int kPaperLineBits = 5;
-inline constexpr int kPaperMaxLinesPerVoxel = 1 << kPaperLineBits;  // 32
-inline constexpr int kPaperMaxPiecesPerVoxel = 255;
+inline constexpr int kPaperLineBits = 5;      // the paper's local line id
+inline constexpr int kPaperMaxLineBits = 12;  // widened: the ray caster reads a piece from 3 words (<= 9 bytes)
+inline constexpr int kPaperMaxPiecesPerVoxel = 65535;  // a 2-byte count
 inline constexpr int kPaperColorBits = 8;
 inline constexpr int kPaperOffsetBits = 6;
 inline constexpr int kPaperRadiusBits = 16;  // when the radii vary (two unorm8)
@@ -61,18 +65,21 @@ struct VrcPaperLayout {
     int interiorLattice = 0;  // m' (see the file comment)
     bool copies = false;      // the home offset field is present
     bool radiusVaries = false;
+    int lineBits = kPaperLineBits;  // kPaperLineBits..kPaperMaxLineBits
+    int countBytes = 1;             // per voxel header count: 1 or 2
     int bitsPerPiece() const {
-        return 2 * endBits + kPaperColorBits + kPaperLineBits + (copies ? kPaperOffsetBits : 0) +
+        return 2 * endBits + kPaperColorBits + lineBits + (copies ? kPaperOffsetBits : 0) +
                (radiusVaries ? kPaperRadiusBits : 0);
     }
     int bytesPerPiece() const { return (bitsPerPiece() + 7) / 8; }
     // Bit offsets of the fields after the two ends.
     int colorShift() const { return 2 * endBits; }
     int lineShift() const { return colorShift() + kPaperColorBits; }
-    int offsetShift() const { return lineShift() + kPaperLineBits; }
+    int offsetShift() const { return lineShift() + lineBits; }
     int radiusShift() const { return offsetShift() + (copies ? kPaperOffsetBits : 0); }
 };
-VrcPaperLayout vrcPaperLayout(int quantization, bool copies, bool radiusVaries);
+VrcPaperLayout vrcPaperLayout(int quantization, bool copies, bool radiusVaries, int lineBits = kPaperLineBits,
+                              int countBytes = 1);
 int vrcPaperInteriorLattice(int quantization);
 
 // A palette of at most 256 RGBA8 colours (packUnorm4x8 order: r in bits 0..7) for a list of
@@ -102,12 +109,14 @@ struct VrcPackedModel {
     bool paletteExact = true;
     int paletteMaxError = 0;               // in 1/255
     std::vector<std::uint32_t> offsets;    // per voxel: first piece
-    std::vector<std::uint8_t> counts;      // per voxel: pieces, <= 255
+    std::vector<std::uint16_t> counts;     // per voxel: pieces (< 2^(8 countBytes))
     std::vector<std::uint8_t> bytes;       // pieceCount x bytesPerPiece, then zero padding to a multiple of 4 + 8
     std::vector<std::uint32_t> globalIds;  // per piece: the polyline id (the id image; not part of the encoding)
     std::size_t pieceCount = 0;
 
-    std::size_t headerBytes() const { return offsets.size() * 5; }
+    std::size_t headerBytes() const { return offsets.size() * std::size_t(4 + layout.countBytes); }
+    // The counts as the ray caster reads them: 4 (1-byte counts) or 2 per little-endian word.
+    std::vector<std::uint32_t> countWords() const;
     std::size_t pieceBytes() const { return pieceCount * std::size_t(layout.bytesPerPiece()); }
     std::size_t bytesTotal() const { return headerBytes() + pieceBytes(); }
     // The packed bytes as little-endian 32-bit words (what the ray caster reads).
@@ -115,13 +124,15 @@ struct VrcPackedModel {
 };
 
 // The packed model, or why the model cannot be packed (`reason` not empty; the renderer then keeps
-// the 16-byte encoding): quantization 0 (exact ends), a voxel with more than 255 pieces or more
-// than 32 distinct polylines.
+// the 16-byte encoding): quantization 0 (exact ends), a voxel with more than 65535 pieces or more
+// than 2^kPaperMaxLineBits distinct polylines.
 struct VrcPackResult {
     VrcPackedModel model;
     std::string reason;
-    std::size_t tooManyPieces = 0;  // voxels with more than 255 pieces
-    std::size_t tooManyLines = 0;   // voxels with more than 32 distinct polylines
+    std::size_t widePieces = 0;     // voxels with more than 255 pieces (the 2-byte count)
+    std::size_t wideLines = 0;      // voxels with more than 32 distinct polylines (a wider local id)
+    std::size_t tooManyPieces = 0;  // voxels with more than kPaperMaxPiecesPerVoxel pieces
+    std::size_t tooManyLines = 0;   // voxels with more than 2^kPaperMaxLineBits distinct polylines
     bool ok() const { return reason.empty(); }
 };
 // Parallel over voxels (tbb); deterministic.

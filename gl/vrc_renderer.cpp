@@ -395,9 +395,8 @@ void VrcRenderer::uploadPaper(const VrcPackedModel& packed, bool globalIds) {
     m_paletteExact = packed.paletteExact;
     m_paletteMaxError = packed.paletteMaxError;
     m_header = makeBuffer(packed.offsets.size() * sizeof(std::uint32_t), packed.offsets.data());
-    std::vector<std::uint8_t> counts(packed.counts);
-    counts.resize((counts.size() + 3) / 4 * 4, 0u);
-    m_paperCounts = makeBuffer(counts.size(), counts.data());
+    const std::vector<std::uint32_t> counts = packed.countWords();
+    m_paperCounts = makeBuffer(counts.size() * sizeof(std::uint32_t), counts.data());
     const std::vector<std::uint32_t> words = packed.words();
     m_pieceBuffer = makeBuffer(words.size() * sizeof(std::uint32_t), words.data());
     m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
@@ -405,7 +404,7 @@ void VrcRenderer::uploadPaper(const VrcPackedModel& packed, bool globalIds) {
     m_pieceBlockCount = 0;
     m_piecesInBuffer = packed.pieceCount;
     if (globalIds) {
-        // The id image needs the polyline ids the 5-bit local ids stand in for: 4 bytes per piece
+        // The id image needs the polyline ids the local ids stand in for: 4 bytes per piece
         // beside the encoding, only when the id output is asked for.
         std::vector<std::uint32_t> ids(packed.globalIds);
         if (ids.empty()) ids.push_back(0u);
@@ -600,6 +599,8 @@ std::vector<std::string> VrcRenderer::rayCasterDefines() const {
         defines.push_back("VRC_PAPER_BYTES " + std::to_string(m_paperLayout.bytesPerPiece()));
         defines.push_back("VRC_PAPER_BIN_BITS " + std::to_string(m_paperLayout.binBits));
         defines.push_back("VRC_PAPER_M " + std::to_string(m_paperLayout.interiorLattice));
+        defines.push_back("VRC_PAPER_LINE_BITS " + std::to_string(m_paperLayout.lineBits));
+        if (m_paperLayout.countBytes == 2) defines.push_back("VRC_PAPER_WIDE_COUNTS");
         if (m_paperLayout.copies) defines.push_back("VRC_PAPER_COPIES");
         if (m_paperLayout.radiusVaries) defines.push_back("VRC_PAPER_RADII");
         if (m_globalIdTexture.id() != 0) defines.push_back("VRC_GLOBAL_IDS");
@@ -807,6 +808,9 @@ nlohmann::json VrcRenderer::describe() const {
                                {"end_bits", m_paperLayout.endBits},
                                {"interior_lattice", m_paperLayout.interiorLattice},
                                {"home_offset_bits", m_paperLayout.copies ? kPaperOffsetBits : 0},
+                               // 5 as the paper, wider when a voxel holds more than 32 polylines.
+                               {"local_line_bits", m_paperLayout.lineBits},
+                               {"header_count_bytes", m_paperLayout.countBytes},
                                {"radius", m_paperLayout.radiusVaries ? "two unorm8 per piece" : "one for the model"},
                                {"palette_colors", m_paletteColors},
                                {"palette_exact", m_paletteExact},

@@ -19,7 +19,8 @@
 // LoD volume in the distance and, transparent, at high accumulated opacity: shaders/vrc_lod.glsl),
 // VRC_LOD_STATS (with VRC_LOD: count the samples per level), VRC_PAPER (render.vrc.encoding "paper":
 // the packed pieces and 5-byte headers of core/vrc_packed.h instead of QUANTIZED's, with
-// VRC_PAPER_BYTES, VRC_PAPER_BIN_BITS, VRC_PAPER_M, VRC_PAPER_COPIES, VRC_PAPER_RADII and VRC_Q;
+// VRC_PAPER_BYTES, VRC_PAPER_BIN_BITS, VRC_PAPER_M, VRC_PAPER_LINE_BITS, VRC_PAPER_WIDE_COUNTS,
+// VRC_PAPER_COPIES, VRC_PAPER_RADII and VRC_Q;
 // never with NEIGHBORS), VRC_GLOBAL_IDS (with VRC_PAPER: the polyline id image reads the
 // pieces' global ids from a side array; else the 5-bit local ids serve, which only tell lines
 // apart within a voxel).
@@ -58,7 +59,11 @@ uniform uint uVrcPalette[256];  // RGBA8
 uniform uint uVrcRadiusCode;    // without VRC_PAPER_RADII: every end's unorm16 radius (of uMaxRadius)
 // (offset, count) of voxel vi, as the 16-byte model's header (no neighbourhood bit: never NEIGHBORS).
 uint vrcHeaderCount(int vi) {
+#ifdef VRC_PAPER_WIDE_COUNTS
+    return (vrcPaperCounts[vi >> 1] >> (16u * uint(vi & 1))) & 0xFFFFu;  // 2-byte counts
+#else
     return (vrcPaperCounts[vi >> 2] >> (8u * uint(vi & 3))) & 0xFFu;
+#endif
 }
 uvec2 vrcHeaderAt(int vi) {
     return uvec2(vrcPaperOffsets[vi], vrcHeaderCount(vi));
@@ -240,7 +245,8 @@ const uint kPaperBinBits = uint(VRC_PAPER_BIN_BITS);
 const uint kPaperEndBits = kPaperBinBits + 3u;
 const uint kPaperColorShift = 2u * kPaperEndBits;
 const uint kPaperLineShift = kPaperColorShift + 8u;
-const uint kPaperOffsetShift = kPaperLineShift + 5u;
+const uint kPaperLineBits = uint(VRC_PAPER_LINE_BITS);
+const uint kPaperOffsetShift = kPaperLineShift + kPaperLineBits;
 #ifdef VRC_PAPER_COPIES
 const uint kPaperRadiusShift = kPaperOffsetShift + 6u;
 #else
@@ -300,7 +306,7 @@ VrcPiece vrcPiece(uint i, ivec3 v) {
 #ifdef VRC_GLOBAL_IDS
     p.line = texelFetch(vrcGlobalIds, int(i)).x;
 #else
-    p.line = vrcPaperField(a, kPaperLineShift, 5u);
+    p.line = vrcPaperField(a, kPaperLineShift, kPaperLineBits);
 #endif
     p.vertexA = (codeA >> kPaperBinBits) >= kVrcInteriorFace;
     p.vertexB = (codeB >> kPaperBinBits) >= kVrcInteriorFace;

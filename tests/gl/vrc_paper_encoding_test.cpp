@@ -6,6 +6,7 @@
 // renderer falls back to the 16-byte one and says so in run.json.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -23,9 +24,9 @@ namespace tc::test {
 namespace {
 
 // Random bent polylines (many crossing a voxel, several per voxel), one colour and one radius.
-StyledLines uniformLines(float alpha) {
+StyledLines uniformLines(float alpha, int polylines = 60) {
     RandomSceneOptions o;
-    o.polylines = 60;
+    o.polylines = polylines;
     o.minSegments = 4;
     o.maxSegments = 12;
     o.stepMin = 0.1f;
@@ -112,6 +113,35 @@ TEST_F(GlTest, vrc_paper_encoding_without_the_id_output_keeps_colour_and_depth) 
     const FrameImages fa = render(*a, compact), fb = render(*b, paper);
     EXPECT_EQ(fa.rgba, fb.rgba);
     EXPECT_EQ(std::memcmp(fa.depth.data(), fb.depth.data(), fa.depth.size() * sizeof(float)), 0);
+}
+
+TEST_F(GlTest, vrc_paper_encoding_with_wide_local_ids_and_counts_renders_the_compact16_image) {
+    // 400 polylines in a 3^3 grid: voxels with hundreds of polylines and more than 255 pieces,
+    // so the local line id widens and the header count takes 2 bytes. Without the id output the
+    // ray caster tells the lines of a voxel apart by the wide local ids alone.
+    for (bool transparent : {false, true})
+        for (bool ids : {true, false}) {
+            SCOPED_TRACE(std::string(transparent ? "transparent" : "opaque") + (ids ? ", ids" : ", no ids"));
+            const StyledLines lines = uniformLines(transparent ? 0.35f : 1.0f, 400);
+            Scene compact = scene(transparent, 64, false, false), paper = scene(transparent, 64, true, false);
+            compact.render.vrc.resolution = paper.render.vrc.resolution = 3;
+            compact.output.aovId = paper.output.aovId = ids;
+            const std::unique_ptr<gl::VrcRenderer> a = gl::VrcRenderer::create(compact, lines);
+            const std::unique_ptr<gl::VrcRenderer> b = gl::VrcRenderer::create(paper, lines);
+            const nlohmann::json db = b->describe();
+            ASSERT_EQ(db["encoding"], "paper") << db["encoding_fallback"];
+            EXPECT_GT(int(db["paper_encoding"]["local_line_bits"]), 5);
+            EXPECT_EQ(db["paper_encoding"]["header_count_bytes"], 2);
+            const FrameImages fa = render(*a, compact), fb = render(*b, paper);
+            std::size_t covered = 0;
+            for (float d : fa.depth) covered += std::isfinite(d);
+            EXPECT_GT(covered, fa.depth.size() / 5);
+            EXPECT_EQ(fa.rgba, fb.rgba);
+            EXPECT_EQ(std::memcmp(fa.depth.data(), fb.depth.data(), fa.depth.size() * sizeof(float)), 0);
+            if (ids) {
+                EXPECT_EQ(fa.id, fb.id);
+            }
+        }
 }
 
 TEST_F(GlTest, vrc_paper_encoding_at_q32_stays_close_to_compact16) {

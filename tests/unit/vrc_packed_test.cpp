@@ -2,8 +2,8 @@
 // round trip of every piece (face ends bit-identical, vertex ends within the re-snap bound,
 // colour within the palette error and exact with <= 256 colours, radius within its unorm8 step),
 // local line ids that tell the lines of a voxel apart exactly as the global ids do, the bytes per
-// piece of Table I (Kanzler et al. 2019), and the fall-backs (> 32 lines or > 255 pieces in a
-// voxel, exact end points).
+// piece of Table I (Kanzler et al. 2019), the wider local line id (> 32 lines in a voxel) and
+// count (> 255 pieces), and the fall-backs (> 4096 lines in a voxel, exact end points).
 #include "core/vrc_packed.h"
 
 #include <gtest/gtest.h>
@@ -259,7 +259,7 @@ std::uint32_t mostPieces(const VrcModel& m) {
     return most;
 }
 
-TEST(VrcPacked, voxel_with_more_than_32_lines_falls_back) {
+TEST(VrcPacked, voxel_with_more_than_32_lines_widens_the_local_line_id) {
     // Short parallel lines inside voxel 0 (the diagonal crosses it too).
     const auto [lo, hi] = voxelZeroInside(4);
     ASSERT_TRUE(glm::all(glm::lessThan(lo, hi)));
@@ -272,15 +272,27 @@ TEST(VrcPacked, voxel_with_more_than_32_lines_falls_back) {
         }
         return build(makeLines(p), 4, 8, false);
     };
-    EXPECT_TRUE(packVrcModel(lines(31)).ok());  // 32 lines in voxel 0 with the diagonal
-    const VrcPackResult r = packVrcModel(lines(32));
-    EXPECT_FALSE(r.ok());
-    EXPECT_NE(r.reason.find("32 distinct polylines"), std::string::npos) << r.reason;
-    EXPECT_EQ(r.tooManyLines, 1u);
-    EXPECT_EQ(r.tooManyPieces, 0u);
+    const VrcPackResult paper = packVrcModel(lines(31));  // 32 lines in voxel 0 with the diagonal
+    ASSERT_TRUE(paper.ok()) << paper.reason;
+    EXPECT_EQ(paper.model.layout.lineBits, 5);
+    EXPECT_EQ(paper.wideLines, 0u);
+    const VrcModel wide = lines(32);
+    const VrcPackResult r = packVrcModel(wide);
+    ASSERT_TRUE(r.ok()) << r.reason;
+    EXPECT_EQ(r.model.layout.lineBits, 6);
+    EXPECT_EQ(r.wideLines, 1u);
+    EXPECT_EQ(r.model.layout.countBytes, 1);
+    // The 33 local ids tell the lines apart as the global ones do (expectRoundTrip checks it).
+    expectRoundTrip(wide, r.model, true, true);
+    // Past the widest id the ray caster reads (2^12 lines in one voxel): the 16-byte encoding.
+    const VrcPackResult most = packVrcModel(lines(1 << kPaperMaxLineBits));
+    EXPECT_FALSE(most.ok());
+    EXPECT_NE(most.reason.find("4096 distinct polylines"), std::string::npos) << most.reason;
+    EXPECT_EQ(most.tooManyLines, 1u);
+    EXPECT_EQ(most.tooManyPieces, 0u);
 }
 
-TEST(VrcPacked, voxel_with_more_than_255_pieces_falls_back) {
+TEST(VrcPacked, voxel_with_more_than_255_pieces_takes_a_two_byte_count) {
     // One polyline zigzagging across the face x = origin + voxel size between voxel 0 and its x
     // neighbour: a piece per visit of each.
     const VrcModel grid = build(makeLines({diagonal()}), 4, 8, false);
@@ -297,13 +309,22 @@ TEST(VrcPacked, voxel_with_more_than_255_pieces_falls_back) {
     const VrcModel many = zigzag(600);
     ASSERT_GT(mostPieces(many), 255u);
     const VrcPackResult r = packVrcModel(many);
-    EXPECT_FALSE(r.ok());
-    EXPECT_NE(r.reason.find("255"), std::string::npos) << r.reason;
-    EXPECT_GE(r.tooManyPieces, 1u);
-    EXPECT_EQ(r.tooManyLines, 0u);  // two polylines
+    ASSERT_TRUE(r.ok()) << r.reason;
+    EXPECT_EQ(r.model.layout.countBytes, 2);
+    EXPECT_EQ(r.model.headerBytes(), many.voxelCount() * 6);
+    EXPECT_GE(r.widePieces, 1u);
+    EXPECT_EQ(r.model.layout.lineBits, 5);  // two polylines
+    expectRoundTrip(many, r.model, true, true);
+    // The counts as the ray caster reads them: two per word.
+    const std::vector<std::uint32_t> words = r.model.countWords();
+    for (std::size_t v = 0; v < many.voxelCount(); ++v)
+        ASSERT_EQ((words[v / 2] >> (16 * (v % 2))) & 0xFFFFu, many.voxels[v].count & kCountMask) << v;
     const VrcModel fewer = zigzag(400);
     ASSERT_LE(mostPieces(fewer), 255u);
-    EXPECT_TRUE(packVrcModel(fewer).ok());
+    const VrcPackResult one = packVrcModel(fewer);
+    ASSERT_TRUE(one.ok());
+    EXPECT_EQ(one.model.layout.countBytes, 1);
+    EXPECT_EQ(one.model.headerBytes(), fewer.voxelCount() * 5);
 }
 
 TEST(VrcPacked, exact_end_points_have_nothing_to_pack) {
