@@ -3,8 +3,9 @@
 # voxel model in render.vrc.encoding "compact16" and "paper" (core/vrc_packed.h) at the defaults
 # (resolution 128, quantization 32, copies), one process per run in the order compact16, paper,
 # paper, compact16 (A B B A), each rendering two frames of one view at 1920x1080, opaque; prints
-# one markdown row per set with the model statistics of run.json and frame 1's raycast stage of
-# every run.
+# one markdown row per set with the model statistics of run.json, frame 1's raycast stage of
+# every run and, on the paper row, frame 1 of run 2 against run 1 (`tubecast compare`: PSNR and the
+# pixels with a channel off by more than 1/255).
 #   SETS="brain_2m convection_1m" scripts/bench/vrc_encoding.sh
 #   EXTRA="--set render.vrc.quantization=8" scripts/bench/vrc_encoding.sh
 set -euo pipefail
@@ -27,16 +28,19 @@ run() {  # set, encoding, run number
         exit 1
     fi
 }
-echo "| data set | encoding | pieces (copies) | B / piece | header MB | pieces MB | model MB | raw lines MB | raycast ms, runs 1 and 4 / 2 and 3 |"
-echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
+echo "| data set | encoding | pieces (copies) | B / piece | header MB | pieces MB | model MB | raw lines MB | raycast ms, runs 1 and 4 / 2 and 3 | against compact16 |"
+echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"
 for set in $SETS; do
     run "$set" compact16 1
     run "$set" paper 2
     run "$set" paper 3
     run "$set" compact16 4
-    python3 - "$OUT" "$set" <<'EOF'
+    diff=$("$TC" compare "$OUT/${set}_compact16_1/f.0001.png" "$OUT/${set}_paper_2/f.0001.png" |
+        awk '$1 == "psnr" { p = $2 } $1 == "pixels_over_threshold_percent" { o = $2 }
+             END { printf "%.1f dB, %.2f %% of pixels > 1/255", p, o }')
+    python3 - "$OUT" "$set" "$diff" <<'EOF'
 import csv, json, sys
-out, name = sys.argv[1], sys.argv[2]
+out, name, diff = sys.argv[1], sys.argv[2], sys.argv[3]
 mb = 1024.0 * 1024.0
 def raycast(d):
     with open(f"{d}/timings.csv") as f:
@@ -53,10 +57,12 @@ for enc, runs in (("compact16", (1, 4)), ("paper", (2, 3))):
         label += f" (asked: {t['encoding_requested']}; {t['encoding_fallback']})"
     if "paper_encoding" in t:
         p = t["paper_encoding"]
-        label += f" ({p['bits_per_piece']} bits; palette {p['palette_colors']}, max error {p['palette_max_error']}/255)"
+        label += (f" ({p['bits_per_piece']} bits, {p['local_line_bits']}-bit local line, {p['header_count_bytes']}-byte count; "
+                  f"palette {p['palette_colors']}, max error {p['palette_max_error']}/255)")
     times = ", ".join(f"{raycast(d):,.0f}" for d in dirs)
     print(f"| {name} | {label} | {t['pieces']:,} ({t['copies']:,}) | {t['bytes_per_piece']} | "
-          f"{t['header_bytes'] / mb:.1f} | {piece_mb:.1f} | {t['model_bytes'] / mb:.1f} | {t['raw_lines_mb']:.1f} | {times} |")
+          f"{t['header_bytes'] / mb:.1f} | {piece_mb:.1f} | {t['model_bytes'] / mb:.1f} | {t['raw_lines_mb']:.1f} | {times} | "
+          f"{diff if enc == 'paper' else '-'} |")
 EOF
 done
 echo "## done load $(cut -d' ' -f1-3 /proc/loadavg) $(date +%T)"
