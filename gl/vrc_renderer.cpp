@@ -240,7 +240,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
         const auto tp = std::chrono::steady_clock::now();
         if (r->m_spec.neighbors) {
             // The neighbour tests blend a line once per ray interval across the 27 voxels of a
-            // block, comparing line ids of different voxels: the 5-bit ids are local to a voxel.
+            // block, comparing line ids of different voxels: the local line ids are local to a voxel.
             r->m_encodingFallback =
                 "render.vrc.neighbors: on compares line ids across voxels, which the paper's local line ids cannot";
         } else {

@@ -22,7 +22,7 @@
 // VRC_PAPER_BYTES, VRC_PAPER_BIN_BITS, VRC_PAPER_M, VRC_PAPER_LINE_BITS, VRC_PAPER_WIDE_COUNTS,
 // VRC_PAPER_COPIES, VRC_PAPER_RADII and VRC_Q;
 // never with NEIGHBORS), VRC_GLOBAL_IDS (with VRC_PAPER: the polyline id image reads the
-// pieces' global ids from a side array; else the 5-bit local ids serve, which only tell lines
+// pieces' global ids from a side array; else the local line ids serve, which only tell lines
 // apart within a voxel).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every

@@ -101,7 +101,7 @@ TEST_F(GlTest, vrc_paper_encoding_renders_the_compact16_image_bit_for_bit_with_o
 }
 
 TEST_F(GlTest, vrc_paper_encoding_without_the_id_output_keeps_colour_and_depth) {
-    // Without the id output the ray caster tells lines apart by their 5-bit local ids alone: the
+    // Without the id output the ray caster tells lines apart by their local ids alone: the
     // blending (each line once per voxel) must be the same.
     const StyledLines lines = uniformLines(0.35f);
     Scene compact = scene(true, 64, false, false), paper = scene(true, 64, true, false);
