@@ -70,12 +70,12 @@ std::uint32_t radius8(std::uint32_t r16) {
 }
 
 // The local line id of each piece of voxel h (the index of its polyline among the voxel's
-// distinct polylines, in order of first appearance) into `local`; returns how many distinct
-// polylines the voxel holds. Sorting, not a linear search per piece: dense bundles put thousands
-// of pieces of hundreds of polylines in one voxel.
-std::uint32_t localLineIds(const VrcModel& model, const VrcVoxel& h, std::vector<std::uint32_t>& local) {
+// distinct polylines, in order of first appearance) into local[0 .. count); returns how many
+// distinct polylines the voxel holds (ids past 0xFFFF wrap: such a voxel cannot be packed anyway).
+// Sorting, not a linear search per piece: dense bundles put thousands of pieces of hundreds of
+// polylines in one voxel.
+std::uint32_t localLineIds(const VrcModel& model, const VrcVoxel& h, std::uint16_t* local) {
     const std::uint32_t count = h.count & kCountMask;
-    local.resize(count);
     thread_local std::vector<std::uint64_t> byLine;  // line << 32 | position
     thread_local std::vector<std::uint32_t> firsts;
     byLine.resize(count);
@@ -91,7 +91,7 @@ std::uint32_t localLineIds(const VrcModel& model, const VrcVoxel& h, std::vector
         if (k == 0 || (byLine[k] >> 32) != (byLine[k - 1] >> 32))
             id = std::uint32_t(std::lower_bound(firsts.begin(), firsts.end(), std::uint32_t(byLine[k])) -
                                firsts.begin());
-        local[std::uint32_t(byLine[k])] = id;
+        local[std::uint32_t(byLine[k])] = std::uint16_t(id);
     }
     return std::uint32_t(firsts.size());
 }
@@ -235,15 +235,17 @@ VrcPackResult packVrcModel(const VrcModel& model) {
     // hold: how many, and the first (lowest index: deterministic).
     std::atomic<std::size_t> badVoxel{voxels}, tooManyPieces{0}, tooManyLines{0}, widePieces{0}, wideLines{0};
     std::atomic<std::uint32_t> mostPieces{0}, mostLines{0};
+    // Per piece, kept for the packing below: at most kPaperMaxLineBits bits where the model packs.
+    std::vector<std::uint16_t> localIds(model.compact.size());
     auto raise = [](std::atomic<std::uint32_t>& to, std::uint32_t v) {
         std::uint32_t cur = to.load();
         while (v > cur && !to.compare_exchange_weak(cur, v)) {
         }
     };
     tbb::parallel_for(std::size_t(0), voxels, [&](std::size_t v) {
-        thread_local std::vector<std::uint32_t> local;
-        const std::uint32_t count = model.voxels[v].count & kCountMask;
-        const std::uint32_t lines = localLineIds(model, model.voxels[v], local);
+        const VrcVoxel& h = model.voxels[v];
+        const std::uint32_t count = h.count & kCountMask;
+        const std::uint32_t lines = count > 0 ? localLineIds(model, h, localIds.data() + h.offset) : 0u;
         bool bad = false;
         if (count > std::uint32_t(kPaperMaxPiecesPerVoxel)) ++tooManyPieces, bad = true;
         if (lines > (1u << kPaperMaxLineBits)) ++tooManyLines, bad = true;
@@ -317,8 +319,6 @@ VrcPackResult packVrcModel(const VrcModel& model) {
         const std::uint32_t count = h.count & kCountMask;
         p.offsets[v] = count > 0 ? h.offset : 0u;
         p.counts[v] = std::uint16_t(count);
-        thread_local std::vector<std::uint32_t> local;
-        localLineIds(model, h, local);
         for (std::uint32_t k = 0; k < count; ++k) {
             const std::size_t i = std::size_t(h.offset) + k;
             const VrcCompactPiece& c = model.compact[i];
@@ -328,7 +328,7 @@ VrcPackResult packVrcModel(const VrcModel& model) {
             putBits(out, 0, repackEnd(layout, c.ends & 0xFFFFu), layout.endBits);
             putBits(out, std::size_t(layout.endBits), repackEnd(layout, c.ends >> 16), layout.endBits);
             putBits(out, std::size_t(layout.colorShift()), palette.index[i], kPaperColorBits);
-            putBits(out, std::size_t(layout.lineShift()), local[k], layout.lineBits);
+            putBits(out, std::size_t(layout.lineShift()), localIds[i], layout.lineBits);
             if (layout.copies) putBits(out, std::size_t(layout.offsetShift()), c.line >> kLineBits, kPaperOffsetBits);
             if (layout.radiusVaries)
                 putBits(out, std::size_t(layout.radiusShift()),
