@@ -50,6 +50,12 @@ Buffer makeBuffer(std::size_t bytes, const void* data, GLbitfield flags) {
     return buffer;
 }
 
+Texture makeBufferTexture(const Buffer& buffer, GLenum internalFormat) {
+    Texture texture = Texture::create(GL_TEXTURE_BUFFER);
+    glTextureBuffer(texture.id(), internalFormat, buffer.id());
+    return texture;
+}
+
 Texture makeTexture2D(GLenum internalFormat, int width, int height) {
     TC_CHECK(width > 0 && height > 0);
     g_storageBytes.fetch_add(bytesPerTexel(internalFormat) * std::size_t(width) * std::size_t(height),

@@ -113,6 +113,9 @@ using VertexArray = GlObject<detail::VertexArrayTraits>;  // VertexArray::create
 // `flags` as for glNamedBufferStorage (GL_DYNAMIC_STORAGE_BIT, GL_MAP_READ_BIT, ...). GL rejects
 // zero-sized storage, so `bytes == 0` allocates 4 bytes: empty inputs need no special case.
 Buffer makeBuffer(std::size_t bytes, const void* data = nullptr, GLbitfield flags = 0);
+// A buffer texture (GL_TEXTURE_BUFFER) over `buffer`, read as `internalFormat` texels (texelFetch on
+// a samplerBuffer / usamplerBuffer); the buffer must outlive it.
+Texture makeBufferTexture(const Buffer& buffer, GLenum internalFormat);
 
 // A single-level 2D texture with immutable storage (glTextureStorage2D), nearest filtering and
 // clamp-to-edge wrapping: render targets and lookup tables are read texel-exact.

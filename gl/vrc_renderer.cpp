@@ -381,8 +381,7 @@ void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes)
     GLint maxTexels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
     if (model.quantization > 0 && m_piecesInBuffer <= std::size_t(maxTexels)) {
-        m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
-        glTextureBuffer(m_pieceTexture.id(), GL_RGBA32UI, m_pieceBuffer.id());
+        m_pieceTexture = makeBufferTexture(m_pieceBuffer, GL_RGBA32UI);
     }
 }
 
@@ -399,19 +398,15 @@ void VrcRenderer::uploadPaper(const VrcPackedModel& packed, bool globalIds) {
     m_paperCounts = makeBuffer(counts.size() * sizeof(std::uint32_t), counts.data());
     const std::vector<std::uint32_t> words = packed.words();
     m_pieceBuffer = makeBuffer(words.size() * sizeof(std::uint32_t), words.data());
-    m_pieceTexture = Texture::create(GL_TEXTURE_BUFFER);
-    glTextureBuffer(m_pieceTexture.id(), GL_R32UI, m_pieceBuffer.id());
+    m_pieceTexture = makeBufferTexture(m_pieceBuffer, GL_R32UI);
     m_pieceBlockCount = 0;
     m_piecesInBuffer = packed.pieceCount;
     if (globalIds) {
         // The id image needs the polyline ids the local ids stand in for: 4 bytes per piece
         // beside the encoding, only when the id output is asked for.
-        std::vector<std::uint32_t> ids(packed.globalIds);
-        if (ids.empty()) ids.push_back(0u);
-        m_globalIdBuffer = makeBuffer(ids.size() * sizeof(std::uint32_t), ids.data());
-        m_globalIdTexture = Texture::create(GL_TEXTURE_BUFFER);
-        glTextureBuffer(m_globalIdTexture.id(), GL_R32UI, m_globalIdBuffer.id());
         m_globalIdBytes = packed.globalIds.size() * sizeof(std::uint32_t);
+        m_globalIdBuffer = makeBuffer(m_globalIdBytes, packed.globalIds.data());
+        m_globalIdTexture = makeBufferTexture(m_globalIdBuffer, GL_R32UI);
     }
 }
 
