@@ -128,10 +128,10 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
     const bool ortho = camera.projection == Projection::Orthographic;
     const bool clips = !m_region.unbounded();
-    // "embree" surface: Embree's round curves do not report the inner wall a ray starting inside
-    // a tube sees; such a frame takes the exact surface.
+    // Opaque: a region always takes the exact surface; with "embree", a frame whose rays may start
+    // inside a tube does too (Embree's round curves do not report the inner wall such a ray sees).
     const bool exactSurface =
-        !m_transparent && !clips && (m_exactSurface || originsMayStartInTubes(camera, window, width, height));
+        !m_transparent && (clips || m_exactSurface || originsMayStartInTubes(camera, window, width, height));
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
@@ -175,7 +175,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
         },
         &m_bounds);
     m_lastHits = totalHits.load();
-    m_lastExactSurface = exactSurface || (!m_transparent && clips);
+    m_lastExactSurface = exactSurface;
     sink.setItems(m_lastHits);
     sink.end();
 }

@@ -89,13 +89,15 @@ Scene sceneFor(Transparency transparency, bool capClipping, float cutoff = 1.0f,
     return s;
 }
 
+// `exactSurface`: whether the frame took the exact surface (RaytracedRenderer::lastFrameExactSurface).
 FrameImages raytrace(const Scene& scene, const StyledLines& lines, const Camera& cam, int w, int h,
-                     std::uint64_t* hits = nullptr) {
+                     std::uint64_t* hits = nullptr, bool* exactSurface = nullptr) {
     auto r = rt::RaytracedRenderer::create(scene, lines);
     FrameImages img;
     tc::CpuStageTimer timer;
     r->render(cam, w, h, img, timer);
     if (hits) *hits = r->lastHitCount();
+    if (exactSurface) *exactSurface = r->lastFrameExactSurface();
     return img;
 }
 
@@ -200,11 +202,10 @@ TEST(Raytraced, opaque_eye_inside_a_tube_sees_its_inner_wall_like_the_reference)
         FrameImages ref = renderReferenceOpaque(lines, cam, light, w, h);
         for (bool exactSurface : {true, false}) {
             // "embree" must notice that rays start in a tube and take the exact surface.
-            auto r = rt::RaytracedRenderer::create(sceneFor(Transparency::Opaque, true, 1.0f, exactSurface), lines);
-            FrameImages rt;
-            tc::CpuStageTimer timer;
-            r->render(cam, w, h, rt, timer);
-            EXPECT_TRUE(r->lastFrameExactSurface());
+            bool tookExact = false;
+            FrameImages rt = raytrace(sceneFor(Transparency::Opaque, true, 1.0f, exactSurface), lines, cam, w, h,
+                                      nullptr, &tookExact);
+            EXPECT_TRUE(tookExact);
             OpaqueDiff d = compareOpaque(rt, ref, exactSurface ? 1e-4f : 1.0f / 255.0f);
             if (projection == Projection::Perspective) {
                 EXPECT_EQ(d.covered, w * h);  // every ray leaves the tube
@@ -214,11 +215,10 @@ TEST(Raytraced, opaque_eye_inside_a_tube_sees_its_inner_wall_like_the_reference)
         }
     }
     // From outside the data, "embree" stays Embree's.
-    auto r = rt::RaytracedRenderer::create(sceneFor(Transparency::Opaque, true, 1.0f, false), lines);
-    FrameImages img;
-    tc::CpuStageTimer timer;
-    r->render(cameraAt({0.0f, 0.1f, 6.0f}), w, h, img, timer);
-    EXPECT_FALSE(r->lastFrameExactSurface());
+    bool tookExact = true;
+    raytrace(sceneFor(Transparency::Opaque, true, 1.0f, false), lines, cameraAt({0.0f, 0.1f, 6.0f}), w, h, nullptr,
+             &tookExact);
+    EXPECT_FALSE(tookExact);
 }
 
 // Transparent: alpha to RGBA8 quantisation, colour within 2/255 (Embree's geometric normal vs the
