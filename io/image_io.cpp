@@ -120,9 +120,21 @@ void writePng(const FrameImages& frame, const std::string& path, const std::map<
         const std::size_t first = std::size_t(y0) * w;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::size_t(y1) * w, 4096),
                           [&](const tbb::blocked_range<std::size_t>& range) {
+                              // A pixel with the bits of the one before it encodes to its bytes:
+                              // rendered frames are mostly runs of background, so most pixels
+                              // cost a 16-byte compare and a copy instead of three table lookups
+                              // (writePng of a 1080p frame of configs/bench/spiral_1m.json, 75 %
+                              // background: docs/performance.md, "Design notes").
+                              const std::uint8_t* previous = nullptr;
                               for (std::size_t i = range.begin(); i != range.end(); ++i) {
                                   const float* in = &frame.rgba[4 * i];
                                   std::uint8_t* out = pixels + std::size_t(channels) * (i - first);
+                                  if (previous && std::memcmp(in, in - 4, 4 * sizeof(float)) == 0) {
+                                      std::memcpy(out, previous, std::size_t(channels));
+                                      previous = out;
+                                      continue;
+                                  }
+                                  previous = out;
                                   float alpha = clamp01(in[3]);
                                   if (alpha <= 0.0f) {
                                       out[0] = out[1] = out[2] = 0;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -105,6 +106,48 @@ TEST(WritePng, opaque_frames_are_rgb_with_the_same_pixels_and_any_transparency_k
         ASSERT_TRUE(in);
         EXPECT_EQ(in->spec().nchannels, channels) << alpha;
         in->close();
+    }
+}
+
+TEST(WritePng, runs_of_equal_pixels_encode_as_each_pixel_alone) {
+    // writePng reuses a pixel's bytes for the next pixel with the same floats. Each pixel here,
+    // written alone as a 1x1 image, is the reference: runs, neighbours that differ in one channel
+    // only (each of the four in turn), +0 against -0 (other bits, same code), NaN, alpha 0 and
+    // partial alpha, runs across rows.
+    const float a = 0.37f, c = 0.25f;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<std::array<float, 4>> pixels = {
+        {c, c, c, 1.0f},
+        {c, c, c, 1.0f},
+        {0.8f, c, c, 1.0f},
+        {0.8f, 0.8f, c, 1.0f},
+        {0.8f, 0.8f, 0.8f, 1.0f},
+        {0.8f, 0.8f, 0.8f, 0.9f},
+        {0.0f, 0.0f, 0.0f, 0.0f},
+        {-0.0f, 0.0f, 0.0f, 0.0f},
+        {a * 0.5f, a * 0.2f, a, a},
+        {a * 0.5f, a * 0.2f, a, a},
+        {nan, c, c, 1.0f},
+        {nan, c, c, 1.0f},
+        {nan, c, c, 1.0f},
+    };
+    FrameImages f;
+    f.allocate(4, 4);  // the last three pixels stay background
+    for (std::size_t i = 0; i < pixels.size(); ++i)
+        setPixel(f, int(i % 4), int(i / 4), pixels[i][0], pixels[i][1], pixels[i][2], pixels[i][3]);
+    const std::string dir = testDir();
+    writePng(f, dir + "/runs.png");
+    const RgbaImage runs = readImageRgba(dir + "/runs.png");
+    ASSERT_EQ(runs.rgba.size(), 4u * 16u);
+    for (std::size_t i = 0; i < 16; ++i) {
+        FrameImages one;
+        one.allocate(1, 1);
+        const float* p = &f.rgba[4 * i];
+        setPixel(one, 0, 0, p[0], p[1], p[2], p[3]);
+        writePng(one, dir + "/one.png");
+        const RgbaImage alone = readImageRgba(dir + "/one.png");
+        for (std::size_t k = 0; k < 4; ++k)
+            EXPECT_EQ(runs.rgba[4 * i + k], alone.rgba[k]) << "pixel " << i << " channel " << k;
     }
 }
 
