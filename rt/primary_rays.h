@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <limits>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/frame_images.h"
@@ -96,9 +97,12 @@ bool pixelBlockMisses(const PixelRays& rays, const ImageWindow& window, int x0, 
 // With `bounds`, a tile none of whose rays can meet them is passed with `outside` set and no rays
 // (in a fitted view of the 1M tornado two thirds of the tiles; their rays cost a third of an
 // opaque frame, docs/performance.md, "Design notes").
+// With a non-empty `cover` (rt/tile_cover.h TileCover::tiles, kTile), a tile it marks 0 is passed
+// as `outside` too.
 template <class TileFn>
 void forEachTile(const Camera& camera, const ImageWindow& window, int width, int height, TileFn&& fn,
-                 const SceneBounds* bounds = nullptr) {
+                 const SceneBounds* bounds = nullptr, const std::vector<std::uint8_t>* cover = nullptr) {
+    const bool covered = cover && !cover->empty();
     const PixelRays pixelRays(camera, fullWidthOf(window, width), fullHeightOf(window, height));
     const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
     tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& range) {
@@ -108,7 +112,8 @@ void forEachTile(const Camera& camera, const ImageWindow& window, int width, int
             tile.y0 = (t / tilesX) * kTile;
             tile.w = std::min(kTile, width - tile.x0);
             tile.h = std::min(kTile, height - tile.y0);
-            tile.outside = bounds && pixelBlockMisses(pixelRays, window, tile.x0, tile.y0, tile.w, tile.h, *bounds);
+            tile.outside = (covered && !(*cover)[std::size_t(t)]) ||
+                           (bounds && pixelBlockMisses(pixelRays, window, tile.x0, tile.y0, tile.w, tile.h, *bounds));
             if (tile.outside) {
                 fn(tile);
                 continue;

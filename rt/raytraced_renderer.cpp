@@ -84,6 +84,13 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     // Every transparent mode is exact compositing here (up to render.raytraced.alpha_cutoff).
     r->m_transparent = rs.transparency != Transparency::Opaque;
     r->m_lines = lines;
+    const std::size_t segments = lines.segmentCount();
+    r->m_segmentPolyline.resize(segments);
+    for (std::size_t s = 0; s < segments; ++s) r->m_segmentPolyline[s] = lines.polylineId[lines.segmentVertices[2 * s]];
+    r->m_uniformColor = !lines.color.empty() &&
+                        std::all_of(lines.color.begin(), lines.color.end(),
+                                    [&](const glm::vec4& c) { return glm::vec3(c) == glm::vec3(lines.color[0]); });
+    if (r->m_uniformColor) r->m_color = glm::vec3(lines.color[0]);
     r->m_lighting = scene.lighting;
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     r->m_exactSurface = rs.raytracedExactSurface;
@@ -113,6 +120,7 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
         r->m_bounds.lo = glm::max(r->m_bounds.lo, r->m_region.lo - pad);
         r->m_bounds.hi = glm::min(r->m_bounds.hi, r->m_region.hi + pad);
     }
+    r->m_cover = TileCover(r->m_lines);
     if (rs.ao.enabled) r->m_ao = makeAoEstimator(rs.ao, r->m_lines, *r->m_embree, region);
     return r;
 }
@@ -135,6 +143,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
+    const std::vector<std::uint8_t> cover = m_cover.tiles(camera, window, width, height, kTile);
     forEachTile(
         camera, window, width, height,
         [&](const Tile& tile) {
@@ -173,7 +182,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
             }
             totalHits += hits;
         },
-        &m_bounds);
+        &m_bounds, &cover);
     m_lastHits = totalHits.load();
     m_lastExactSurface = exactSurface;
     sink.setItems(m_lastHits);
@@ -325,13 +334,17 @@ void RaytracedRenderer::shadeSurface(PixelContext& c, const Surface& s) const {
     const float best = s.t;
     const std::uint32_t bestSeg = s.segment;
     const glm::vec3 bestN = s.normal;
-    const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
-    const glm::vec3 x0(L.positionRadius[v0]), x1(L.positionRadius[v1]);
     const glm::vec3 p = c.ray.origin + best * c.ray.dir;
-    const glm::vec3 ba = x1 - x0;
-    const float m0 = glm::dot(ba, ba);
-    const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - x0, ba) / m0, 0.0f, 1.0f) : 0.0f;
-    glm::vec3 base = glm::mix(glm::vec3(L.color[v0]), glm::vec3(L.color[v1]), u);
+    glm::vec3 base = m_color;
+    if (!m_uniformColor) {
+        // The colour at the point's projection onto the axis, between the two vertices' colours.
+        const std::uint32_t v0 = L.segmentVertices[2 * bestSeg], v1 = L.segmentVertices[2 * bestSeg + 1];
+        const glm::vec3 x0(L.positionRadius[v0]), x1(L.positionRadius[v1]);
+        const glm::vec3 ba = x1 - x0;
+        const float m0 = glm::dot(ba, ba);
+        const float u = m0 > 0.0f ? glm::clamp(glm::dot(p - x0, ba) / m0, 0.0f, 1.0f) : 0.0f;
+        base = glm::mix(glm::vec3(L.color[v0]), glm::vec3(L.color[v1]), u);
+    }
     if (m_ao) {
         // As shaders/deferred_shading.frag: AO scales the albedo, at the normal facing the viewer.
         const glm::vec3 facing = glm::dot(bestN, c.ray.dir) <= 0.0f ? bestN : -bestN;
@@ -342,7 +355,7 @@ void RaytracedRenderer::shadeSurface(PixelContext& c, const Surface& s) const {
     c.rgba = glm::vec4(rgb, 1.0f);
     c.depth = best * c.depthScale;
     c.normal = bestN;
-    c.id = L.polylineId[v0];
+    c.id = m_segmentPolyline[bestSeg];
 }
 
 void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
@@ -442,6 +455,7 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"bvh_build_ms", m_embree->buildMs()},
                         {"bvh_memory_mb", double(m_embree->bytes()) / (1024.0 * 1024.0)},
                         {"bvh_peak_memory_mb", double(m_embree->peakBytes()) / (1024.0 * 1024.0)},
+                        {"tile_cover_cells", m_cover.occupiedCells()},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
     if (!m_transparent) j["surface"] = m_exactSurface || !m_region.unbounded() ? "exact" : "embree";
     if (m_transparent) {

@@ -51,6 +51,7 @@
 #include "core/tiling.h"
 #include "rt/hit_collector.h"
 #include "rt/primary_rays.h"
+#include "rt/tile_cover.h"
 
 namespace tc::rt {
 
@@ -123,6 +124,15 @@ private:
     RayInterval regionRayInterval(const Ray& ray) const;
 
     StyledLines m_lines;
+    // What opaque shading reads per hit, by segment: its polyline (the id AOV) in one array, so the
+    // id costs one memory access instead of two dependent ones (segment -> vertex -> polyline); and,
+    // when every vertex has the same colour (a constant style.color), that colour, so shading
+    // reads no vertex data at all. The hit's line data is a cache miss on a dense set (about half
+    // the shading's time, `perf annotate`), which the bare Embree program of
+    // scripts/bench/embree_baseline.cpp pays once per pixel too.
+    std::vector<std::uint32_t> m_segmentPolyline;
+    bool m_uniformColor = false;
+    glm::vec3 m_color{0.0f};
     LightingSpec m_lighting;
     bool m_transparent = false;
     bool m_joinNeighbours = true;
@@ -135,6 +145,7 @@ private:
     Traversal m_traversal = Traversal::Packet16;
     int m_hitsPerPass = 16, m_defaultHitsPerPass = 16;
     SceneBounds m_bounds;  // of the BVH: tiles whose rays miss it are background (forEachTile)
+    TileCover m_cover;     // and the tiles it marks empty per frame (rt/tile_cover.h)
     mutable std::uint64_t m_lastHits = 0;
     mutable bool m_lastExactSurface = false;
 };

@@ -150,12 +150,15 @@ OpaqueDiff compareOpaque(const FrameImages& rt, const FrameImages& ref, float co
     return d;
 }
 
-OpaqueDiff opaqueAgainstTheReferenceOnRandomTubes(bool exactSurface) {
+// `uniformColor`: every vertex gets the first one's colour (the renderer then reads no vertex data
+// to shade, RaytracedRenderer::m_uniformColor).
+OpaqueDiff opaqueAgainstTheReferenceOnRandomTubes(bool exactSurface, bool uniformColor = false) {
     LightingSpec light;
     const int w = 64, h = 48;
     OpaqueDiff total;
     for (unsigned seed : {1u, 2u, 3u}) {
         StyledLines lines = makeLines(randomPolylines(seed, 8, false, 1.0f, 1.0f));
+        if (uniformColor) std::fill(lines.color.begin(), lines.color.end(), lines.color[0]);
         for (Projection projection : {Projection::Perspective, Projection::Orthographic}) {
             Camera cam = cameraAt({0.4f, 0.8f, 3.0f}, projection);
             FrameImages rt = raytrace(sceneFor(Transparency::Opaque, true, 1.0f, exactSurface), lines, cam, w, h);
@@ -183,6 +186,16 @@ TEST(Raytraced, opaque_embree_surface_depth_normal_id_agree_with_the_cpu_referen
     EXPECT_GT(d.covered, 3000);
     EXPECT_LE(d.mismatched, d.covered / 200) << d.mismatched << " of " << d.covered;
     std::printf("max colour difference %g, min normal dot %.9f\n", d.maxColor, d.minNormalDot);
+}
+
+TEST(Raytraced, opaque_uniform_colour_shades_like_the_cpu_reference) {
+    // One colour for every vertex: shaded from that colour without reading the segment's vertices,
+    // the same image as the reference's interpolation between equal colours (within 1e-4).
+    for (bool exactSurface : {true, false}) {
+        OpaqueDiff d = opaqueAgainstTheReferenceOnRandomTubes(exactSurface, true);
+        EXPECT_GT(d.covered, 3000);
+        EXPECT_LE(d.mismatched, d.covered / 200) << d.mismatched << " of " << d.covered;
+    }
 }
 
 TEST(Raytraced, opaque_eye_inside_a_tube_sees_its_inner_wall_like_the_reference) {
