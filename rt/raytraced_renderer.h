@@ -1,8 +1,9 @@
 #pragma once
 // render.technique "raytraced": the tubes of the rasterized path, ray traced on the CPU with
-// Embree 3 round linear curves (rt/embree_lines.h) over 8x8 pixel tiles with oneTBB. Same camera
-// rays (core/camera.h), shading (core/shading.h), colour pipeline and AOVs as the GL techniques,
-// so switching technique gives the same picture up to float differences:
+// Embree 3 round linear curves (rt/embree_lines.h) over 8x8 pixel tiles with oneTBB; tiles into
+// which no tube can project (rt/tile_cover.h) are background without a ray. Same camera rays
+// (core/camera.h), shading (core/shading.h), colour pipeline and AOVs as the GL techniques, so
+// switching technique gives the same picture up to float differences:
 // - Opaque: the first hit along each pixel-centre ray. render.raytraced.surface "embree" (the
 //   default): Embree's round-curve hit as it is (distance, geometric normal, segment), the same
 //   surface as the CPU reference's to float rounding (tests/unit/raytraced_test.cpp bounds the

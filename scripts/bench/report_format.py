@@ -209,7 +209,7 @@ TERMINAL = 'set terminal pngcairo size 640,400 font ",9" noenhanced\n'
 def chart_culling(text, imagedir, tmp):
     """Culling speed-up (A/B far, D/E near) per data set, opaque and k-buffer (the paper tables)."""
     data = {}
-    for mode, index in (("opaque", 1), ("k-buffer k=8", 2)):  # block "paper": Tables 1, 2a, 2b, 3
+    for mode, index in (("opaque", 1), ("k-buffer", 2)):  # block "paper": Tables 1, 2a, 2b, 3
         rows = block_table(text, "paper", index)
         for r in rows[1:]:
             far, near = number(r[-2]), number(r[-1])
@@ -223,7 +223,7 @@ def chart_culling(text, imagedir, tmp):
         f.write('set "opaque, far" "opaque, near" "k-buffer, far" "k-buffer, near"\n')
         for s, v in data.items():
             if len(v) == 2:
-                f.write(f"{s} {v['opaque'][0]} {v['opaque'][1]} {v['k-buffer k=8'][0]} {v['k-buffer k=8'][1]}\n")
+                f.write(f"{s} {v['opaque'][0]} {v['opaque'][1]} {v['k-buffer'][0]} {v['k-buffer'][1]}\n")
     out = os.path.join(imagedir, "perf_culling.png")
     ok = gnuplot(TERMINAL + f'''set output "{out}"
 set title "Speed-up of render.culling (frame time without / with), 960x540"
