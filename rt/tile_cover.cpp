@@ -7,14 +7,22 @@ namespace tc::rt {
 
 TileCover::TileCover(const StyledLines& lines, int cellsAlongLongestAxis) {
     const std::size_t segments = lines.segmentCount();
-    if (segments == 0 || lines.bounds.empty() || cellsAlongLongestAxis < 1) return;
-    const glm::vec3 extent = lines.bounds.hi - lines.bounds.lo;
+    if (segments == 0 || cellsAlongLongestAxis < 1) return;
+    // The grid's bounds from the segments themselves, not lines.bounds: the cover must hold every
+    // tube even where a caller's bounds are of other data (a union over ranks or frames).
+    Bounds bounds;
+    for (std::size_t s = 0; s < segments; ++s)
+        for (int e = 0; e < 2; ++e) {
+            const glm::vec4& v = lines.positionRadius[lines.segmentVertices[2 * s + std::size_t(e)]];
+            bounds.extend(glm::vec3(v), v.w);
+        }
+    const glm::vec3 extent = bounds.hi - bounds.lo;
     const float longest = std::max({extent.x, extent.y, extent.z});
     if (!(longest > 0.0f) || !std::isfinite(longest)) return;
     const float size = longest / float(cellsAlongLongestAxis);
     glm::ivec3 res;
     for (int a = 0; a < 3; ++a) res[a] = std::clamp(int(std::ceil(extent[a] / size)), 1, cellsAlongLongestAxis);
-    m_origin = lines.bounds.lo;
+    m_origin = bounds.lo;
     m_cell = glm::vec3(size);
     // A segment's box, grown by its radius and by a little of a cell for the rounding of hit
     // points on its surface, marks every cell it overlaps.

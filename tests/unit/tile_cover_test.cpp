@@ -156,6 +156,18 @@ TEST(TileCover, a_ring_seen_face_on_leaves_its_centre_and_the_corners_out) {
     EXPECT_LT(c.markedTiles, c.tiles / 2);
 }
 
+TEST(TileCover, holds_every_tube_whatever_bounds_the_lines_carry) {
+    // StyledLines::bounds may be of other data (a union over ranks or frames, or stale): the grid
+    // is built from the segments.
+    StyledLines lines = randomLines(5);
+    lines.bounds = Bounds{};
+    lines.bounds.extend(glm::vec3(0.0f), 0.01f);
+    const Check c =
+        check(lines, rt::TileCover(lines), camera({0.3f, -3.5f, 1.2f}, Projection::Perspective), {}, 100, 60);
+    EXPECT_GT(c.hitPixels, 500);
+    EXPECT_EQ(c.missed, 0);
+}
+
 TEST(TileCover, data_at_or_behind_the_eye_plane) {
     const StyledLines lines = randomLines(7);
     const rt::TileCover cover(lines);
