@@ -215,11 +215,11 @@ bool RaytracedRenderer::visibleSurface(const Ray& ray, const FirstHit& hit, bool
         if (t < best || (t == best && s < bestSeg)) best = t, bestSeg = s, bestN = n;
     };
     consider(hitSeg);
-    const std::uint32_t polyline = L.polylineId[L.segmentVertices[2 * hitSeg]];
+    const std::uint32_t polyline = m_segmentPolyline[hitSeg];
     for (std::uint32_t s : {hitSeg - 1, hitSeg + 1}) {  // hitSeg - 1 wraps past `segments` at 0
         if (s >= segments) continue;
         const std::uint32_t v0 = L.segmentVertices[2 * s], v1 = L.segmentVertices[2 * s + 1];
-        if (L.polylineId[v0] != polyline) continue;
+        if (m_segmentPolyline[s] != polyline) continue;
         if (best != kInf) {
             // Skip a neighbour the ray cannot reach before `best`: its rounded cone lies in the
             // sphere around its midpoint of radius half its length + its larger radius, which the
@@ -394,7 +394,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
             const bool duplicate = m_joinNeighbours && havePrev && prev.back == h.back &&
                                    h.t - prev.t <= m_jointEpsilon &&
                                    (h.prim == prev.prim + 1 || prev.prim == h.prim + 1) &&
-                                   L.polylineId[v0] == L.polylineId[L.segmentVertices[2 * prev.prim]];
+                                   m_segmentPolyline[h.prim] == m_segmentPolyline[prev.prim];
             havePrev = true;
             prev = h;
             if (duplicate) continue;
@@ -428,7 +428,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
                 first = false;
                 c.depth = h.t * c.depthScale;
                 c.normal = nrm;
-                c.id = L.polylineId[v0];
+                c.id = m_segmentPolyline[h.prim];
             }
             const float w = (1.0f - alpha) * base.w;
             color += w * rgb;

@@ -23,7 +23,7 @@ TileCover::TileCover(const StyledLines& lines, int cellsAlongLongestAxis) {
     glm::ivec3 res;
     for (int a = 0; a < 3; ++a) res[a] = std::clamp(int(std::ceil(extent[a] / size)), 1, cellsAlongLongestAxis);
     m_origin = bounds.lo;
-    m_cell = glm::vec3(size);
+    m_cell = size;
     // A segment's box, grown by its radius and by a little of a cell for the rounding of hit
     // points on its surface, marks every cell it overlaps.
     const float pad = 1e-3f * size;
@@ -71,12 +71,12 @@ std::vector<std::uint8_t> TileCover::tiles(const Camera& camera, const ImageWind
     // base + i * stepX + j * stepY + k * stepZ.
     const glm::vec3 base(glm::dot(m_origin - camera.eye, r), glm::dot(m_origin - camera.eye, u),
                          glm::dot(m_origin - camera.eye, f));
-    const glm::vec3 stepX = m_cell.x * glm::vec3(r.x, u.x, f.x);
-    const glm::vec3 stepY = m_cell.y * glm::vec3(r.y, u.y, f.y);
-    const glm::vec3 stepZ = m_cell.z * glm::vec3(r.z, u.z, f.z);
+    const glm::vec3 stepX = m_cell * glm::vec3(r.x, u.x, f.x);
+    const glm::vec3 stepY = m_cell * glm::vec3(r.y, u.y, f.y);
+    const glm::vec3 stepZ = m_cell * glm::vec3(r.z, u.z, f.z);
     // Depth below which a perspective projection is not trusted: a cell reaching it makes the
     // cover unknown (the eye is in or next to the data).
-    const float zMin = 1e-3f * glm::length(m_cell);
+    const float zMin = 1e-3f * std::sqrt(3.0f) * m_cell;
     for (const glm::u16vec3& c : m_cells) {
         const glm::vec3 p0 = base + float(c.x) * stepX + float(c.y) * stepY + float(c.z) * stepZ;
         float x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, zLo = INFINITY, zHi = -INFINITY;

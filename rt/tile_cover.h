@@ -35,7 +35,8 @@ public:
     std::size_t occupiedCells() const { return m_cells.size(); }
 
 private:
-    glm::vec3 m_origin{0.0f}, m_cell{0.0f};
+    glm::vec3 m_origin{0.0f};
+    float m_cell = 0;                   // cube cells of this side
     std::vector<glm::u16vec3> m_cells;  // occupied cells' integer coordinates
 };
 

@@ -109,12 +109,7 @@ TEST(TileCover, every_pixel_whose_ray_meets_a_tube_lies_in_a_marked_tile) {
                     // The whole image (100 x 60: partial tiles at both edges), and a 45 x 37
                     // window of a 4x larger image with jitter, as tiled or supersampled renders.
                     const Check full = check(lines, cover, cam, {}, 100, 60);
-                    ImageWindow window;
-                    window.fullWidth = 400;
-                    window.fullHeight = 240;
-                    window.x = 170;
-                    window.y = 93;
-                    window.jitter = {0.37f, -0.41f};
+                    const ImageWindow window{400, 240, 170, 93, {0.37f, -0.41f}};
                     const Check part = check(lines, cover, cam, window, 45, 37);
                     for (const Check& c : {full, part}) {
                         EXPECT_EQ(c.missed, 0) << "seed " << seed << " cells " << cells;
