@@ -366,13 +366,16 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
     input.particles = &data.load.particles;
     input.firstFrame = firstFrame;
     TechniqueHooks hooks = techniqueHooks(scene);
+    // Opaque ranks are Z-composited: every technique must give its depth.
+    const bool depthComposite = dp && scene.render.transparency == Transparency::Opaque;
     if (dp) {
         dp->applyRegion(*share, input, hooks);
-        // Opaque ranks are Z-composited: every technique must give its depth.
-        if (scene.render.transparency == Transparency::Opaque) techniqueScene.output.aovDepth = true;
+        if (depthComposite) techniqueScene.output.aovDepth = true;
     }
+    // What the frame's readers take (an EXR's channels, the depth composite): what the technique
+    // gives (it may leave the others empty, rt/raytraced_renderer.h) and the tiles keep.
     const OutputSpec& out = scene.output;
-    const KeptAovs kept{dp || (out.exr && out.aovDepth), out.exr && out.aovNormal, out.exr && out.aovId};
+    const KeptAovs kept{depthComposite || (out.exr && out.aovDepth), out.exr && out.aovNormal, out.exr && out.aovId};
     const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
     // A technique whose pixels depend on each other takes image.samples itself (opacity
     // optimization: one solve per frame, every sample blended with its opacities).

@@ -8,6 +8,13 @@ namespace tc {
 
 constexpr std::uint32_t kBackgroundId = 0xFFFFFFFFu;
 
+// Which first-surface AOVs (depth, normal, id) a FrameImages holds. One that nobody reads (no EXR
+// channel, no depth compositing) is left empty: at 1920x1080 the three are 41 MB of stores per
+// frame, a few percent of a ray-traced frame (docs/performance.md, "Design notes").
+struct KeptAovs {
+    bool depth = true, normal = true, id = true;
+};
+
 struct FrameImages {
     int width = 0;
     int height = 0;
@@ -29,15 +36,16 @@ struct FrameImages {
     }
     // Sizes the buffers for w x h without clearing them (ao emptied): for producers that write
     // every pixel of every buffer. A FrameImages reused across frames then keeps its pages: no
-    // page faults and no 72 MB fill per 1920x1080 frame.
-    void resize(int w, int h) {
+    // page faults and no 72 MB fill per 1920x1080 frame. The AOVs not in `keep` are emptied
+    // instead (their memory stays reserved).
+    void resize(int w, int h, KeptAovs keep = {}) {
         width = w;
         height = h;
         std::size_t n = std::size_t(w) * std::size_t(h);
         rgba.resize(4 * n);
-        depth.resize(n);
-        normal.resize(3 * n);
-        id.resize(n);
+        depth.resize(keep.depth ? n : 0);
+        normal.resize(keep.normal ? 3 * n : 0);
+        id.resize(keep.id ? n : 0);
         ao.clear();
     }
     std::size_t pixelCount() const { return std::size_t(width) * std::size_t(height); }

@@ -17,14 +17,11 @@
 
 namespace tc {
 
-// Which first-surface AOVs the stitched image keeps; the others are left empty so a huge frame
-// holds one full-size copy of only what will be written.
-struct KeptAovs {
-    bool depth = true, normal = true, id = true;
-};
-
 class TiledTechnique final : public Technique {
 public:
+    // `keep`: which first-surface AOVs the stitched image keeps; the others are left empty so a
+    // huge frame holds one full-size copy of only what will be written. The wrapped technique
+    // must give at least those.
     TiledTechnique(std::unique_ptr<Technique> inner, TilePlan plan, int samples, KeptAovs keep);
 
     // setup.width x height is the full image (the plan's); setup.window must be the full window.

@@ -130,18 +130,26 @@ void forEachTile(const Camera& camera, const ImageWindow& window, int width, int
     });
 }
 
-// The visible surface of one pixel into the frame's buffers (core/frame_images.h).
+// The first-surface AOVs of one pixel (core/frame_images.h); an AOV buffer left empty
+// (FrameImages::resize with KeptAovs) is not written.
+inline void storeAovs(FrameImages& out, std::size_t i, float depth, const glm::vec3& normal, std::uint32_t id) {
+    if (!out.depth.empty()) out.depth[i] = depth;
+    if (!out.normal.empty()) {
+        out.normal[3 * i + 0] = normal.x;
+        out.normal[3 * i + 1] = normal.y;
+        out.normal[3 * i + 2] = normal.z;
+    }
+    if (!out.id.empty()) out.id[i] = id;
+}
+
+// The visible surface of one pixel into the frame's buffers: colour and storeAovs.
 inline void storePixel(FrameImages& out, std::size_t i, const glm::vec4& rgba, float depth, const glm::vec3& normal,
                        std::uint32_t id) {
     out.rgba[4 * i + 0] = rgba.x;
     out.rgba[4 * i + 1] = rgba.y;
     out.rgba[4 * i + 2] = rgba.z;
     out.rgba[4 * i + 3] = rgba.w;
-    out.depth[i] = depth;
-    out.normal[3 * i + 0] = normal.x;
-    out.normal[3 * i + 1] = normal.y;
-    out.normal[3 * i + 2] = normal.z;
-    out.id[i] = id;
+    storeAovs(out, i, depth, normal, id);
 }
 
 // Every pixel of `tile` as background: FrameImages::allocate's clear values, AO 1 (when `out`

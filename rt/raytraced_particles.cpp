@@ -73,6 +73,7 @@ std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scen
     r->m_transparent = rs.transparency != Transparency::Opaque;
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
+    r->m_aovs = {scene.output.aovDepth, scene.output.aovNormal, scene.output.aovId};
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     if (rs.ao.enabled) r->m_aoSpec = rs.ao;
     r->m_bvh = std::make_unique<Bvh>();
@@ -158,7 +159,8 @@ std::uint64_t RaytracedParticles::regionFirstHit(const Ray& ray, FirstHit& first
 void RaytracedParticles::render(const Camera& camera, int width, int height, FrameImages& out, StageSink& sink,
                                 const ImageWindow& window) const {
     sink.begin("raytrace");
-    out.resize(width, height);  // every pixel is written below (background: allocate's clear values)
+    // Every pixel is written below (background: allocate's clear values); unrequested AOVs stay empty.
+    out.resize(width, height, m_aovs);
     if (m_ambient && !m_transparent) out.ao.resize(out.pixelCount());
     const glm::vec3 forward = camera.forward();
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
@@ -256,11 +258,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                                                            m_spheres.alphaRv, m_spheres.alphaA, amb.ao, amb.light);
                         if (first) {
                             first = false;
-                            out.depth[pixel] = s.tNear * depthScale;
-                            out.normal[3 * pixel + 0] = nrm.x;
-                            out.normal[3 * pixel + 1] = nrm.y;
-                            out.normal[3 * pixel + 2] = nrm.z;
-                            out.id[pixel] = S.id[i];
+                            storeAovs(out, pixel, s.tNear * depthScale, nrm, S.id[i]);
                         }
                         // "Under", as the reference and the GPU's blending of premultiplied colour.
                         const float w = 1.0f - acc.w;

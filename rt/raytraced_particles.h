@@ -78,6 +78,7 @@ private:
     RegionSetup m_region;
     SpheresSpec m_spheres;
     LightingSpec m_lighting;
+    KeptAovs m_aovs;  // the first-surface AOVs scene.output asks for; the others stay empty
     bool m_transparent = true;
     float m_alphaCutoff = 0.99f;
     std::unique_ptr<Bvh> m_bvh;

@@ -92,6 +92,7 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
                                     [&](const glm::vec4& c) { return glm::vec3(c) == glm::vec3(lines.color[0]); });
     if (r->m_uniformColor) r->m_color = glm::vec3(lines.color[0]);
     r->m_lighting = scene.lighting;
+    r->m_aovs = {scene.output.aovDepth, scene.output.aovNormal, scene.output.aovId};
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     r->m_exactSurface = rs.raytracedExactSurface;
     if (r->m_transparent) {
@@ -130,7 +131,7 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     sink.begin("raytrace");
     // Every pixel is written below (background ones with the clear values of
     // FrameImages::allocate), so a target reused across frames is not cleared first.
-    out.resize(width, height);
+    out.resize(width, height, m_aovs);
     if (m_ao && !m_transparent) out.ao.resize(out.pixelCount());
     const glm::vec3 forward = camera.forward();
     const glm::vec3 lightDir = lightDirectionWorld(m_lighting, camera);
@@ -355,7 +356,8 @@ void RaytracedRenderer::shadeSurface(PixelContext& c, const Surface& s) const {
     c.rgba = glm::vec4(rgb, 1.0f);
     c.depth = best * c.depthScale;
     c.normal = bestN;
-    c.id = m_segmentPolyline[bestSeg];
+    // A cache miss per pixel on a dense set, so only for an id AOV that is written.
+    if (m_aovs.id) c.id = m_segmentPolyline[bestSeg];
 }
 
 void RaytracedRenderer::shadeTransparent(PixelContext& c) const {

@@ -36,6 +36,9 @@
 // - AO (render.ao): "cone_traced" samples the CPU twin of the GL density volume with the algorithm
 //   of shaders/cone_tracing.glsl (rt/cone_traced_ao.h); "ray_traced" shoots render.ao.samples
 //   stratified cosine-weighted hemisphere rays per shaded point (rt/ray_traced_ao.h).
+// Of the depth / normal / id AOVs only those scene.output asks for are written (the frame loop
+// clears the flags of AOVs no output reads); the others are left empty (core/frame_images.h
+// KeptAovs).
 // Images are deterministic: every pixel is computed independently of the thread that runs it.
 #include <algorithm>
 #include <cstdint>
@@ -135,6 +138,7 @@ private:
     bool m_uniformColor = false;
     glm::vec3 m_color{0.0f};
     LightingSpec m_lighting;
+    KeptAovs m_aovs;  // the first-surface AOVs scene.output asks for; the others stay empty
     bool m_transparent = false;
     bool m_joinNeighbours = true;
     bool m_exactSurface = false;

@@ -46,6 +46,7 @@ Scene particleScene(Transparency transparency, SphereDensity density, float cuto
     s.render.spheres.density = density;
     s.render.spheres.innerRadius = 0.6f;
     s.render.spheres.alphaRv = 0.7f;
+    s.output.aovDepth = s.output.aovNormal = s.output.aovId = true;  // every AOV, to compare
     return s;
 }
 
@@ -202,6 +203,30 @@ TEST(RaytracedParticles, images_are_identical_with_one_and_two_threads_and_every
             EXPECT_EQ(images[k].rgba, images[0].rgba) << k;
             EXPECT_EQ(images[k].depth, images[0].depth) << k;
             EXPECT_EQ(images[k].id, images[0].id) << k;
+        }
+    }
+}
+
+TEST(RaytracedParticles, writes_only_the_aovs_the_output_asks_for_and_the_same_colour) {
+    const StyledParticles p = randomSpheres(11u, 40, 0.3f, 0.9f);
+    const Camera cam = cameraAt({0.4f, 0.3f, 2.2f});
+    for (Transparency t : {Transparency::Opaque, Transparency::ObjectOrder}) {
+        const Scene all = particleScene(t, SphereDensity::L2, 0.99f);
+        const FrameImages full = raytrace(all, p, cam, 40, 30);
+        ASSERT_EQ(full.id.size(), full.pixelCount());
+        FrameImages reused = full;  // a target that held every AOV in the previous frame
+        for (const KeptAovs keep : {KeptAovs{false, false, false}, KeptAovs{true, false, true}}) {
+            Scene some = all;
+            some.output.aovDepth = keep.depth;
+            some.output.aovNormal = keep.normal;
+            some.output.aovId = keep.id;
+            auto r = rt::RaytracedParticles::create(some, p);
+            tc::CpuStageTimer timer;
+            r->render(cam, 40, 30, reused, timer);
+            EXPECT_EQ(reused.rgba, full.rgba);
+            EXPECT_EQ(reused.depth, keep.depth ? full.depth : std::vector<float>{});
+            EXPECT_EQ(reused.normal, keep.normal ? full.normal : std::vector<float>{});
+            EXPECT_EQ(reused.id, keep.id ? full.id : std::vector<std::uint32_t>{});
         }
     }
 }

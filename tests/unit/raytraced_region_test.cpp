@@ -154,6 +154,7 @@ Scene raytracedScene(Transparency t, bool capClipping = true) {
     s.render.raytracedAlphaCutoff = 1.0f;
     // Regions always take the exact surface; the whole frame they compose to is that one.
     s.render.raytracedExactSurface = true;
+    s.output.aovDepth = s.output.aovNormal = s.output.aovId = true;  // the composites compare them all
     return s;
 }
 

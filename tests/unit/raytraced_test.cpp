@@ -86,6 +86,7 @@ Scene sceneFor(Transparency transparency, bool capClipping, float cutoff = 1.0f,
     s.render.transparency = transparency;
     s.render.capClipping = capClipping;
     s.render.raytracedAlphaCutoff = cutoff;
+    s.output.aovDepth = s.output.aovNormal = s.output.aovId = true;  // every AOV, to compare
     return s;
 }
 
@@ -417,6 +418,34 @@ TEST(Raytraced, a_target_reused_across_frames_gets_the_same_image_as_a_fresh_one
         EXPECT_EQ(reused.normal, fresh.normal);
         EXPECT_EQ(reused.id, fresh.id);
         EXPECT_EQ(reused.ao, fresh.ao);
+    }
+}
+
+TEST(Raytraced, writes_only_the_aovs_the_output_asks_for_and_the_same_colour) {
+    // An AOV nobody reads is left empty (KeptAovs): no stale values of an earlier frame in a
+    // reused target, and the colour is the same with or without the AOVs.
+    StyledLines lines = makeLines(randomPolylines(6u, 10, false, 0.4f, 1.0f));
+    const Camera cam = cameraAt({0.2f, 0.1f, 1.8f});
+    for (Transparency t : {Transparency::Opaque, Transparency::DepthPeeling}) {
+        const Scene all = sceneFor(t, true);
+        const FrameImages full = raytrace(all, lines, cam, 40, 32);
+        ASSERT_EQ(full.depth.size(), full.pixelCount());
+        ASSERT_EQ(full.id.size(), full.pixelCount());
+        FrameImages reused = full;  // a target that held every AOV in the previous frame
+        for (const KeptAovs keep : {KeptAovs{false, false, false}, KeptAovs{false, false, true},
+                                    KeptAovs{true, false, false}, KeptAovs{false, true, false}}) {
+            Scene some = all;
+            some.output.aovDepth = keep.depth;
+            some.output.aovNormal = keep.normal;
+            some.output.aovId = keep.id;
+            auto r = rt::RaytracedRenderer::create(some, lines);
+            tc::CpuStageTimer timer;
+            r->render(cam, 40, 32, reused, timer);
+            EXPECT_EQ(reused.rgba, full.rgba);
+            EXPECT_EQ(reused.depth, keep.depth ? full.depth : std::vector<float>{});
+            EXPECT_EQ(reused.normal, keep.normal ? full.normal : std::vector<float>{});
+            EXPECT_EQ(reused.id, keep.id ? full.id : std::vector<std::uint32_t>{});
+        }
     }
 }
 
