@@ -16,6 +16,23 @@ inline glm::vec3 lightDirectionWorld(const LightingSpec& light, const Camera& ca
     return glm::normalize(lc.x * camera.right() + lc.y * camera.trueUp() - lc.z * camera.forward());
 }
 
+// x^e for the specular lobe, x in [0, 1]. A whole exponent up to 1024 (lighting.shininess is 32
+// unless set) by repeated squaring: at most 2 log2(e) products, within a few ulp of std::pow, at a
+// fraction of libm's powf, which was the largest part of shading a ray-traced hit (`perf report`
+// of tubecast_raytraced_bench); any other exponent by std::pow. (GLSL's pow in shaders/shading.glsl
+// is exp2(e log2 x) to the driver's precision: the twins agree to float rounding, as before.)
+inline float specularPower(float x, float e) {
+    const int n = int(e);
+    if (float(n) != e || n < 1 || n > 1024) return std::pow(x, e);
+    float result = 1.0f;
+    for (unsigned k = unsigned(n);;) {
+        if (k & 1u) result *= x;
+        k >>= 1;
+        if (k == 0) return result;
+        x *= x;
+    }
+}
+
 // Two-sided Blinn-Phong: base (linear RGB), n the outward unit normal, dir the unit ray direction
 // (eye -> point), lightDir the unit world direction toward the light. The normal is flipped to
 // face the viewer, so the inside wall of a tube the eye is in is lit like the outside.
@@ -29,7 +46,7 @@ inline glm::vec3 shadeBlinnPhong(glm::vec3 base, glm::vec3 n, glm::vec3 dir, glm
     // ndl > 0 and dot(nf, v) >= 0 imply lightDir != -v, so the half vector is defined.
     if (ndl > 0.0f) {
         glm::vec3 h = glm::normalize(lightDir + v);
-        color += glm::vec3(specular * std::pow(glm::max(glm::dot(nf, h), 0.0f), shininess));
+        color += glm::vec3(specular * specularPower(glm::max(glm::dot(nf, h), 0.0f), shininess));
     }
     return color;
 }
