@@ -69,9 +69,11 @@ void writeFrame(const FrameLoopInputs& in, FrameImages& images, const std::vecto
         in.overlay(overlaid, frame, camera);
         display = &overlaid;
     }
+    // Over an opaque background every alpha is 1 (the overlay blends over it: still 1).
+    const PngAlpha alpha = in.background.w >= 1.0f ? PngAlpha::Opaque : PngAlpha::Detect;
     for (const auto& path : paths) {
         if (path.ends_with(".png"))
-            writePng(*display, path, in.pngText);
+            writePng(*display, path, in.pngText, kPngFrameZlibLevel, alpha);
         else
             writeExr(images, path, exr);
     }

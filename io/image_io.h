@@ -19,9 +19,12 @@ namespace tc {
 // scale; 6 is libpng's default), rows unfiltered: at 1920x1080 libpng's defaults cost more than a
 // ray-traced frame, level 1 unfiltered a quarter of that (`scripts/bench/raytraced.sh 3 7 stages`).
 // Throws OutputError "PATH: cannot write PNG: <reason>".
+// `alpha` Opaque: the caller knows every alpha is 1 (a frame composited over an opaque
+// background, core/compositing.h), so RGB is written without scanning the frame's alphas first.
 constexpr int kPngFrameZlibLevel = 1;
+enum class PngAlpha { Detect, Opaque };
 void writePng(const FrameImages& frame, const std::string& path, const std::map<std::string, std::string>& text = {},
-              int zlibLevel = kPngFrameZlibLevel);
+              int zlibLevel = kPngFrameZlibLevel, PngAlpha alpha = PngAlpha::Detect);
 
 // Which optional EXR channels to write, and string metadata for the header (scene name,
 // technique, tubecast version, ...). Keys are written as given.

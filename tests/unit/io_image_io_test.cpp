@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <utility>
 
 #include "core/color.h"
+#include "core/compositing.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/image_io.h"
@@ -51,6 +53,31 @@ TEST(WritePng, premultiplied_linear_becomes_straight_srgb_8bit) {
     std::vector<int> bytes;
     for (float v : img.rgba) bytes.push_back(int(std::lround(v * 255.0f)));
     EXPECT_EQ(bytes, (std::vector<int>{200, 128, 0, 153, 0, 0, 0, 0, 255, 255, 0, 255}));
+}
+
+TEST(WritePng, told_opaque_writes_the_bytes_of_the_scan_for_frames_composited_over_an_opaque_background) {
+    // The frame loop's premise (cli/frame_loop.cpp): over an opaque background every alpha rounds
+    // to 255, whatever the technique's alpha in [0, 1], so the scan would pick RGB too.
+    std::mt19937 rng(7u);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    FrameImages f;
+    f.allocate(61, 17);
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+            const float a = (x + y) % 5 == 0 ? 0.0f : (x + y) % 5 == 1 ? 1.0f : u(rng);
+            setPixel(f, x, y, a * u(rng), a * u(rng), a * u(rng), a);
+        }
+    compositeUnder(f, {0.2f, 0.4f, 0.9f, 1.0f});
+    const std::string scanned = testDir() + "/scanned.png", told = testDir() + "/told.png";
+    writePng(f, scanned);
+    writePng(f, told, {}, kPngFrameZlibLevel, PngAlpha::Opaque);
+    std::ifstream a(scanned, std::ios::binary), b(told, std::ios::binary);
+    const std::string bytesA((std::istreambuf_iterator<char>(a)), {}), bytesB((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_FALSE(bytesA.empty());
+    EXPECT_EQ(bytesA, bytesB);
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(told);
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().nchannels, 3);
 }
 
 TEST(WritePng, half_alpha_example_from_the_spec) {
