@@ -103,6 +103,36 @@ bool everyAlphaQuantisesTo255(const FrameImages& frame) {
         [](bool a, bool b) { return a && b; });
 }
 
+// `count` premultiplied linear RGBA float pixels as straight sRGB 8-bit, Channels 3 (RGB: every
+// alpha rounds to 255) or 4. A pixel with the bits of the one before it encodes to its bytes:
+// rendered frames are mostly runs of background, so most pixels cost a 16-byte compare and a
+// copy instead of three table lookups (writePng of a 1080p frame of configs/bench/spiral_1m.json,
+// 75 % background: docs/performance.md, "Design notes"). The channel count is a template
+// argument so that copy is inline, not a call per pixel.
+template <int Channels>
+void encodePixels(const float* rgba, std::size_t count, std::uint8_t* out, const Srgb8Encoder& srgb8) {
+    const std::uint8_t* previous = nullptr;
+    for (std::size_t i = 0; i != count; ++i, rgba += 4, out += Channels) {
+        if (previous && std::memcmp(rgba, rgba - 4, 4 * sizeof(float)) == 0) {
+            std::memcpy(out, previous, Channels);
+            previous = out;
+            continue;
+        }
+        previous = out;
+        const float alpha = clamp01(rgba[3]);
+        if (alpha <= 0.0f) {
+            std::memset(out, 0, Channels);
+            continue;
+        }
+        // Straight colour; x / 1 is x, so opaque pixels skip the divisions.
+        if (alpha == 1.0f)
+            for (int c = 0; c < 3; ++c) out[c] = srgb8(rgba[c]);
+        else
+            for (int c = 0; c < 3; ++c) out[c] = srgb8(rgba[c] / alpha);
+        if constexpr (Channels == 4) out[3] = quantise(alpha);
+    }
+}
+
 }  // namespace
 
 void writePng(const FrameImages& frame, const std::string& path, const std::map<std::string, std::string>& text,
@@ -124,34 +154,11 @@ void writePng(const FrameImages& frame, const std::string& path, const std::map<
         const std::size_t first = std::size_t(y0) * w;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::size_t(y1) * w, 4096),
                           [&](const tbb::blocked_range<std::size_t>& range) {
-                              // A pixel with the bits of the one before it encodes to its bytes:
-                              // rendered frames are mostly runs of background, so most pixels
-                              // cost a 16-byte compare and a copy instead of three table lookups
-                              // (writePng of a 1080p frame of configs/bench/spiral_1m.json, 75 %
-                              // background: docs/performance.md, "Design notes").
-                              const std::uint8_t* previous = nullptr;
-                              for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                                  const float* in = &frame.rgba[4 * i];
-                                  std::uint8_t* out = pixels + std::size_t(channels) * (i - first);
-                                  if (previous && std::memcmp(in, in - 4, 4 * sizeof(float)) == 0) {
-                                      std::memcpy(out, previous, std::size_t(channels));
-                                      previous = out;
-                                      continue;
-                                  }
-                                  previous = out;
-                                  float alpha = clamp01(in[3]);
-                                  if (alpha <= 0.0f) {
-                                      out[0] = out[1] = out[2] = 0;
-                                      if (!opaque) out[3] = 0;
-                                      continue;
-                                  }
-                                  // Straight colour; x / 1 is x, so opaque pixels skip the divisions.
-                                  if (alpha == 1.0f)
-                                      for (int c = 0; c < 3; ++c) out[c] = srgb8(in[c]);
-                                  else
-                                      for (int c = 0; c < 3; ++c) out[c] = srgb8(in[c] / alpha);
-                                  if (!opaque) out[3] = quantise(alpha);
-                              }
+                              std::uint8_t* out = pixels + std::size_t(channels) * (range.begin() - first);
+                              if (opaque)
+                                  encodePixels<3>(&frame.rgba[4 * range.begin()], range.size(), out, srgb8);
+                              else
+                                  encodePixels<4>(&frame.rgba[4 * range.begin()], range.size(), out, srgb8);
                           });
     };
     ImageSpec spec(frame.width, frame.height, channels, TypeDesc::UINT8);
