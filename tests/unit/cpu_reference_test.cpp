@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "core/shading.h"
 
@@ -36,6 +37,27 @@ void expectBackground(const FrameImages& img, std::size_t i) {
     EXPECT_EQ(img.id[i], kBackgroundId);
     for (int c = 0; c < 4; ++c) EXPECT_EQ(img.rgba[4 * i + c], 0.0f);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(img.normal[3 * i + c], 0.0f);
+}
+
+TEST(Shading, specular_power_is_pow_within_the_rounding_of_its_products) {
+    // A whole exponent e by repeated squaring: each of the at most 2 log2(e) float products rounds
+    // by at most 2^-24 relative, and the errors of x^(2^k) add up to below e x 2^-24; checked
+    // with twice that margin against double pow, plus an absolute slack for results in float's
+    // denormal range. Other exponents are std::pow itself.
+    std::mt19937 rng(3u);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> xs = {0.0f, 1.0f, 1e-20f, 0.5f, 0.999999f, std::nextafter(1.0f, 0.0f)};
+    for (int i = 0; i < 2000; ++i) xs.push_back(i % 2 ? u(rng) : 1.0f - 1e-3f * u(rng));  // and near the peak
+    for (int e : {1, 2, 3, 5, 8, 31, 32, 33, 100, 777, 1024}) {
+        for (float x : xs) {
+            const double exact = std::pow(double(x), double(e));
+            const double got = specularPower(x, float(e));
+            ASSERT_LE(std::abs(got - exact), 2.0 * e * std::ldexp(1.0, -24) * exact + 1e-37) << "x " << x << " e " << e;
+        }
+    }
+    EXPECT_EQ(specularPower(0.37f, 1.0f), 0.37f);
+    for (float e : {0.5f, 2.5f, 32.1f, 1025.0f, 5000.0f})
+        for (float x : {0.0f, 0.2f, 0.9f, 1.0f}) EXPECT_EQ(specularPower(x, e), std::pow(x, e)) << x << " " << e;
 }
 
 TEST(CpuReference, orthographic_cylinder_has_analytic_depth_profile_and_normals) {
