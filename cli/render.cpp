@@ -372,10 +372,10 @@ Techniques makeTechniques(const RenderOptions& o, Scene& scene, const LoadedData
         dp->applyRegion(*share, input, hooks);
         if (depthComposite) techniqueScene.output.aovDepth = true;
     }
-    // What the frame's readers take (an EXR's channels, the depth composite): what the technique
-    // gives (it may leave the others empty, rt/raytraced_renderer.h) and the tiles keep.
-    const OutputSpec& out = scene.output;
-    const KeptAovs kept{depthComposite || (out.exr && out.aovDepth), out.exr && out.aovNormal, out.exr && out.aovId};
+    // What the frame's readers take (an EXR's channels, planScene clears them without one; the
+    // depth composite): what the technique is asked for, gives (it may leave the others empty,
+    // rt/raytraced_renderer.h) and the tiles keep.
+    const KeptAovs kept = techniqueScene.output.keptAovs();
     const bool empty = data.kind == DataKind::Lines && data.load.lines.polylineCount() == 0;
     // A technique whose pixels depend on each other takes image.samples itself (opacity
     // optimization: one solve per frame, every sample blended with its opacities).

@@ -13,6 +13,7 @@
 #include "core/billboard.h"
 #include "core/camera.h"
 #include "core/colormap.h"
+#include "core/frame_images.h"
 #include "core/overlay.h"
 
 namespace tc {
@@ -352,6 +353,8 @@ struct OutputSpec {
     bool aovAo = false;
     bool timings = true;
     std::optional<VideoSpec> video;
+    // The first-surface AOVs asked for: what a technique computes and a frame keeps.
+    KeptAovs keptAovs() const { return {aovDepth, aovNormal, aovId}; }
 };
 
 struct Scene {

@@ -73,7 +73,7 @@ std::unique_ptr<RaytracedParticles> RaytracedParticles::create(const Scene& scen
     r->m_transparent = rs.transparency != Transparency::Opaque;
     r->m_spheres = rs.spheres;
     r->m_lighting = scene.lighting;
-    r->m_aovs = {scene.output.aovDepth, scene.output.aovNormal, scene.output.aovId};
+    r->m_aovs = scene.output.keptAovs();
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     if (rs.ao.enabled) r->m_aoSpec = rs.ao;
     r->m_bvh = std::make_unique<Bvh>();

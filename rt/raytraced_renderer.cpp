@@ -92,7 +92,7 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
                                     [&](const glm::vec4& c) { return glm::vec3(c) == glm::vec3(lines.color[0]); });
     if (r->m_uniformColor) r->m_color = glm::vec3(lines.color[0]);
     r->m_lighting = scene.lighting;
-    r->m_aovs = {scene.output.aovDepth, scene.output.aovNormal, scene.output.aovId};
+    r->m_aovs = scene.output.keptAovs();
     r->m_alphaCutoff = rs.raytracedAlphaCutoff;
     r->m_exactSurface = rs.raytracedExactSurface;
     if (r->m_transparent) {

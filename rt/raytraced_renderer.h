@@ -131,9 +131,9 @@ private:
     // What shading reads per hit, by segment: its polyline (the id AOV, the joint and neighbour
     // tests) in one array, so it costs one memory access instead of two dependent ones (segment ->
     // vertex -> polyline); and, when every vertex has the same colour (a constant style.color),
-    // that colour, so opaque shading reads no vertex data at all. The hit's line data is a cache miss on a dense set
-    // (about half the shading's time, `perf annotate`), which the bare Embree program of
-    // scripts/bench/embree_baseline.cpp pays once per pixel too.
+    // that colour, so opaque shading reads no vertex data at all. The hit's line data is a cache
+    // miss on a dense set (about half the shading's time, `perf annotate`), which the bare Embree
+    // program of scripts/bench/embree_baseline.cpp pays once per pixel too.
     std::vector<std::uint32_t> m_segmentPolyline;
     bool m_uniformColor = false;
     glm::vec3 m_color{0.0f};
