@@ -180,9 +180,8 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     // (GPU / CPU 0.87-4.6x; docs/performance.md, "Voxel ray casting"). Both give the same model
     // (tests/gl/vrc_renderer_test.cpp).
     const GLubyte* glRenderer = glGetString(GL_RENDERER);
-    const bool gpuBuild = scene.render.vrc.build == VrcSpec::Build::Gpu ||
-                          (scene.render.vrc.build == VrcSpec::Build::Auto && glRenderer &&
-                           !isSoftwareRasterizer(reinterpret_cast<const char*>(glRenderer)));
+    const bool gpuBuild =
+        buildsOnGpu(scene.render.vrc.build, glRenderer ? reinterpret_cast<const char*>(glRenderer) : "");
     auto build = [&] { return gpuBuild ? buildVrcModelGpu(lines, options) : buildVrcModel(lines, options); };
     const auto t0 = std::chrono::steady_clock::now();
     VrcModel model = build();
@@ -204,6 +203,11 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     r->m_copiesDidNotFit = tooLarge;
     r->m_gpuBuild = gpuBuild;
     return r;
+}
+
+bool VrcRenderer::buildsOnGpu(VrcSpec::Build build, const std::string& glRenderer) {
+    if (build != VrcSpec::Build::Auto) return build == VrcSpec::Build::Gpu;
+    return !glRenderer.empty() && !isSoftwareRasterizer(glRenderer);
 }
 
 std::size_t VrcRenderer::piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes) {

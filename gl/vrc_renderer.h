@@ -78,6 +78,11 @@ public:
     static constexpr int kMaxPieceBlocks = 8;
     // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
     static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
+    // Where render.vrc.build builds the model on a GL whose GL_RENDERER is `glRenderer`: "gpu" and
+    // "cpu" as asked; "auto" on the GPU (Kanzler et al. 2019, Sec. 3.3) except on a software
+    // rasterizer, which runs the compute shaders on the CPU build's cores (docs/performance.md,
+    // "Model build: CPU against GPU").
+    static bool buildsOnGpu(VrcSpec::Build build, const std::string& glRenderer);
 
     // Most LoD levels (kVrcLodMaxLevels of shaders/vrc_lod.glsl; resolution 1024 has 11).
     static constexpr int kMaxLodLevels = 12;
