@@ -1,10 +1,13 @@
 // The technique registry (core/technique_registry.h) with every technique of the binary: each
 // registered technique renders a small scene of every data kind it takes, its declared per-pixel
 // bytes bound what it allocates, combinations it does not take are exit-2 errors naming the key,
-// and "auto" is the documented rule over the descriptors.
+// "auto" is the documented rule over the descriptors, and a particle series uploads and
+// re-voxelizes a data frame only when the animation reaches it.
 #include "core/technique_registry.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "core/animation.h"
 #include "core/error.h"
@@ -241,6 +244,68 @@ TEST(TechniqueRegistry, auto_prefers_the_cpu_on_a_software_rasterizer_and_says_w
     s.render.ao.enabled = true;
     s.render.ao.method = AoSpec::Method::RayTraced;
     EXPECT_EQ(pick(DataKind::Lines, gpu), "raytraced");
+}
+
+// Records the stages a technique reports, per frame.
+class StageNames final : public StageSink {
+public:
+    void begin(std::string stage) override { names.push_back(std::move(stage)); }
+    void end() override {}
+    void setItems(std::uint64_t) override {}
+    bool has(const std::string& stage) const { return std::find(names.begin(), names.end(), stage) != names.end(); }
+    std::vector<std::string> names;
+};
+
+// A particle time series (docs/scene-spec.md "Time series"): the spheres technique uploads and
+// re-voxelizes the ambient volume when the animation reaches another data frame, and only then
+// (the paper voxelizes every frame); past the last data frame, and with dataset.frame pinned, it
+// keeps the volume, and the frame is the same image as the last one with that data frame.
+TEST_F(GlTest, a_particle_series_revoxelizes_when_the_data_frame_changes_and_only_then) {
+    const TechniqueDescriptor* spheres = registry().find("spheres");
+    ASSERT_NE(spheres, nullptr);
+    ParticleData series;
+    for (std::uint32_t seed : {1u, 2u, 3u}) series.frames.push_back(generateDroplets(250, seed));
+    Scene scene = sceneFor(*spheres, Transparency::ObjectOrder, 40, 32);
+    scene.render.ao.enabled = true;
+    CameraSpec spec;
+    spec.fit = true;
+    const Camera cam = fitCamera(spec, series.bounds(), 40.0f / 32.0f);
+    TechniqueData data;
+    data.kind = DataKind::Particles;
+    data.particles = &series;
+
+    // Animation frames and the data frame each shows: 0 1 1 2 3(->2) 0.
+    const std::vector<int> frames{0, 1, 1, 2, 3, 0};
+    const std::vector<bool> newData{true, true, false, true, false, true};
+    std::unique_ptr<Technique> t = spheres->create(scene, data, {});
+    std::vector<FrameImages> images;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        SCOPED_TRACE("animation frame " + std::to_string(frames[i]) + " (step " + std::to_string(i) + ")");
+        StageNames stages;
+        t->prepareFrame(frames[i], stages);
+        images.emplace_back();
+        t->render(FrameSetup{frames[i], cam, 40, 32}, images.back(), stages);
+        EXPECT_EQ(stages.has("voxelize"), bool(newData[i]));
+        // The first data frame is uploaded when the technique is made, later ones when shown.
+        EXPECT_EQ(stages.has("upload"), newData[i] && i > 0);
+    }
+    EXPECT_NE(images[0].rgba, images[1].rgba) << "another data frame, another image";
+    EXPECT_EQ(images[1].rgba, images[2].rgba);
+    EXPECT_EQ(images[3].rgba, images[4].rgba) << "past the last data frame: the last one again";
+    EXPECT_EQ(images[0].rgba, images[5].rgba) << "back to data frame 0: voxelized again, same image";
+
+    scene.dataset.frame = 1;  // pinned: one upload and one voxelization, whatever the frame
+    std::unique_ptr<Technique> pinned = spheres->create(scene, data, {});
+    for (int frame : {0, 2, 1, 5}) {
+        SCOPED_TRACE("pinned, animation frame " + std::to_string(frame));
+        StageNames stages;
+        pinned->prepareFrame(frame, stages);
+        FrameImages image;
+        pinned->render(FrameSetup{frame, cam, 40, 32}, image, stages);
+        EXPECT_EQ(stages.has("voxelize"), frame == 0);
+        EXPECT_FALSE(stages.has("upload"));
+        EXPECT_EQ(image.rgba, images[1].rgba) << "data frame 1";
+    }
 }
 
 }  // namespace
