@@ -5,8 +5,8 @@
 # docs/images/perf_*.png with gnuplot. The full run takes hours on a 2-core llvmpipe machine
 # (depth peeling at 1920x1080, VTK's depth peeling, the paper tables); run it on a quiet machine.
 #   scripts/install-deps.sh --bench && scripts/build.sh && scripts/bench/report.sh [PART...]
-# PART: machine rasterized transparency paper scaling vrc raytraced spheres opacity vtk_tubes
-#       vtk_points batch read charts (default: all, in this order; charts always last).
+# PART: machine rasterized anatomy transparency paper scaling vrc raytraced spheres opacity
+#       vtk_tubes vtk_points batch read charts (default: all, in this order; charts always last).
 # REPORT_QUICK=1: every part on tiny inputs (minutes in all), to check that the whole chain runs;
 #   the document and charts then go to $REPORT_OUT/performance.md and $REPORT_OUT/images/ and
 #   docs/ is left alone.
@@ -19,7 +19,7 @@ OUT=${REPORT_OUT:-/tmp/tubecast-report}
 BUILD_DIR=${BUILD_DIR:-build}
 export TUBECAST=${TUBECAST:-$BUILD_DIR/cli/tubecast}
 export BUILD_DIR
-all=(machine rasterized transparency paper scaling vrc raytraced spheres opacity vtk_tubes vtk_points batch read)
+all=(machine rasterized anatomy transparency paper scaling vrc raytraced spheres opacity vtk_tubes vtk_points batch read)
 parts=("$@"); [ ${#parts[@]} -gt 0 ] || parts=("${all[@]}" charts)
 raw=$OUT/raw; blocks=$OUT/blocks
 rm -rf "$blocks"; mkdir -p "$raw" "$blocks"
@@ -34,7 +34,8 @@ else
 fi
 command -v gnuplot >/dev/null || echo "report.sh: no gnuplot (scripts/install-deps.sh --bench): no charts" >&2
 [ -x "$TUBECAST" ] || scripts/build.sh
-cmake --build "$BUILD_DIR" -j "$(nproc)" --target tubecast tubecast_opacity_bench tubecast_line_read_bench > "$OUT/build.log" 2>&1 || { cat "$OUT/build.log" >&2; exit 1; }
+cmake --build "$BUILD_DIR" -j "$(nproc)" --target tubecast tubecast_opacity_bench tubecast_line_read_bench \
+  tubecast_raster_floor_bench > "$OUT/build.log" 2>&1 || { cat "$OUT/build.log" >&2; exit 1; }
 
 load() { cut -d' ' -f1-3 /proc/loadavg; }
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
@@ -89,6 +90,11 @@ part_rasterized() {
   } | sed 's/ | $/ |/' | block rasterized
 }
 
+part_anatomy() {
+  if [ "$quick" = 1 ]; then ROUNDS=1 WIDTH=320 HEIGHT=180 scripts/bench/raster_anatomy.sh -- --set dataset.lines=50
+  else scripts/bench/raster_anatomy.sh; fi | tables | block anatomy
+}
+
 part_transparency() {
   if [ "$quick" = 1 ]; then EXTRA="$small" OUT=$raw/transparency scripts/bench/transparency.sh 2
   else OUT=$raw/transparency scripts/bench/transparency.sh 3; fi | tables | block transparency
@@ -103,9 +109,8 @@ part_paper() {
   local q=(); [ "$quick" = 1 ] && q=(--quick)
   FRAMES=4 scripts/bench/paper_tables.sh "${q[@]}" "$raw/paper" > "$raw/paper.txt"
   # tables.md: the run's settings, then for Tables 1, 2a, 2b and 3 "## Table N: title", a line
-  # of explanation (in docs/performance.md above the block) and the table. Table 3 (the k sweep
-  # with culling) stays in tables.md.
-  awk '/^## Table 3/ { exit } /^## Table/ { if (n++) print ""; sub(/^## /, ""); print "**" $0 ".**"; print ""; next }
+  # of explanation (in docs/performance.md above the block) and the table.
+  awk '/^## Table/ { if (n++) print ""; sub(/^## /, ""); print "**" $0 ".**"; print ""; next }
        n && /^\|/' \
     "$raw/paper/tables.md" | block paper
 }
