@@ -87,6 +87,7 @@ part_rasterized() {
     echo "| k-buffer k=8, opacity 0.3 | $(stages "$(ft "${base[@]}" "${kb[@]}")" frame frame_interval)"
     echo "| k-buffer k=8 + AO | $(stages "$(ft "${base[@]}" "${kb[@]}" --set render.ao.enabled=true)" frame frame_interval)"
     echo "| k-buffer k=8 + culling | $(stages "$(ft "${base[@]}" "${kb[@]}" --set render.culling.enabled=true)" frame frame_interval)"
+    echo "| k-buffer k=8 + halo | $(stages "$(ft "${base[@]}" "${kb[@]}" --set style.halo=true)" frame frame_interval)"
   } | sed 's/ | $/ |/' | block rasterized
 }
 
