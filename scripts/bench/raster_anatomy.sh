@@ -3,16 +3,18 @@
 # (stage `gbuffer`, shaders/rounded_cone_gbuffer.frag) drawn with fragment shaders that add its
 # parts one at a time, each as a multiple of the constant-colour floor measured in the same
 # process (tubecast_raster_floor_bench, see scripts/bench/raster_floor.sh). The variants replace
-# rounded_cone_gbuffer.frag in a copy of shaders/ passed as --shader-dir; all but the last two
-# rows write wrong images on purpose (they measure, they do not render):
-#   id + depth       writes the segment id and gl_FragDepth = gl_FragCoord.z, reads no cone
-#   + cone           also reads the cone's three flat vec4 varyings (vConeA, vConeB, vAxis)
-#   + pixel ray      also builds the pixel's ray (pixelRay) and discards by a test along it
-#   no lateral       the shipped shader without the cone's lateral surface (two spheres only)
-#   discard first    the shipped shader with a discard of every fragment before anything else
-#   projection fixed the shipped shader with the perspective camera's branch only and the aspect
-#                    ratio a constant (what a per-projection shader variant would save)
-#   shipped          the built-in shader
+# rounded_cone_gbuffer.frag (or a chunk it includes) in a copy of shaders/ passed as
+# --shader-dir; all rows but the last two draw wrong images on purpose (they measure, they do not
+# render):
+#   id_depth          writes the segment id and gl_FragDepth = gl_FragCoord.z, reads no cone
+#   cone              also reads the cone's three flat vec4 varyings (vConeA, vConeB, vAxis)
+#   pixel_ray         also builds the pixel's ray (pixelRay) and discards by a test along it
+#   no_lateral        the shipped shader without the cone's lateral surface (two spheres only)
+#   discard_first     the shipped shader with a discard of every fragment before anything else
+#   projection_fixed  the shipped shader with the perspective camera's branch only and the aspect
+#                     ratio a constant (what a per-projection shader variant would save; a
+#                     perspective scene draws its right image)
+#   shipped           the built-in shader
 #   scripts/bench/raster_anatomy.sh [SCENE.json] [-- --set key=value ...]   (default configs/tornado_1m.json)
 # Env: BENCH (default build/tests/bench/tubecast_raster_floor_bench), ROUNDS (2 per process; every
 # variant runs in two processes, the variants forward then backward), WIDTH / HEIGHT (1920x1080).
