@@ -12,6 +12,7 @@
 #include "core/animation.h"
 #include "core/error.h"
 #include "core/particle_generators.h"
+#include "core/stage_sink.h"
 #include "gl/gpu_timer.h"
 #include "gl/objects.h"
 #include "gl/techniques.h"
@@ -246,15 +247,10 @@ TEST(TechniqueRegistry, auto_prefers_the_cpu_on_a_software_rasterizer_and_says_w
     EXPECT_EQ(pick(DataKind::Lines, gpu), "raytraced");
 }
 
-// Records the stages a technique reports, per frame.
-class StageNames final : public StageSink {
-public:
-    void begin(std::string stage) override { names.push_back(std::move(stage)); }
-    void end() override {}
-    void setItems(std::uint64_t) override {}
-    bool has(const std::string& stage) const { return std::find(names.begin(), names.end(), stage) != names.end(); }
-    std::vector<std::string> names;
-};
+// Whether a frame's stages (CpuStageTimer::collect) include `stage`.
+bool hasStage(const std::vector<StageTime>& stages, const std::string& stage) {
+    return std::any_of(stages.begin(), stages.end(), [&](const StageTime& s) { return s.stage == stage; });
+}
 
 // A particle time series (docs/scene-spec.md "Time series"): the spheres technique uploads and
 // re-voxelizes the ambient volume when the animation reaches another data frame, and only then
@@ -281,13 +277,14 @@ TEST_F(GlTest, a_particle_series_revoxelizes_when_the_data_frame_changes_and_onl
     std::vector<FrameImages> images;
     for (std::size_t i = 0; i < frames.size(); ++i) {
         SCOPED_TRACE("animation frame " + std::to_string(frames[i]) + " (step " + std::to_string(i) + ")");
-        StageNames stages;
-        t->prepareFrame(frames[i], stages);
+        CpuStageTimer timer;
+        t->prepareFrame(frames[i], timer);
         images.emplace_back();
-        t->render(FrameSetup{frames[i], cam, 40, 32}, images.back(), stages);
-        EXPECT_EQ(stages.has("voxelize"), bool(newData[i]));
+        t->render(FrameSetup{frames[i], cam, 40, 32}, images.back(), timer);
+        const std::vector<StageTime> stages = timer.collect();
+        EXPECT_EQ(hasStage(stages, "voxelize"), bool(newData[i]));
         // The first data frame is uploaded when the technique is made, later ones when shown.
-        EXPECT_EQ(stages.has("upload"), newData[i] && i > 0);
+        EXPECT_EQ(hasStage(stages, "upload"), newData[i] && i > 0);
     }
     EXPECT_NE(images[0].rgba, images[1].rgba) << "another data frame, another image";
     EXPECT_EQ(images[1].rgba, images[2].rgba);
@@ -298,12 +295,13 @@ TEST_F(GlTest, a_particle_series_revoxelizes_when_the_data_frame_changes_and_onl
     std::unique_ptr<Technique> pinned = spheres->create(scene, data, {});
     for (int frame : {0, 2, 1, 5}) {
         SCOPED_TRACE("pinned, animation frame " + std::to_string(frame));
-        StageNames stages;
-        pinned->prepareFrame(frame, stages);
+        CpuStageTimer timer;
+        pinned->prepareFrame(frame, timer);
         FrameImages image;
-        pinned->render(FrameSetup{frame, cam, 40, 32}, image, stages);
-        EXPECT_EQ(stages.has("voxelize"), frame == 0);
-        EXPECT_FALSE(stages.has("upload"));
+        pinned->render(FrameSetup{frame, cam, 40, 32}, image, timer);
+        const std::vector<StageTime> stages = timer.collect();
+        EXPECT_EQ(hasStage(stages, "voxelize"), frame == 0);
+        EXPECT_FALSE(hasStage(stages, "upload"));
         EXPECT_EQ(image.rgba, images[1].rgba) << "data frame 1";
     }
 }

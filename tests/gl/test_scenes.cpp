@@ -79,4 +79,14 @@ StyledLines randomLineScene(std::uint32_t seed, const RandomSceneOptions& o) {
     return makeStyledLines(polylines);
 }
 
+Scene vrcScene(int w, int h, int resolution, Transparency transparency) {
+    Scene scene;
+    scene.image.width = w;
+    scene.image.height = h;
+    scene.render.technique = RenderTechnique::VoxelRaycast;
+    scene.render.transparency = transparency;
+    scene.render.vrc.resolution = resolution;
+    return scene;
+}
+
 }  // namespace tc::test

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/scene.h"
 #include "core/styled_lines.h"
 
 namespace tc::test {
@@ -34,5 +35,8 @@ struct RandomSceneOptions {
 
 // Random bent polylines around the origin, random per-vertex colours; same seed, same scene.
 StyledLines randomLineScene(std::uint32_t seed, const RandomSceneOptions& options = {});
+
+// A voxel_raycast scene of w x h pixels on a grid of `resolution` voxels; every other key default.
+Scene vrcScene(int w, int h, int resolution, Transparency transparency);
 
 }  // namespace tc::test

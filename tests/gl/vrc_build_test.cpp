@@ -27,12 +27,7 @@ TEST_F(GlTest, vrc_gpu_built_model_renders_the_cpu_built_image) {
     cam.eye = {0.4f, 0.6f, 3.0f};
     FrameImages images[2];
     for (int k = 0; k < 2; ++k) {
-        Scene scene;
-        scene.image.width = 64;
-        scene.image.height = 48;
-        scene.render.technique = RenderTechnique::VoxelRaycast;
-        scene.render.transparency = Transparency::KBuffer;
-        scene.render.vrc.resolution = 24;
+        Scene scene = vrcScene(64, 48, 24, Transparency::KBuffer);
         scene.render.vrc.build = k == 0 ? VrcSpec::Build::Cpu : VrcSpec::Build::Gpu;
         std::unique_ptr<Technique> t = gl::createTechnique(scene, lines);
         EXPECT_EQ(t->describe()["build"], k == 0 ? "cpu" : "gpu");
@@ -61,12 +56,7 @@ TEST(VrcBuild, auto_builds_on_the_gpu_except_on_a_software_rasterizer) {
 }
 
 TEST_F(GlTest, vrc_auto_build_is_the_one_for_this_renderer_and_run_json_names_it) {
-    Scene scene;
-    scene.image.width = 32;
-    scene.image.height = 24;
-    scene.render.technique = RenderTechnique::VoxelRaycast;
-    scene.render.transparency = Transparency::KBuffer;
-    scene.render.vrc.resolution = 16;
+    const Scene scene = vrcScene(32, 24, 16, Transparency::KBuffer);
     ASSERT_EQ(scene.render.vrc.build, VrcSpec::Build::Auto);
     const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const StyledLines lines = randomLineScene(3, RandomSceneOptions{});

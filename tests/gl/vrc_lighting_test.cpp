@@ -36,13 +36,9 @@
 namespace tc::test {
 namespace {
 
-Scene vrcScene(int w, int h, int resolution) {
-    Scene scene;
-    scene.image.width = w;
-    scene.image.height = h;
-    scene.render.technique = RenderTechnique::VoxelRaycast;
-    scene.render.transparency = Transparency::Opaque;
-    scene.render.vrc.resolution = resolution;
+// Opaque, exact end points (no quantization).
+Scene exactVrcScene(int w, int h, int resolution) {
+    Scene scene = vrcScene(w, h, resolution, Transparency::Opaque);
     scene.render.vrc.quantization = 0;
     return scene;
 }
@@ -107,7 +103,7 @@ float meanAo(const FrameImages& f, std::uint32_t id) {
 void expectBundleDarkerThanIsolated(VrcSpec::Ao::Method method, const char* name, float minGap) {
     const StyledLines lines = bundleAndIsolatedTube();
     const float orthoHeight = 1.2f;
-    Scene scene = vrcScene(160, 96, 64);
+    Scene scene = exactVrcScene(160, 96, 64);
     scene.render.ao.enabled = true;
     scene.render.vrc.ao.method = method;
     const FrameImages f = render(scene, lines, topCamera(orthoHeight));
@@ -131,7 +127,7 @@ TEST_F(GlTest, vrc_density_ray_ao_of_an_isolated_tube_is_one) {
     // Nothing but its own line within 15 voxels: with its own deposit taken out of every read the
     // hemisphere rays see empty space (R16F rounding of the deposit aside).
     const StyledLines lines = bundleAndIsolatedTube();
-    Scene scene = vrcScene(160, 96, 64);
+    Scene scene = exactVrcScene(160, 96, 64);
     scene.render.ao.enabled = true;
     scene.render.vrc.ao.method = VrcSpec::Ao::Method::DensityRays;
     const FrameImages f = render(scene, lines, topCamera(1.2f));
@@ -209,7 +205,7 @@ ShadowBands shadowBands(VrcSpec::ShadowMode mode, float height) {
     const StyledLines lines = planeAndOccluder(height);
     const float orthoHeight = 1.4f;
     const Camera cam = topCamera(orthoHeight);
-    Scene scene = vrcScene(192, 160, 32);
+    Scene scene = exactVrcScene(192, 160, 32);
     scene.lighting.direction = {0.6f, 0.0f, 0.8f};  // camera space = world space for topCamera
     const FrameImages lit = render(scene, lines, cam);
     scene.render.vrc.shadows = true;
@@ -292,7 +288,7 @@ TEST_F(GlTest, vrc_hard_tube_shadows_agree_with_a_cpu_shadow_ray_against_every_t
     cam.target = {0.0f, 0.0f, 0.0f};
     cam.fovYDeg = 45.0f;
     const int w = 96, h = 80;
-    Scene scene = vrcScene(w, h, 24);
+    Scene scene = exactVrcScene(w, h, 24);
     scene.lighting.direction = {0.5f, 0.7f, 0.5f};
     const FrameImages lit = render(scene, lines, cam);
     scene.render.vrc.shadows = true;

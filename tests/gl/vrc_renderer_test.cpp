@@ -64,13 +64,8 @@ Camera obliqueCamera() {
     return cam;
 }
 
-Scene vrcScene(int w, int h, bool transparent, int quantization, bool neighbors) {
-    Scene scene;
-    scene.image.width = w;
-    scene.image.height = h;
-    scene.render.technique = RenderTechnique::VoxelRaycast;
-    scene.render.transparency = transparent ? Transparency::KBuffer : Transparency::Opaque;
-    scene.render.vrc.resolution = 24;
+Scene comparedVrcScene(int w, int h, bool transparent, int quantization, bool neighbors) {
+    Scene scene = vrcScene(w, h, 24, transparent ? Transparency::KBuffer : Transparency::Opaque);
     scene.render.vrc.quantization = quantization;
     scene.render.vrc.neighbors = neighbors;
     scene.render.vrc.opacityThreshold = 1.0f;  // no early termination: compare the full composite
@@ -122,7 +117,7 @@ TEST_F(GlTest, vrc_run_json_reports_the_largest_tube_radius_in_voxels) {
     // max_radius_voxels says whether a model is in the exact regime (< 1).
     const StyledLines lines = straightTubes(1.0f);
     for (int resolution : {24, 128}) {
-        Scene scene = vrcScene(16, 16, false, 32, false);
+        Scene scene = comparedVrcScene(16, 16, false, 32, false);
         scene.render.vrc.resolution = resolution;
         const std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
         const nlohmann::json d = t->describe();
@@ -144,7 +139,7 @@ TEST_F(GlTest, vrc_opaque_depth_id_and_colour_match_rasterized_rounded_cones_on_
     // both test every piece whose tube reaches into the voxel.
     for (bool neighbors : {true, false}) {
         SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-        const FrameImages vrc = render(vrcScene(w, h, false, 0, neighbors), lines, cam);
+        const FrameImages vrc = render(comparedVrcScene(w, h, false, 0, neighbors), lines, cam);
         ASSERT_EQ(vrc.depth.size(), ref.depth.size());
         auto refId = [&](int x, int y) { return ref.id[std::size_t(y) * w + x]; };
         std::size_t compared = 0, coverageOff = 0, idOff = 0, depthOff = 0, colorOff = 0;
@@ -193,12 +188,12 @@ TEST_F(GlTest, vrc_without_neighbor_tests_or_copies_cuts_tubes_at_voxel_faces) {
     const int w = 96, h = 72;
     const StyledLines lines = straightTubes(1.0f);
     const Camera cam = obliqueCamera();
-    const FrameImages on = render(vrcScene(w, h, false, 0, true), lines, cam);
+    const FrameImages on = render(comparedVrcScene(w, h, false, 0, true), lines, cam);
     VrcBuildOptions o;
     o.resolution = 24;
     o.quantization = 0;
     o.dilate = false;
-    const Scene offScene = vrcScene(w, h, false, 0, false);
+    const Scene offScene = comparedVrcScene(w, h, false, 0, false);
     const std::unique_ptr<gl::VrcRenderer> plain = gl::VrcRenderer::create(offScene, lines, buildVrcModel(lines, o));
     const FrameImages off = render(*plain, offScene, cam);
     std::size_t hitsOn = 0, hitsOff = 0, offOnly = 0;
@@ -223,7 +218,7 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
     const FrameImages ref = render(peel, lines, cam);
     for (bool neighbors : {true, false}) {
         SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-        const FrameImages vrc = render(vrcScene(w, h, true, 0, neighbors), lines, cam);
+        const FrameImages vrc = render(comparedVrcScene(w, h, true, 0, neighbors), lines, cam);
         ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
         // Alpha is piecewise constant (1 - 0.6^layers): an edge is where it changes.
         auto layers = [&](int x, int y) { return int(std::lround(ref.rgba[4 * (std::size_t(y) * w + x) + 3] * 1000)); };
@@ -303,7 +298,7 @@ TEST_F(GlTest, vrc_transparent_blends_every_hit_of_a_voxel_crossed_by_more_tubes
         {
             // Exact ends: snapped to bins of ~1/32 voxel, tubes 0.03 voxel wide would move off the rows.
             SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-            Scene scene = vrcScene(w, h, true, 0, neighbors);
+            Scene scene = comparedVrcScene(w, h, true, 0, neighbors);
             scene.render.vrc.resolution = 3;
             const FrameImages vrc = render(scene, lines, cam);
             ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
@@ -389,7 +384,7 @@ TEST_F(GlTest, vrc_transparent_blends_a_polyline_once_per_voxel_across_hit_batch
     const FrameImages ref = render(peel, referenceLines, cam);
     for (bool neighbors : {true, false}) {
         SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-        Scene scene = vrcScene(w, h, true, 0, neighbors);
+        Scene scene = comparedVrcScene(w, h, true, 0, neighbors);
         scene.render.vrc.resolution = 3;
         const FrameImages vrc = render(scene, bentLines, cam);
         std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
@@ -440,7 +435,7 @@ TEST_F(GlTest, vrc_path_length_opacity_follows_the_chord_through_a_tube_seen_sid
     const float pixel = cam.orthoHeight / float(h);
     for (bool neighbors : {true, false}) {
         SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
-        Scene scene = vrcScene(w, h, true, 0, neighbors);
+        Scene scene = comparedVrcScene(w, h, true, 0, neighbors);
         scene.render.vrc.resolution = 12;
         const FrameImages styleAlpha = render(scene, lines, cam);
         scene.render.vrc.pathLengthOpacity = true;
@@ -497,8 +492,8 @@ TEST_F(GlTest, vrc_quantized_model_renders_close_to_exact_and_early_termination_
     const int w = 96, h = 72;
     const StyledLines lines = straightTubes(0.5f);
     const Camera cam = obliqueCamera();
-    const FrameImages exact = render(vrcScene(w, h, true, 0, true), lines, cam);
-    Scene qs = vrcScene(w, h, true, 32, true);
+    const FrameImages exact = render(comparedVrcScene(w, h, true, 0, true), lines, cam);
+    Scene qs = comparedVrcScene(w, h, true, 32, true);
     const FrameImages quant = render(qs, lines, cam);
     qs.render.vrc.opacityThreshold = 0.4f;
     const FrameImages early = render(qs, lines, cam);
@@ -545,7 +540,7 @@ TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_
     cam.eye = {0.0f, 0.0f, 2.0f};
     cam.projection = Projection::Orthographic;
     cam.orthoHeight = 1.0f;
-    Scene scene = vrcScene(w, h, false, 32, true);
+    Scene scene = comparedVrcScene(w, h, false, 32, true);
     scene.lighting.direction = {1.0f, 0.0f,
                                 0.0f};  // horizontal: cones from the visible upper halves cross the other tube
     scene.render.ao.resolution = 48;
@@ -582,7 +577,7 @@ TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind
     cam.eye = {0.0f, 0.0f, 2.0f};
     cam.projection = Projection::Orthographic;
     cam.orthoHeight = 1.0f;
-    Scene scene = vrcScene(w, h, false, 32, false);
+    Scene scene = comparedVrcScene(w, h, false, 32, false);
     scene.lighting.direction = {1.0f, 0.0f, 0.0f};
     const FrameImages lit = render(scene, lines, cam);
     scene.render.vrc.shadows = true;
@@ -618,7 +613,7 @@ TEST_F(GlTest, vrc_piece_array_split_over_several_storage_blocks_renders_the_sin
             o.lod = false;
             o.dilate = true;
             const VrcModel model = buildVrcModel(lines, o);
-            const Scene scene = vrcScene(w, h, transparent, q, false);
+            const Scene scene = comparedVrcScene(w, h, transparent, q, false);
             const std::unique_ptr<gl::VrcRenderer> one = gl::VrcRenderer::create(scene, lines, model);
             // The smallest power-of-two block that fits the model in kMaxPieceBlocks blocks: 5..8
             // blocks, the last one partly filled.
@@ -648,7 +643,7 @@ TEST_F(GlTest, vrc_model_needing_more_storage_blocks_than_bindings_is_an_input_e
     o.resolution = 24;
     o.dilate = true;
     const VrcModel model = buildVrcModel(lines, o);
-    const Scene scene = vrcScene(32, 24, true, o.quantization, false);
+    const Scene scene = comparedVrcScene(32, 24, true, o.quantization, false);
     const std::size_t perBlock = 16;
     ASSERT_GT(model.pieceCount(), perBlock * gl::VrcRenderer::kMaxPieceBlocks);
     EXPECT_THROW(gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece()), InputError);
