@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/rounded_cone.h"
 #include "core/shading.h"
+#include "core/transparent_reference.h"
 #include "rt/ao_estimator.h"
 #include "rt/embree_lines.h"
 #include "rt/hit_collector.h"
@@ -64,6 +65,7 @@ struct RaytracedRenderer::PixelContext {
     std::uint32_t pixel;
     float depthScale;  // view depth = t * depthScale
     glm::vec3 lightDir;
+    glm::vec3 eye, forward;  // of the camera (halo fragments' depth)
     // Outputs.
     glm::vec4 rgba{0.0f};
     float depth = kInf;
@@ -82,7 +84,9 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     const RenderSpec& rs = scene.render;
     requireTechnique(raytracedTechnique(), scene, DataKind::Lines);
     // Every transparent mode is exact compositing here (up to render.raytraced.alpha_cutoff).
-    r->m_transparent = rs.transparency != Transparency::Opaque;
+    // Halos are drawn by the transparent path only (the technique's descriptor refuses "opaque").
+    if (scene.style.halo.enabled) r->m_halo = lineHalo(scene.style.halo, scene.image.background);
+    r->m_transparent = rs.transparency != Transparency::Opaque || r->m_halo;
     r->m_lines = lines;
     const std::size_t segments = lines.segmentCount();
     r->m_segmentPolyline.resize(segments);
@@ -108,10 +112,28 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
     // CPU time within noise on the 1M tornado's opaque frames, `scripts/bench/frame_times.sh
     // configs/tornado_1m.json 7 --set render.technique=raytraced`.)
     r->m_joinNeighbours = r->m_transparent ? rs.capClipping : true;
+    r->m_capClipping = rs.capClipping;
     // From the whole dataset's largest radius (data-parallel), so every rank and one process test
     // joint duplicates with the same epsilon.
     r->m_jointEpsilon = 1e-3f * std::max(region.maxRadiusOr(lines.maxRadius), 1e-12f);
-    r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);
+    if (r->m_halo) {
+        // Every segment's grown cone closed on its own: each one the ray passes names a segment
+        // whose tube or ring fragment is then computed exactly (shadeTransparentHalo).
+        r->m_joinNeighbours = false;
+        StyledLines grown = r->m_lines;
+        const float scale = 1.0f + r->m_halo->geometry.width;
+        for (glm::vec4& v : grown.positionRadius) v.w *= scale;
+        grown.maxRadius *= scale;
+        grown.bounds = {};
+        for (const glm::vec4& v : grown.positionRadius) grown.bounds.extend(glm::vec3(v), v.w);
+        r->m_embree = std::make_unique<EmbreeLines>(grown, false, true);
+        r->m_cover = TileCover(grown);
+        if (rs.ao.enabled && rs.ao.method == AoSpec::Method::RayTraced)
+            r->m_aoEmbree = std::make_unique<EmbreeLines>(r->m_lines, true, false);
+    } else {
+        r->m_embree = std::make_unique<EmbreeLines>(r->m_lines, r->m_joinNeighbours, r->m_transparent);
+        r->m_cover = TileCover(r->m_lines);
+    }
     r->m_bounds = sceneBounds(r->m_embree->scene());
     if (region.clips()) {
         // Tiles whose rays cannot meet the region's part of the data are background: the box
@@ -121,8 +143,8 @@ std::unique_ptr<RaytracedRenderer> RaytracedRenderer::create(const Scene& scene,
         r->m_bounds.lo = glm::max(r->m_bounds.lo, r->m_region.lo - pad);
         r->m_bounds.hi = glm::min(r->m_bounds.hi, r->m_region.hi + pad);
     }
-    r->m_cover = TileCover(r->m_lines);
-    if (rs.ao.enabled) r->m_ao = makeAoEstimator(rs.ao, r->m_lines, *r->m_embree, region);
+    if (rs.ao.enabled)
+        r->m_ao = makeAoEstimator(rs.ao, r->m_lines, r->m_aoEmbree ? *r->m_aoEmbree : *r->m_embree, region);
     return r;
 }
 
@@ -141,6 +163,8 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
     // inside a tube does too (Embree's round curves do not report the inner wall such a ray sees).
     const bool exactSurface =
         !m_transparent && (clips || m_exactSurface || originsMayStartInTubes(camera, window, width, height));
+    const bool haloOriginsInside =
+        m_halo && originsMayStartInTubes(camera, window, width, height, 1.0f + m_halo->geometry.width);
     std::atomic<std::uint64_t> totalHits{0};
 
     float* const ao = out.ao.empty() ? nullptr : out.ao.data();
@@ -168,7 +192,11 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
                     c.ray = tile.rays[k];
                     c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
                     c.lightDir = lightDir;
-                    if (m_transparent) {
+                    c.eye = camera.eye;
+                    c.forward = forward;
+                    if (m_halo) {
+                        shadeTransparentHalo(c, haloOriginsInside);
+                    } else if (m_transparent) {
                         shadeTransparent(c);
                     } else if (clips) {
                         Surface s;
@@ -261,8 +289,8 @@ void RaytracedRenderer::shadeOpaque(PixelContext& c, const FirstHit& hit, bool e
     shadeSurface(c, s);
 }
 
-bool RaytracedRenderer::originsMayStartInTubes(const Camera& camera, const ImageWindow& window, int width,
-                                               int height) const {
+bool RaytracedRenderer::originsMayStartInTubes(const Camera& camera, const ImageWindow& window, int width, int height,
+                                               float radiusScale) const {
     // The ray origins: the eye (perspective) or the image rectangle on the plane through it
     // (orthographic), held in the sphere around the eye through the rectangle's corners; with a
     // margin for the rounding of the distances. (Embree's rtcPointQuery visits no curve
@@ -275,9 +303,11 @@ bool RaytracedRenderer::originsMayStartInTubes(const Camera& camera, const Image
         for (float py : {-1.5f, float(fh) + 0.5f})
             radius = std::max(radius, glm::length(pixelRay(camera, fw, fh, px, py).origin - camera.eye));
     const glm::vec3 eye = camera.eye;
-    radius += 1e-4f * (m_lines.maxRadius + glm::length(eye) + radius);
+    radius += 1e-4f * (radiusScale * m_lines.maxRadius + glm::length(eye) + radius);
+    // The bounds hold every tube; grown ones reach further by the growth of the largest radius.
     const glm::vec3 nearest = glm::clamp(eye, m_lines.bounds.lo, m_lines.bounds.hi);
-    if (m_lines.bounds.empty() || glm::length(nearest - eye) > radius) return false;
+    const float growth = (radiusScale - 1.0f) * m_lines.maxRadius;
+    if (m_lines.bounds.empty() || glm::length(nearest - eye) > radius + growth) return false;
     const StyledLines& L = m_lines;
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, L.segmentCount(), 1 << 14), false,
@@ -287,9 +317,11 @@ bool RaytracedRenderer::originsMayStartInTubes(const Camera& camera, const Image
                 const glm::vec4& b = L.positionRadius[L.segmentVertices[2 * s + 1]];
                 // Bounding sphere of the rounded cone first.
                 const glm::vec3 m = 0.5f * (glm::vec3(a) + glm::vec3(b));
-                const float reach = 0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + std::max(a.w, b.w) + radius;
+                const float reach =
+                    0.5f * glm::length(glm::vec3(b) - glm::vec3(a)) + radiusScale * std::max(a.w, b.w) + radius;
                 if (glm::dot(m - eye, m - eye) > reach * reach) continue;
-                found = sdRoundedCone(eye, {glm::vec3(a), a.w, glm::vec3(b), b.w}) <= radius;
+                found =
+                    sdRoundedCone(eye, {glm::vec3(a), radiusScale * a.w, glm::vec3(b), radiusScale * b.w}) <= radius;
             }
             return found;
         },
@@ -443,6 +475,110 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     c.rgba = glm::vec4(color, alpha);
 }
 
+void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside) const {
+    const StyledLines& L = m_lines;
+    HitCollector collector;
+    rtcInitIntersectContext(&collector.context);
+    collector.context.filter = collectHit;
+    collector.capacity = m_hitsPerPass;
+    const HaloGeometry& ring = m_halo->geometry;
+    const FragmentView view{c.eye, c.forward, c.depthScale};
+    // How far in front of the hit that names it a fragment can lie (the header), with room for
+    // Embree's rounding of t; with rays that may start inside a grown cone, a late (exit) hit can
+    // name a fragment at any t, so nothing is composited before the last hit.
+    const float lookBack =
+        originsInside ? kInf : 1.01f * (1.0f + ring.width) * L.maxRadius / std::max(c.depthScale, 1e-6f);
+
+    struct Pending {
+        SegmentFragment f;
+        std::uint32_t segment;
+    };
+    // Not yet composited, and the fragments the last pass added; reused per thread (no allocation
+    // per pixel once grown).
+    thread_local std::vector<Pending> pending;
+    pending.clear();
+    std::size_t head = 0;
+    auto before = [](const Pending& a, const Pending& b) {
+        return a.f.depth < b.f.depth || (a.f.depth == b.f.depth && a.segment < b.segment);
+    };
+
+    glm::vec3 color(0.0f);
+    float alpha = 0.0f;
+    bool first = true, done = false;
+    float tnear = 0.0f, tfar = kInf;
+    const bool clips = !m_region.unbounded();
+    if (clips) {
+        const RayInterval iv = regionRayInterval(c.ray);
+        if (iv.empty() || iv.t1 < 0.0f) return;
+        tnear = std::max(iv.t0, 0.0f);
+        tfar = iv.t1;
+    }
+    // Composites the pending fragments up to (excluding) sort parameter `frontier`, in order.
+    auto compositeUpTo = [&](float frontier) {
+        std::sort(pending.begin() + std::ptrdiff_t(head), pending.end(), before);
+        for (; head < pending.size() && !done; ++head) {
+            const Pending& p = pending[head];
+            if (!(p.f.t < frontier)) break;
+            const std::uint32_t v0 = L.segmentVertices[2 * p.segment], v1 = L.segmentVertices[2 * p.segment + 1];
+            glm::vec4 base = glm::mix(L.color[v0], L.color[v1], p.f.along);
+            glm::vec3 rgb;
+            if (p.f.halo) {
+                rgb = glm::clamp(m_halo->color, 0.0f, 1.0f);  // the ring is not shaded
+            } else {
+                if (m_ao) {
+                    const glm::vec3 pt = c.ray.origin + p.f.t * c.ray.dir;
+                    const glm::vec3 facing = glm::dot(p.f.normal, c.ray.dir) <= 0.0f ? p.f.normal : -p.f.normal;
+                    base = glm::vec4(glm::vec3(base) * m_ao->visibility(pt, facing, c.pixel, p.segment), base.w);
+                }
+                rgb = glm::clamp(shadeBlinnPhong(glm::vec3(base), p.f.normal, c.ray.dir, c.lightDir, m_lighting), 0.0f,
+                                 1.0f);
+            }
+            if (first) {
+                first = false;
+                c.depth = p.f.depth;
+                c.normal = p.f.normal;
+                c.id = m_segmentPolyline[p.segment];
+            }
+            const float w = (1.0f - alpha) * base.w;
+            color += w * rgb;
+            alpha += w;
+            if (m_alphaCutoff < 1.0f && alpha >= m_alphaCutoff) done = true;
+        }
+    };
+    for (;;) {
+        collector.count = 0;
+        RTCRayHit rh = makeRayHit(c.ray, tnear);
+        rh.ray.tfar = tfar;
+        rtcIntersect1(m_embree->scene(), &collector.context, &rh);
+        const int n = collector.count;
+        for (int k = 0; k < n; ++k) {
+            const RayHitRecord& h = collector.hits[k];
+            ++c.hits;
+            // One hit per closed grown cone names its segment: the entry, or the exit of one the
+            // ray starts in.
+            if (h.back) {
+                if (!originsInside) continue;
+                const glm::vec4& a = L.positionRadius[L.segmentVertices[2 * h.prim]];
+                const glm::vec4& b = L.positionRadius[L.segmentVertices[2 * h.prim + 1]];
+                if (!(sdRoundedCone(c.ray.origin, grownCone({glm::vec3(a), a.w, glm::vec3(b), b.w}, ring)) < 0.0f))
+                    continue;
+            }
+            Pending p;
+            p.segment = h.prim;
+            if (!segmentFragmentOf(L, h.prim, c.ray, view, m_capClipping, &ring, p.f)) continue;
+            // Another region composites a fragment whose surface point lies there (the GL rule:
+            // the tube's entry, or the ring's).
+            if (clips && !m_region.contains(c.ray.origin + p.f.tSurface * c.ray.dir)) continue;
+            pending.push_back(p);
+        }
+        const bool last = n < collector.capacity;
+        compositeUpTo(last ? kInf : collector.hits[n - 1].t - lookBack);
+        if (done || last) break;
+        tnear = collector.continueBehindLast();
+    }
+    c.rgba = glm::vec4(color, alpha);
+}
+
 nlohmann::json RaytracedRenderer::describe() const {
     nlohmann::json j = {{"technique", "raytraced"},
                         {"engine", "Embree " + std::to_string(RTC_VERSION_MAJOR) + "." +
@@ -460,6 +596,10 @@ nlohmann::json RaytracedRenderer::describe() const {
                         {"tile_cover_cells", m_cover.occupiedCells()},
                         {"ambient_occlusion", m_ao ? m_ao->describe() : nlohmann::json(false)}};
     if (!m_transparent) j["surface"] = m_exactSurface || !m_region.unbounded() ? "exact" : "embree";
+    if (m_halo)
+        j["halo"] = {{"width", m_halo->geometry.width},
+                     {"depth", m_halo->geometry.depth},
+                     {"geometry", "grown rounded cones, closed (no neighbour flags)"}};
     if (m_transparent) {
         j["alpha_cutoff"] = m_alphaCutoff;
         j["hits_per_pass"] = m_hitsPerPass;

@@ -27,6 +27,16 @@
 //   once. A back-facing hit counts only when the ray origin lies inside that segment's rounded
 //   cone (an eye inside a tube sees its inner wall, as the references). The depth / normal / id
 //   AOVs describe the first contributing hit.
+// - Halos (style.halo; core/halo.h, the CPU twin of the GL path's ring): the BVH holds every
+//   segment's rounded cone grown by the ring as a closed cone of its own (no neighbour flags), and
+//   each front-facing hit of one (a back-facing one when the ray starts inside it) names a
+//   segment whose fragment is computed exactly as the CPU reference's (core/transparent_reference.h
+//   segmentFragmentOf: the tube entry after cap clipping, else the halo fragment, whose depth lies
+//   behind the ring's surface). Fragments are composited in (depth, segment) order once no later
+//   hit can give one in front of them: a hit at t has its fragment no nearer than t - (1 + width)
+//   r_max / dot(dir, forward) (the ray's point nearest the axis is behind the ring's entry and
+//   within (1 + width) r_max of the axis). Always a transparent mode (opaque lines: alpha 1
+//   composites to the nearest fragment). "ray_traced" AO traces against a second BVH of the tubes.
 // - Region (data-parallel rendering, core/region.h): only contributions whose entry point lies in
 //   the region box. Opaque: the nearest visible t (the rule above, per segment) whose point is in
 //   the box, so the regions' depth images Z-composite to the whole frame's; transparent: the hits
@@ -44,9 +54,11 @@
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/camera.h"
 #include "core/frame_images.h"
+#include "core/halo.h"
 #include "core/region.h"
 #include "core/scene.h"
 #include "core/stage_sink.h"
@@ -117,13 +129,18 @@ private:
     };
     bool visibleSurface(const Ray& ray, const FirstHit& hit, bool inRegion, Surface& s, bool& anyCandidate) const;
     void shadeOpaque(PixelContext& px, const FirstHit& hit, bool exactSurface) const;
-    // Whether a primary ray of this frame may start inside a tube (conservative).
-    bool originsMayStartInTubes(const Camera& camera, const ImageWindow& window, int width, int height) const;
+    // Whether a primary ray of this frame may start inside a tube (conservative); `radiusScale`
+    // grows every tube (the halo's ring).
+    bool originsMayStartInTubes(const Camera& camera, const ImageWindow& window, int width, int height,
+                                float radiusScale = 1.0f) const;
     void shadeSurface(PixelContext& px, const Surface& s) const;
     // Region opaque rays: the first Embree hit whose surface (visibleSurface) lies in the box,
     // traced from the box's entry; false: background.
     bool regionSurface(PixelContext& px, Surface& s) const;
     void shadeTransparent(PixelContext& px) const;
+    // Transparent with halos (see the header); `originsInside`: this frame's rays may start inside
+    // a grown cone, so fragments are composited only after the last hit.
+    void shadeTransparentHalo(PixelContext& px, bool originsInside) const;
     // The part of `ray` a region traces: its interval in the box, widened by the margin.
     RayInterval regionRayInterval(const Ray& ray) const;
 
@@ -141,11 +158,14 @@ private:
     KeptAovs m_aovs;  // the first-surface AOVs scene.output asks for; the others stay empty
     bool m_transparent = false;
     bool m_joinNeighbours = true;
+    bool m_capClipping = true;  // render.cap_clipping (halos: the planes of segmentFragmentOf)
     bool m_exactSurface = false;
     float m_alphaCutoff = 0.99f;
     float m_jointEpsilon = 0;  // world units: hits of adjacent segments this close count once
     RegionBox m_region;
-    std::unique_ptr<EmbreeLines> m_embree;
+    std::unique_ptr<EmbreeLines> m_embree;  // with halos: the grown cones
+    std::optional<LineHalo> m_halo;
+    std::unique_ptr<EmbreeLines> m_aoEmbree;  // halos and "ray_traced" AO: the tubes themselves
     std::unique_ptr<AoEstimator> m_ao;
     Traversal m_traversal = Traversal::Packet16;
     int m_hitsPerPass = 16, m_defaultHitsPerPass = 16;

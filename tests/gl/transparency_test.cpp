@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -67,6 +68,7 @@ struct TransparentSettings {
     bool capClipping = true;
     int maxPeelLayers = 0;
     int memoryBudgetMb = 4096;
+    std::optional<HaloSpec> halo;  // style.halo
 };
 
 struct GpuFrame {
@@ -83,6 +85,7 @@ Scene transparentScene(const TransparentSettings& s, int width, int height) {
     scene.render.capClipping = s.capClipping;
     scene.render.maxPeelLayers = s.maxPeelLayers;
     scene.render.memoryBudgetMb = s.memoryBudgetMb;
+    if (s.halo) scene.style.halo = *s.halo;
     // No AOVs: no G-buffer pass (faster; these tests look at RGBA only).
     scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
     return scene;
@@ -101,13 +104,13 @@ GpuFrame renderGpu(const StyledLines& lines, const Camera& cam, int w, int h, co
 }
 
 TransparentSettings peeling(bool capClipping = true) {
-    return {Transparency::DepthPeeling, 8, capClipping};
+    return {Transparency::DepthPeeling, 8, capClipping, 0, 4096, std::nullopt};
 }
 TransparentSettings kbuffer(int k, bool capClipping = true) {
-    return {Transparency::KBuffer, k, capClipping};
+    return {Transparency::KBuffer, k, capClipping, 0, 4096, std::nullopt};
 }
 TransparentSettings objectOrder(bool capClipping = true) {
-    return {Transparency::ObjectOrder, 8, capClipping};
+    return {Transparency::ObjectOrder, 8, capClipping, 0, 4096, std::nullopt};
 }
 
 // --- CPU side: the reference image and what each pixel's fragment list says -------------------
@@ -175,12 +178,17 @@ void kbufferBounds(const std::vector<TransparentFragment>& frags, double& colorB
     alphaBound = kQuantum * sumAlpha + kQuantum * kQuantum * n * n;
 }
 
-CpuFrame cpuReference(const StyledLines& lines, const Camera& cam, int w, int h, bool capClipping) {
+// `halo`: the reference with halo rings (core/halo.h), drawn over transparentScene's background.
+CpuFrame cpuReference(const StyledLines& lines, const Camera& cam, int w, int h, bool capClipping,
+                      const std::optional<HaloSpec>& haloSpec = std::nullopt) {
     CpuFrame c;
     c.width = w;
     c.height = h;
     const LightingSpec light;  // the default, as transparentScene's
-    c.images = renderReferenceTransparent(lines, cam, light, w, h, capClipping, &c.count);
+    std::optional<LineHalo> halo;
+    if (haloSpec) halo = lineHalo(*haloSpec, Scene().image.background);
+    const LineHalo* ring = halo ? &*halo : nullptr;
+    c.images = renderReferenceTransparent(lines, cam, light, w, h, capClipping, &c.count, ring);
     const std::size_t n = std::size_t(w) * h;
     c.segmentSet.assign(n, 0);
     c.polylineSet.assign(n, 0);
@@ -192,9 +200,11 @@ CpuFrame cpuReference(const StyledLines& lines, const Camera& cam, int w, int h,
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const std::size_t i = c.index(x, y);
-            collectFragments(lines, pixelRay(cam, w, h, float(x), float(y)), cam, light, capClipping, frags);
+            collectFragments(lines, pixelRay(cam, w, h, float(x), float(y)), cam, light, capClipping, frags, ring);
             ids.clear();
-            for (const auto& f : frags) ids.push_back(f.segment);
+            // A segment's ring and its tube are different fragments (another colour): where a
+            // neighbour pixel has the other, the pixel is on the tube's silhouette.
+            for (const auto& f : frags) ids.push_back(2 * f.segment + (f.halo ? 1u : 0u));
             c.segmentSet[i] = hashIds(ids);
             ids.clear();
             for (const auto& f : frags) ids.push_back(lines.polylineId[lines.segmentVertices[2 * f.segment]]);
@@ -428,6 +438,38 @@ TEST_F(TransparencyTest, depth_peeling_matches_cpu_reference_on_random_scenes) {
             // Peeling stops at the first pass without fragments: the layer count is the depth
             // complexity (+-1 where a rim pixel has a fragment more or less on the GPU).
             EXPECT_NEAR(gpu.peelLayers, cpu.maxCount, 1) << label;
+        }
+    }
+}
+
+// style.halo: the GLSL ring (shaders/transparent_fragment.glsl haloFragment) against its CPU twin
+// (core/halo.h), which the ray tracer's halos are tested against too: same fragments, same order,
+// same tolerances as the tubes alone.
+TEST_F(TransparencyTest, depth_peeling_with_halos_matches_cpu_reference) {
+    // Twice the random scenes' resolution: a ring adds two edges (its outer rim and the tube's
+    // silhouette) per tube side, and edge pixels are not compared.
+    const int w = 192, h = 144;
+    HaloSpec halo;
+    halo.enabled = true;
+    halo.width = 0.8f;
+    halo.depth = 3.0f;
+    halo.color = glm::vec3(0.9f, 0.6f, 0.1f);
+    for (std::uint32_t seed : {1u, 3u}) {
+        const StyledLines lines = smallTransparentScene(seed);
+        const Camera cam = seed == 3 ? orthographic(eyeFromSeed(seed, 3.0f), {0, 0, 0}, 1.8f)
+                                     : lookAt(eyeFromSeed(seed, 2.5f), {0, 0, 0});
+        for (bool clip : {true, false}) {
+            const std::string label = "halos, seed " + std::to_string(seed) + (clip ? ", cap clipping" : "");
+            SCOPED_TRACE(label);
+            const CpuFrame cpu = cpuReference(lines, cam, w, h, clip, halo);
+            const CpuFrame plain = cpuReference(lines, cam, w, h, clip);
+            TransparentSettings settings = peeling(clip);
+            settings.halo = halo;
+            expectMatchesCpu(renderGpu(lines, cam, w, h, settings).images, cpu, "peel vs cpu, " + label, 500);
+            // Not vacuous: the rings add fragments to many pixels.
+            std::size_t ringPixels = 0;
+            for (std::size_t i = 0; i < cpu.count.size(); ++i) ringPixels += cpu.count[i] > plain.count[i];
+            EXPECT_GT(ringPixels, 2000u) << label;
         }
     }
 }
