@@ -28,6 +28,7 @@ struct LineFragment {
 // paper's strips push their halo region back: a line further behind than that is hidden by the
 // whole ring, one at about the same depth (a bundle) shows through it. The ring belongs to the
 // segment whose grown cone the ray enters on its surface after cap clipping, like a tube entry.
+// core/halo.h is the CPU twin (the reference and the Embree path); keep them in lock-step.
 bool haloFragment(Ray ray, vec4 plane0, vec4 plane1, bool clip0, bool clip1, out LineFragment f) {
     RoundedCone c = varyingCone();
     const float scale = 1.0 + HALO_WIDTH;
