@@ -435,6 +435,29 @@ TEST(Raytraced, halos_equal_the_transparent_reference_with_halos) {
         }
 }
 
+TEST(Raytraced, halos_seen_from_inside_a_ring_equal_the_reference) {
+    // The eye lies between a tube's surface and its ring's outer edge: rays start inside that
+    // grown cone, whose exit names the segment (every fragment waits for the last hit). The
+    // tube runs across the view just below the eye; random tubes lie beyond.
+    LightingSpec light;
+    const int w = 64, h = 48;
+    std::vector<PolylineSpec> pls = randomPolylines(13u, 6, true, 0.3f, 0.6f);
+    pls.push_back({{{-1.5f, -0.06f, 3.0f, 0.04f}, {0.0f, -0.06f, 3.0f, 0.04f}, {1.5f, -0.06f, 3.0f, 0.04f}},
+                   {0.9f, 0.2f, 0.2f, 0.5f},
+                   {0.2f, 0.9f, 0.2f, 0.5f}});
+    const StyledLines lines = makeLines(pls);
+    const Scene scene = haloScene(true);  // ring 0.8 radii: the eye is 0.06 from the axis, < 0.072
+    const LineHalo halo = lineHalo(scene.style.halo, scene.image.background);
+    const Camera cam = cameraAt({0.0f, 0.0f, 3.0f});
+    const FrameImages rt = raytrace(scene, lines, cam, w, h);
+    const FrameImages ref = renderReferenceTransparent(lines, cam, light, w, h, true, nullptr, &halo);
+    const TransparentDiff d = compareTransparent(rt, ref);
+    // The near tube and its ring cover the lower half of the image.
+    EXPECT_GT(d.covered, w * h / 2);
+    EXPECT_LE(d.outside, d.covered / 100) << d.outside << " of " << d.covered;
+    EXPECT_LE(d.maxColor, 1e-5f);
+}
+
 TEST(Raytraced, halo_images_are_identical_for_every_number_of_hits_per_traversal) {
     // A ring's fragment lies behind the hit that names it and a tube's behind its ring's entry, so
     // fragments arrive out of depth order: one hit per traversal must composite what several or all
