@@ -12,6 +12,7 @@
 #include "cli/run_manifest.h"
 #include "core/default_scene.h"
 #include "core/error.h"
+#include "core/halo.h"
 #include "core/particle_series.h"
 #include "core/styling.h"
 #include "io/byte_source.h"
@@ -380,7 +381,9 @@ void DataParallel::decomposeLines(const Scene& scene, const LineSet& lines, nloh
     const StyledLines styled = styleLines(lines, scene.style, scene.file);
     std::vector<float> radii(lines.vertexCount());
     TC_CHECK_OP(styled.vertexCount(), ==, lines.vertexCount());
-    for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
+    // A segment goes to every region its tube, or its halo ring, reaches.
+    const float reach = haloReach(scene.style.halo);
+    for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = reach * styled.positionRadius[v].w;
     m_tree = KdDecomposition::build(segmentMidpoints(lines), ranks);
     const RegionItems items = assignSegments(m_tree, lines, radii);
     const std::vector<glm::vec3> transported = transportedTangents(lines);
@@ -504,7 +507,8 @@ std::vector<Bytes> DataParallel::decomposePiece(const Scene& scene, const LineSe
     if (lines.polylineCount() > 0) {
         const StyledLines styled = styleLines(lines, scene.style, scene.file);
         std::vector<float> radii(lines.vertexCount());
-        for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = styled.positionRadius[v].w;
+        const float reach = haloReach(scene.style.halo);
+        for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = reach * styled.positionRadius[v].w;
         items = assignSegments(m_tree, lines, radii);
         transported = transportedTangents(lines);
     }
@@ -648,11 +652,13 @@ void DataParallel::checkShare(const Scene& scene, const RankShare& share) {
     const bool someEmpty = any(share.localEmpty);
     const bool allEmpty = !any(!share.localEmpty);
     phase("check", [&] {
-        if (m_inputMode == "partition" && share.maxRadius > m_partitionRadius)
+        // With halos the rings reach further than the tubes.
+        const float reach = share.maxRadius * haloReach(scene.style.halo);
+        if (m_inputMode == "partition" && reach > m_partitionRadius)
             throw InputError(m_partitionIndex + ": radius: the set was partitioned for tubes of radius up to " +
-                             std::to_string(m_partitionRadius) + ", the style gives " +
-                             std::to_string(share.maxRadius) + ": partition again with --radius " +
-                             std::to_string(share.maxRadius));
+                             std::to_string(m_partitionRadius) + ", the style gives " + std::to_string(reach) +
+                             (scene.style.halo.enabled ? " (with the halo ring)" : "") +
+                             ": partition again with --radius " + std::to_string(reach));
         // The AO density reduction runs inside the technique, which an empty rank does not make.
         if (scene.render.ao.enabled && someEmpty && !allEmpty)
             throw InputError(sceneName(scene) + ": render.ao: a rank's region holds no data (" +

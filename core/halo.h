@@ -34,6 +34,12 @@ struct LineHalo {
 // style.halo as drawn over image.background.
 LineHalo lineHalo(const HaloSpec& spec, const glm::vec4& background);
 
+// How far a segment's fragments reach, as a multiple of its tube's radius: 1 + the ring's width
+// with style.halo, else 1 (data-parallel rendering sends a segment to every region it reaches).
+inline float haloReach(const HaloSpec& spec) {
+    return spec.enabled ? 1.0f + spec.width : 1.0f;
+}
+
 // The segment's cone grown by the ring: the shape whose surface a halo fragment's ray enters.
 inline RoundedCone grownCone(const RoundedCone& c, const HaloGeometry& halo) {
     const float scale = 1.0f + halo.width;

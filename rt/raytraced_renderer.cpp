@@ -492,9 +492,21 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
 
 void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside) const {
     const StyledLines& L = m_lines;
+    float tnear = 0.0f, tfar = kInf;
+    const bool clips = !m_region.unbounded();
+    if (clips) {
+        const RayInterval iv = regionRayInterval(c.ray);
+        if (iv.empty() || iv.t1 < 0.0f) return;
+        tnear = std::max(iv.t0, 0.0f);
+        tfar = iv.t1;
+    }
+    // Where the traced part starts may lie inside grown cones: the eye's (originsInside), or a
+    // region's box face, which cuts through rings whose segments own fragments in the box.
+    const bool startsInside = originsInside || tnear > 0.0f;
+    const glm::vec3 start = c.ray.origin + tnear * c.ray.dir;
     HitCollector collector;
     rtcInitIntersectContext(&collector.context);
-    collector.context.filter = originsInside ? collectHit : collectEntry;
+    collector.context.filter = startsInside ? collectHit : collectEntry;
     collector.capacity = m_hitsPerPass;
     const HaloGeometry& ring = m_halo->geometry;
     const FragmentView view{c.eye, c.forward, c.depthScale};
@@ -502,7 +514,7 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
     // Embree's rounding of t; with rays that may start inside a grown cone, a late (exit) hit can
     // name a fragment at any t, so nothing is composited before the last hit.
     const float lookBack =
-        originsInside ? kInf : 1.01f * (1.0f + ring.width) * L.maxRadius / std::max(c.depthScale, 1e-6f);
+        startsInside ? kInf : 1.01f * (1.0f + ring.width) * L.maxRadius / std::max(c.depthScale, 1e-6f);
 
     struct Pending {
         SegmentFragment f;
@@ -520,14 +532,6 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
     glm::vec3 color(0.0f);
     float alpha = 0.0f;
     bool first = true, done = false;
-    float tnear = 0.0f, tfar = kInf;
-    const bool clips = !m_region.unbounded();
-    if (clips) {
-        const RayInterval iv = regionRayInterval(c.ray);
-        if (iv.empty() || iv.t1 < 0.0f) return;
-        tnear = std::max(iv.t0, 0.0f);
-        tfar = iv.t1;
-    }
     // Composites the pending fragments up to (excluding) sort parameter `frontier`, in order.
     auto compositeUpTo = [&](float frontier) {
         std::sort(pending.begin() + std::ptrdiff_t(head), pending.end(), before);
@@ -570,13 +574,12 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
             const RayHitRecord& h = collector.hits[k];
             ++c.hits;
             // One hit per closed grown cone names its segment: the entry, or the exit of one the
-            // ray starts in.
+            // traced part starts in.
             if (h.back) {
-                if (!originsInside) continue;
+                if (!startsInside) continue;
                 const glm::vec4& a = L.positionRadius[L.segmentVertices[2 * h.prim]];
                 const glm::vec4& b = L.positionRadius[L.segmentVertices[2 * h.prim + 1]];
-                if (!(sdRoundedCone(c.ray.origin, grownCone({glm::vec3(a), a.w, glm::vec3(b), b.w}, ring)) < 0.0f))
-                    continue;
+                if (!(sdRoundedCone(start, grownCone({glm::vec3(a), a.w, glm::vec3(b), b.w}, ring)) < 0.0f)) continue;
             }
             Pending p;
             p.segment = h.prim;

@@ -94,11 +94,12 @@ private:
 };
 
 // The closed bounds of segment s's rounded cone.
-inline void segmentBounds(const StyledLines& lines, std::size_t s, glm::vec3& lo, glm::vec3& hi) {
+// `reach`: the radii's factor (the halo ring's, core/halo.h haloReach).
+inline void segmentBounds(const StyledLines& lines, std::size_t s, glm::vec3& lo, glm::vec3& hi, float reach = 1.0f) {
     const glm::vec4 a = lines.positionRadius[lines.segmentVertices[2 * s]];
     const glm::vec4 b = lines.positionRadius[lines.segmentVertices[2 * s + 1]];
-    lo = glm::min(glm::vec3(a) - a.w, glm::vec3(b) - b.w);
-    hi = glm::max(glm::vec3(a) + a.w, glm::vec3(b) + b.w);
+    lo = glm::min(glm::vec3(a) - reach * a.w, glm::vec3(b) - reach * b.w);
+    hi = glm::max(glm::vec3(a) + reach * a.w, glm::vec3(b) + reach * b.w);
 }
 
 // How many segments' tubes reach more than one of `boxes` (cross a region face).
@@ -119,8 +120,9 @@ inline std::size_t segmentsCrossingRegions(const StyledLines& lines, const std::
 // polyline neighbours, so the cap clipping planes at the ends of a kept run have their third
 // vertex. Runs keep their order (segment order, hence draw-order ties, are the full set's) and
 // their polyline ids; a run's end vertices are flagged First / LastOfPolyline (a neighbour added
-// for its plane lies wholly outside the box, so its own cap never shows there).
-inline StyledLines linesReaching(const StyledLines& lines, const RegionBox& box) {
+// for its plane lies wholly outside the box, so its own cap never shows there). `reach`: as
+// segmentBounds (halos: the rings reach further than the tubes).
+inline StyledLines linesReaching(const StyledLines& lines, const RegionBox& box, float reach = 1.0f) {
     const std::size_t segments = lines.segmentCount();
     auto joined = [&](std::size_t s) {  // segment s continues into s + 1
         const std::uint32_t v = lines.segmentVertices[2 * s + 1];
@@ -129,7 +131,7 @@ inline StyledLines linesReaching(const StyledLines& lines, const RegionBox& box)
     std::vector<char> reaches(segments), keep(segments);
     for (std::size_t s = 0; s < segments; ++s) {
         glm::vec3 lo, hi;
-        segmentBounds(lines, s, lo, hi);
+        segmentBounds(lines, s, lo, hi, reach);
         reaches[s] = box.reaches(lo, hi);
     }
     for (std::size_t s = 0; s < segments; ++s)
