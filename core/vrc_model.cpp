@@ -331,7 +331,7 @@ bool segmentMeetsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&
 
 }  // namespace
 
-void dilateVrcModel(VrcModel& model) {
+void dilateVrcModel(VrcModel& model, float reach) {
     TC_CHECK_OP(model.copies, ==, std::size_t(0));
     const std::size_t base = model.pieceCount();
     if (base == 0) return;
@@ -348,8 +348,9 @@ void dilateVrcModel(VrcModel& model) {
         const glm::dvec3 o(model.origin);
         const double h = model.voxelSize;
         const glm::dvec3 a = (glm::dvec3(p.a) - o) / h, b = (glm::dvec3(p.b) - o) / h;
-        // Grown by the larger radius and a little float slack (world positions are floats).
-        const double r = double(std::max(p.ra, p.rb)) / h;
+        // Grown by the larger radius (of the ring, with halos) and a little float slack (world
+        // positions are floats).
+        const double r = double(reach) * double(std::max(p.ra, p.rb)) / h;
         const double grow = r + 1e-4;
         // Joints: near a face end (within r along the axis) the tube coincides with the next or
         // previous piece of its polyline (exactly for collinear pieces, up to the outer wedge at a
@@ -556,7 +557,7 @@ VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options)
         });
         model.lod = buildDensityPyramid(std::move(level0));
     }
-    if (options.dilate) dilateVrcModel(model);
+    if (options.dilate) dilateVrcModel(model, options.reach);
     return model;
 }
 

@@ -172,6 +172,7 @@ struct VrcBuildOptions {
     int quantization = 32;  // 0 (exact) or 1..kMaxQuantization
     bool lod = true;        // build the Eq. 1 density pyramid
     bool dilate = false;    // copies into the neighbours a tube reaches (dilateVrcModel)
+    float reach = 1.0f;     // with dilate: how far a piece reaches, in its radii (halos: core/halo.h haloReach)
 };
 
 // Builds the model. The grid is makeDensityGrid(lines.bounds, resolution)'s (cubic voxels, aspect
@@ -183,9 +184,11 @@ struct VrcBuildOptions {
 VrcModel buildVrcModel(const StyledLines& lines, const VrcBuildOptions& options);
 
 // Adds the copies (see Copies above) to a model without copies (the LoD pyramid is kept: it
-// counts every piece once). Deterministic (tbb, order fixed by a sort on unique keys). Throws
-// tc::InputError if a polyline id does not fit kLineBits or the model would exceed 2^31 pieces.
-void dilateVrcModel(VrcModel& model);
+// counts every piece once). `reach`: the radius factor of what a piece shows (style.halo's ring
+// reaches 1 + its width times the tube's radius). Deterministic (tbb, order fixed by a sort on
+// unique keys). Throws tc::InputError if a polyline id does not fit kLineBits or the model would
+// exceed 2^31 pieces.
+void dilateVrcModel(VrcModel& model, float reach = 1.0f);
 
 // Recomputes the headers and neighbourhood bits from pieceVoxel (sorted by voxel).
 void buildVrcHeaders(VrcModel& model);

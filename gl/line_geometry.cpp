@@ -87,12 +87,16 @@ std::string glslFloat(float v) {
 }
 }  // namespace
 
-void LineGeometry::enableHalo(const HaloSpec& halo, const glm::vec3& linearColor) {
-    m_haloDefines = {"HALO", "HALO_WIDTH " + glslFloat(halo.width), "HALO_DEPTH " + glslFloat(halo.depth),
-                     "HALO_COLOR vec3(" + glslFloat(linearColor.x) + ", " + glslFloat(linearColor.y) + ", " +
-                         glslFloat(linearColor.z) + ")"};
+std::vector<std::string> haloDefines(const LineHalo& halo) {
+    const glm::vec3& c = halo.color;
+    return {"HALO", "HALO_WIDTH " + glslFloat(halo.geometry.width), "HALO_DEPTH " + glslFloat(halo.geometry.depth),
+            "HALO_COLOR vec3(" + glslFloat(c.x) + ", " + glslFloat(c.y) + ", " + glslFloat(c.z) + ")"};
+}
+
+void LineGeometry::enableHalo(const LineHalo& halo) {
+    m_haloDefines = gl::haloDefines(halo);
     // Halo fragments lie up to `depth` radii behind a tube's axis: keep them inside the depth range.
-    m_maxRadius *= 1.0f + std::max(halo.width, halo.depth);
+    m_maxRadius *= 1.0f + std::max(halo.geometry.width, halo.geometry.depth);
     if (m_path == BillboardPath::Compute) {
         std::vector<std::string> defines = m_haloDefines;
         for (const std::string& d : billboardDefines()) defines.push_back(d);

@@ -5,7 +5,10 @@
 // (shaders/billboard_pass.comp). Passes own their programs and targets; this owns the data.
 #include <cstddef>
 #include <glm/glm.hpp>
+#include <string>
+#include <vector>
 
+#include "core/halo.h"
 #include "core/region.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
@@ -13,6 +16,10 @@
 #include "gl/objects.h"
 
 namespace tc::gl {
+
+// The defines that switch a line shader's halo ring on (shaders/transparent_fragment.glsl,
+// shaders/vrc_raycast.comp): HALO, HALO_WIDTH, HALO_DEPTH and HALO_COLOR (linear RGB).
+std::vector<std::string> haloDefines(const LineHalo& halo);
 
 class LineGeometry {
 public:
@@ -55,7 +62,7 @@ public:
     // the halo ring and every program compiled after this call gets the HALO defines (ring width
     // and depth offset in tube radii, linear RGB colour). Recompiles the billboard pre-pass; call
     // before compiling the passes' programs. The depth range grows by the halo's depth offset.
-    void enableHalo(const HaloSpec& halo, const glm::vec3& linearColor);
+    void enableHalo(const LineHalo& halo);
     // Uploads this frame's (or tile's) uniform block: frameUniforms(setup, lighting) with the
     // lines' uViewProj, uFarDepth, uCapClipping and region box, and binds it. Every pass of the frame reads it,
     // so call it first.

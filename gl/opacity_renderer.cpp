@@ -10,7 +10,6 @@
 #include <iostream>
 #include <limits>
 
-#include "core/color.h"
 #include "core/error.h"
 #include "core/fragment_occlusion.h"
 #include "core/occlusion_matrix.h"
@@ -65,8 +64,7 @@ std::unique_ptr<OpacityRenderer> OpacityRenderer::create(const Scene& scene, con
     r->m_spec = rs.opacity;
     r->m_capClipping = rs.capClipping;
     r->m_geometry.setCapClipping(rs.capClipping);
-    if (scene.style.halo.enabled)
-        r->m_geometry.enableHalo(scene.style.halo, srgbToLinear(haloColor(scene.style.halo, scene.image.background)));
+    if (scene.style.halo.enabled) r->m_geometry.enableHalo(lineHalo(scene.style.halo, scene.image.background));
     r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
     r->m_samples = scene.image.samples;
     r->m_lighting = scene.lighting;

@@ -3,7 +3,6 @@
 #include <iostream>
 #include <limits>
 
-#include "core/color.h"
 #include "core/error.h"
 #include "gl/bindings.h"
 #include "gl/context.h"
@@ -30,8 +29,7 @@ std::unique_ptr<TransparentRenderer> TransparentRenderer::create(const Scene& sc
     r->m_k = rs.kbufferK;
     r->m_capClipping = rs.capClipping;
     r->m_geometry.setCapClipping(rs.capClipping);
-    if (scene.style.halo.enabled)
-        r->m_geometry.enableHalo(scene.style.halo, srgbToLinear(haloColor(scene.style.halo, scene.image.background)));
+    if (scene.style.halo.enabled) r->m_geometry.enableHalo(lineHalo(scene.style.halo, scene.image.background));
     r->m_maxPeelLayers = rs.maxPeelLayers;
     r->m_memoryBudgetBytes = std::size_t(rs.memoryBudgetMb) * 1024 * 1024;
     r->m_lighting = scene.lighting;

@@ -159,7 +159,7 @@ VrcModel buildVrcModelGpu(const StyledLines& lines, const VrcBuildOptions& optio
     }
     // The copies are added on the CPU (the same function as the CPU build): a per-piece mask and a
     // sort, cheap next to the walk.
-    if (options.dilate) dilateVrcModel(model);
+    if (options.dilate) dilateVrcModel(model, options.reach);
     return model;
 }
 
@@ -174,6 +174,8 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     // reaches at build time (core/vrc_model.h, Copies): the image of the neighbour tests with far
     // fewer pieces tested per voxel (docs/performance.md, "Design notes").
     options.dilate = !scene.render.vrc.neighbors;
+    // With halos a piece shows in the voxels its ring reaches.
+    options.reach = haloReach(scene.style.halo);
     // The GPU build (Kanzler et al. 2019, Sec. 3.3) on a hardware GL; on a software rasterizer
     // the CPU build: llvmpipe runs the compute shaders on the same cores as the CPU build, with a
     // shader compile and a read-back on top, and was not faster beyond the noise on any bench set
@@ -220,7 +222,9 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
                                                  std::size_t maxBlockBytes) {
     std::unique_ptr<VrcRenderer> r(new VrcRenderer());
     r->m_spec = scene.render.vrc;
-    r->m_transparent = scene.render.transparency != Transparency::Opaque;
+    // Halos are drawn by the transparent ray caster (opaque lines composite to the nearest hit).
+    if (scene.style.halo.enabled) r->m_halo = lineHalo(scene.style.halo, scene.image.background);
+    r->m_transparent = scene.render.transparency != Transparency::Opaque || r->m_halo;
     r->m_lighting = scene.lighting;
     r->m_size = model.size;
     r->m_origin = model.origin;
@@ -608,6 +612,8 @@ std::vector<std::string> VrcRenderer::rayCasterDefines() const {
         defines.push_back("VRC_Q " + std::to_string(m_quantization));
     }
     if (m_transparent) defines.push_back("TRANSPARENT");
+    if (m_halo)
+        for (const std::string& d : haloDefines(*m_halo)) defines.push_back(d);
     // Only the compositing reads a hit's alpha: opaque rendering ignores the key.
     if (m_transparent && m_spec.pathLengthOpacity) defines.push_back("VRC_PATH_LENGTH_OPACITY");
     defines.push_back("BRICK_SKIP");
@@ -840,6 +846,8 @@ TechniqueDescriptor voxelRaycastTechnique() {
     d.transparencyAliases = {Transparency::ObjectOrder, Transparency::KBuffer};
     d.exactTransparency = Transparency::DepthPeeling;
     d.ao = {AoSpec::Method::ConeTraced};
+    // Halos on the tubes the ray caster intersects (shaders/vrc_raycast.comp, vrcHaloHit).
+    d.halo = {Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
     d.pixelBuffers = [](const Scene& scene, DataKind) { return VrcRenderer::pixelBuffers(scene); };
     d.create = [](const Scene& scene, const TechniqueData& data, const TechniqueHooks&) -> std::unique_ptr<Technique> {
         // Region clipping is not implemented for the voxel model's ray marching (its per-voxel

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/halo.h"
 #include "core/scene.h"
 #include "core/styled_lines.h"
 #include "core/technique.h"
@@ -124,6 +125,7 @@ private:
 
     VrcSpec m_spec;
     bool m_transparent = false;
+    std::optional<LineHalo> m_halo;  // style.halo (drawn by the transparent ray caster)
     LightingSpec m_lighting;
     std::optional<AmbientOcclusion> m_ao;  // AO and/or soft shadows
     bool m_aoEnabled = false;

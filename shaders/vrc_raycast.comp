@@ -23,7 +23,8 @@
 // VRC_PAPER_COPIES, VRC_PAPER_RADII and VRC_Q;
 // never with NEIGHBORS), VRC_GLOBAL_IDS (with VRC_PAPER: the polyline id image reads the
 // pieces' global ids from a side array; else the local line ids serve, which only tell lines
-// apart within a voxel).
+// apart within a voxel), HALO (with TRANSPARENT: style.halo's ring, HALO_WIDTH, HALO_DEPTH and
+// HALO_COLOR; vrcHaloHit below).
 //
 // Copies (core/vrc_model.h): without NEIGHBORS the model holds a copy of each piece in every
 // neighbour its tube reaches, so the current voxel's pieces are all the tubes with surface in it.
@@ -527,6 +528,85 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 }
 #endif
 
+#ifdef HALO
+// style.halo (Everts et al. 2009, as Günther, Rössl & Theisel 2013, Sect. 4.2 draw their lines):
+// the ring of haloFragment (shaders/transparent_fragment.glsl; CPU twin core/halo.h) on one piece,
+// for a ray that misses its tube. tRing: where the ray meets the grown cone (entry, or exit when it
+// starts inside) and nRing its normal there; key: the ray parameter of the ring's depth, which grows from the axis depth at
+// the silhouette to HALO_DEPTH radii behind the axis at the ring's outer edge. False: no ring
+// here.
+bool vrcHaloHit(Ray ray, RoundedCone c, bool vertexA, bool vertexB, out float key, out float tRing, out vec3 nRing) {
+    key = 0.0;
+    tRing = 0.0;
+    nRing = vec3(0.0);
+    const float scale = 1.0 + HALO_WIDTH;
+    ConeInterval ring = intersectRoundedCone(ray, RoundedCone(c.x0, c.r0 * scale, c.x1, c.r1 * scale));
+    if (!ring.hit) return false;
+    tRing = ring.tIn > 0.0 ? ring.tIn : ring.tOut;
+    nRing = ring.tIn > 0.0 ? ring.nIn : ring.nOut;
+    if (!(tRing > 0.0)) return false;
+    // The ray's closest approach to the axis: as haloFragment, the middle of its chord through the
+    // grown cone, except that a piece cut at a voxel face continues its segment's straight axis
+    // there, so the approach is taken on the axis line and a ring whose approach lies past a face
+    // end belongs to the piece on the other side (as the tubes' caps, testVoxel).
+    vec3 axis = c.x1 - c.x0;
+    float len2 = dot(axis, axis);
+    vec3 mid = ray.origin + 0.5 * (ring.tIn + ring.tOut) * ray.dir;
+    float s = len2 > 0.0 ? dot(mid - c.x0, axis) / len2 : 0.0;
+    float along = len2 > 0.0 ? dot(ray.dir, axis) / sqrt(len2) : 1.0;
+    if (abs(along) < 0.9999) {
+        vec3 w0 = ray.origin - c.x0;
+        float tLine = (along * dot(w0, axis) / sqrt(len2) - dot(w0, ray.dir)) / (1.0 - along * along);
+        float sLine = dot(w0 + tLine * ray.dir, axis) / len2;
+        if ((sLine < 0.0 && !vertexA) || (sLine > 1.0 && !vertexB)) return false;
+        if (sLine >= 0.0 && sLine <= 1.0) {
+            mid = ray.origin + tLine * ray.dir;
+            s = sLine;
+        }
+    }
+    s = clamp(s, 0.0, 1.0);
+    vec3 q = c.x0 + s * axis;
+    float radius = mix(c.r0, c.r1, s);
+    float u = (distance(mid, q) - radius) / (HALO_WIDTH * radius);
+    // Within the tube's radius: the tube of this line is entered nearby, not the ring.
+    if (!(u >= 0.0)) return false;
+    float depth = dot(q - uEye, uForward) + min(u, 1.0) * HALO_DEPTH * radius;
+    if (!(depth > 0.0)) return false;
+    key = uOrthographic ? depth : depth / dot(ray.dir, uForward);
+    return true;
+}
+#endif
+
+#ifdef HALO
+// Rings whose key (pushed-back depth) lies past the voxel that finds them (the one holding their
+// entry): carried along the ray, sorted by key, and composited when the march reaches the voxel
+// holding the key, before that voxel's own hits (main). So a line at about the ring's depth shows
+// through it, one behind is hidden, as in the exact paths; the order within the key's voxel is the
+// one approximation. When the carry is full, a ring goes into the finding voxel's slots.
+#define VRC_CARRY 4
+float carryKey[VRC_CARRY];
+vec3 carryNormal[VRC_CARRY];
+vec4 carryColor[VRC_CARRY];  // HALO_COLOR, alpha
+uint carryLine[VRC_CARRY];
+int carryCount = 0;
+
+bool carryRing(float key, vec3 n, vec4 color, uint line) {
+    if (carryCount == VRC_CARRY) return false;
+    int i = carryCount++;
+    for (; i > 0 && carryKey[i - 1] > key; --i) {
+        carryKey[i] = carryKey[i - 1];
+        carryNormal[i] = carryNormal[i - 1];
+        carryColor[i] = carryColor[i - 1];
+        carryLine[i] = carryLine[i - 1];
+    }
+    carryKey[i] = key;
+    carryNormal[i] = n;
+    carryColor[i] = color;
+    carryLine[i] = line;
+    return true;
+}
+#endif
+
 // Tests the pieces of voxel v against the ray; takes hits in [tEnter, tExit) (the current voxel).
 // Collecting (mark false): hits past the floor (floorT, floorCount) go into the slots. Marking
 // (mark true): the line of a hit at or before the floor is struck from the slots (markBlendedLine).
@@ -545,7 +625,11 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
         uint candidates = 0u;
         for (uint k = 0u; k < n; ++k) {
             VrcPiece p = vrcPiece(h.x + base + k, v);
+#ifdef HALO
+            float rMax = max(p.cone.r0, p.cone.r1) * (1.0 + HALO_WIDTH) * 1.0001 + 1e-4 * uVoxelSize;
+#else
             float rMax = max(p.cone.r0, p.cone.r1) * 1.0001 + 1e-4 * uVoxelSize;
+#endif
             candidates |= uint(raySegmentDistance2(ray, tEnter, tExit, p.cone.x0, p.cone.x1) <= rMax * rMax) << k;
         }
         while (candidates != 0u) {
@@ -553,7 +637,31 @@ void testVoxel(Ray ray, ivec3 v, float tEnter, float tExit, bool mark) {
             candidates &= candidates - 1u;
             VrcPiece p = vrcPiece(h.x + base + k, v);
             ConeInterval iv = intersectRoundedCone(ray, p.cone);
+#ifdef HALO
+            if (!iv.hit) {
+                // The ring of a piece whose tube the ray misses: taken in the voxel holding the
+                // ring's entry, sorted at its pushed-back depth, unshaded (a negative alpha slot
+                // marks it; main).
+                float key, tRing;
+                vec3 nRing;
+                if (!vrcHaloHit(ray, p.cone, p.vertexA, p.vertexB, key, tRing, nRing)) continue;
+                if (tRing < tEnter || tRing >= tExit) continue;
+                bool ringPastFloor = key > floorT || (key == floorT && floorSeen++ >= floorCount);
+                if (mark) {
+                    if (!ringPastFloor) markBlendedLine(p.line);
+                    continue;
+                }
+                if (!ringPastFloor) continue;
+                if (key >= tExit) {
+                    // Carried to the voxel of its key, found once: on the voxel's first batch.
+                    if (floorT > 0.0 || carryRing(key, nRing, vec4(HALO_COLOR, p.color.a), p.line)) continue;
+                }
+                insertHit(key, nRing, vec4(HALO_COLOR, -1.0 - p.color.a), p.line, p.cone, p.color.a);
+                continue;
+            }
+#else
             if (!iv.hit) continue;
+#endif
             // The visible surface rule of the opaque path (shaders/visible_hit.glsl): the entry, or
             // the exit when the ray starts inside the tube.
             float t = iv.tIn > 0.0 ? iv.tIn : iv.tOut;
@@ -628,6 +736,33 @@ vec3 shadeHit(Ray ray, float t, vec3 n, vec4 base, vec4 end0, vec4 end1, out flo
                            uLightTerms.z * visibility, uLightTerms.w);
 }
 
+#ifdef HALO
+// Composites the carried rings whose key lies before `limit` ("under", as main's hits).
+void flushRings(Ray ray, float limit, inout vec4 accum, inout float firstDepth, inout vec3 firstNormal,
+                inout uint firstLine, inout float firstAo) {
+    int n = 0;
+    while (n < carryCount && carryKey[n] < limit) {
+        if (firstLine == kNoLine) {
+            firstDepth = viewDepth(ray, carryKey[n]);
+            firstNormal = carryNormal[n];
+            firstLine = carryLine[n];
+            firstAo = 1.0;
+        }
+        float a = carryColor[n].a;
+        accum.rgb += (1.0 - accum.a) * a * carryColor[n].rgb;
+        accum.a += (1.0 - accum.a) * a;
+        ++n;
+    }
+    for (int i = n; i < carryCount; ++i) {
+        carryKey[i - n] = carryKey[i];
+        carryNormal[i - n] = carryNormal[i];
+        carryColor[i - n] = carryColor[i];
+        carryLine[i - n] = carryLine[i];
+    }
+    carryCount -= n;
+}
+#endif
+
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (pixel.x >= int(uTargetSize.x) || pixel.y >= int(uTargetSize.y)) return;
@@ -679,6 +814,9 @@ void main() {
             // At a voxel boundary (not between two batches of one voxel): from here on the LoD
             // volume, if the footprint or the accumulated opacity asks for it.
             if (!marking && floorT == 0.0 && (tEnter >= lodStartT || accum.a >= uLodOpacityStart)) {
+#ifdef HALO
+                flushRings(ray, uintBitsToFloat(0x7F800000u), accum, firstDepth, firstNormal, firstLine, firstAo);
+#endif
                 vrcLodMarch(ray, tEnter, tFar, accum, firstDepth, firstNormal);
                 break;
             }
@@ -713,6 +851,11 @@ void main() {
             }
 #endif
             float tExit = min(min(tMax.x, tMax.y), tMax.z);
+#ifdef HALO
+            // A fresh voxel: the carried rings of this voxel and of the empty ones passed go first.
+            if (!marking && floorT == 0.0 && carryCount > 0)
+                flushRings(ray, tExit, accum, firstDepth, firstNormal, firstLine, firstAo);
+#endif
             uint header = vrcHeaderCount((v.z * uGridSize.y + v.y) * uGridSize.x + v.x);
 #ifdef NEIGHBORS
             bool occupied = (header & kVrcNeighbourhoodBit) != 0u;
@@ -741,12 +884,21 @@ void main() {
                     floorT = hT0;
                     if (line != kNoLine) {
                         vec4 base = hC0;
-                        float ao;
-#ifdef VRC_HIT_CONE
-                        vec3 rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
-#else
-                        vec3 rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
+                        float ao = 1.0;
+                        vec3 rgb;
+#ifdef HALO
+                        if (base.a < 0.0) {
+                            base.a = -1.0 - base.a;  // a ring (testVoxel): its colour as it is
+                            rgb = base.rgb;
+                        } else
 #endif
+                        {
+#ifdef VRC_HIT_CONE
+                            rgb = shadeHit(ray, hT0, hN0, base, hE0, hF0, ao);
+#else
+                            rgb = shadeHit(ray, hT0, hN0, base, vec4(0.0), vec4(0.0), ao);
+#endif
+                        }
                         if (firstLine == kNoLine) {
                             firstDepth = viewDepth(ray, hT0);
                             firstNormal = hN0;
@@ -792,6 +944,10 @@ void main() {
             if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, uGridSize)) || tEnter > tFar) done = true;
         }
     }
+#ifdef HALO
+    // Rings whose key lies past the last voxel marched.
+    flushRings(ray, uintBitsToFloat(0x7F800000u), accum, firstDepth, firstNormal, firstLine, firstAo);
+#endif
     imageStore(uColor, pixel, accum);
     imageStore(uNormalDepth, pixel, vec4(firstNormal, firstDepth));
     imageStore(uId, pixel, uvec4(firstLine));

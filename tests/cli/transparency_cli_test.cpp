@@ -59,12 +59,12 @@ TEST_F(TransparencyCli, KbufferOverTheMemoryBudgetIsExit2NamingTheKey) {
     EXPECT_TRUE(fs::exists(dir / "ok" / "f.0000.exr"));
 }
 
-// style.halo is drawn by the rasterized and the raytraced transparent modes: voxel_raycast and the
-// opaque modes refuse it with exit 2 naming the key and the technique; a bad value names the
-// sub-key.
+// style.halo is drawn by the transparent modes of rasterized, raytraced and voxel_raycast: the
+// opaque modes refuse it with exit 2 naming the key and the technique, and so does a technique
+// for particles; a bad value names the sub-key.
 TEST_F(TransparencyCli, HaloIsRefusedByTechniquesThatDoNotDrawItAndAcceptedByTheTransparentModes) {
     writeScene(R"("technique": "rasterized", "transparency": "depth_peeling")", 8, 32, 24, 1.0f);
-    for (const std::string technique : {"rasterized", "raytraced"}) {
+    for (const std::string technique : {"rasterized", "raytraced", "voxel_raycast"}) {
         RunResult ok = run("render scene.json --set style.halo.width=1 --set 'render.technique=\"" + technique +
                            "\"' -o " + technique);
         EXPECT_EQ(ok.code, 0) << technique << "\n" << ok.err;
@@ -74,8 +74,9 @@ TEST_F(TransparencyCli, HaloIsRefusedByTechniquesThatDoNotDrawItAndAcceptedByThe
         std::string set, expected;
     };
     for (const Refused& c : std::vector<Refused>{
-             {"--set style.halo=true --set 'render.technique=\"voxel_raycast\"'",
-              "style.halo: technique \"voxel_raycast\" draws no halos"},
+             {"--set style.halo=true --set 'render.technique=\"voxel_raycast\"' --set 'render.transparency=\"opaque\"'",
+              "style.halo: technique \"voxel_raycast\" draws halos with render.transparency \"object_order\", "
+              "\"kbuffer\" or \"depth_peeling\", got \"opaque\""},
              {"--set style.halo=true --set 'render.transparency=\"opaque\"'",
               "style.halo: technique \"rasterized\" draws halos with render.transparency \"object_order\", "
               "\"kbuffer\", \"depth_peeling\" or \"opacity_optimization\", got \"opaque\""},

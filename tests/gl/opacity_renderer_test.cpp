@@ -263,10 +263,20 @@ TEST_F(GlTest, opacity_optimization_counts_fragment_pool_overflow_instead_of_fai
 // (x = 0.39) is far from the back line, columns 31, 32 (x = -+0.016) lie on it. q = 0: every
 // opacity is 1, so the lines are opaque. The ring's depth reaches 4 radii (0.32) behind the front
 // line's axis; the back line lies 0.5 behind it, or at the same depth.
+// The same for the GL techniques that draw halos: rasterized (opacity optimization, depth peeling)
+// and voxel_raycast (front-to-back compositing). raytraced equals the CPU reference with halos
+// (tests/unit/raytraced_test.cpp), which depth peeling is tested against.
 TEST_F(GlTest, halo_rings_a_tube_and_hides_a_line_behind_it_but_not_one_at_the_same_depth) {
     const glm::vec3 green{0.0f, 1.0f, 0.0f};
-    for (Transparency mode : {Transparency::OpacityOptimization, Transparency::DepthPeeling}) {
-        SCOPED_TRACE(transparencyName(mode));
+    struct Case {
+        RenderTechnique technique;
+        Transparency mode;
+    };
+    for (const Case& c : {Case{RenderTechnique::Rasterized, Transparency::OpacityOptimization},
+                          Case{RenderTechnique::Rasterized, Transparency::DepthPeeling},
+                          Case{RenderTechnique::VoxelRaycast, Transparency::DepthPeeling}}) {
+        const Transparency mode = c.mode;
+        SCOPED_TRACE(c.technique.name() + ", " + transparencyName(mode));
         for (bool equalDepth : {false, true}) {
             SCOPED_TRACE(equalDepth ? "both lines at z = 0" : "front line 0.5 in front of the back line");
             TestPolyline front, back;
@@ -277,7 +287,10 @@ TEST_F(GlTest, halo_rings_a_tube_and_hides_a_line_behind_it_but_not_one_at_the_s
             }
             const StyledLines lines = makeStyledLines({front, back});
             Scene scene = opacityScene(0.0f);
+            scene.render.technique = c.technique;
             scene.render.transparency = mode;
+            // Voxels of 0.25 (the data is 1.8 long): the ring (0.16 from the axis) within one voxel.
+            scene.render.vrc.resolution = 8;
             auto plainTechnique = gl::createTechnique(scene, lines);
             scene.style.halo.enabled = true;
             scene.style.halo.width = 1.0f;
