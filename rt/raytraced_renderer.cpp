@@ -352,6 +352,17 @@ RayInterval RaytracedRenderer::regionRayInterval(const Ray& ray) const {
     return {iv.t0 - pad(iv.t0), iv.t1 + pad(iv.t1)};
 }
 
+bool RaytracedRenderer::tracedSpan(const Ray& ray, float& tnear, float& tfar) const {
+    tnear = 0.0f;
+    tfar = kInf;
+    if (m_region.unbounded()) return true;
+    const RayInterval iv = regionRayInterval(ray);
+    if (iv.empty() || iv.t1 < 0.0f) return false;
+    tnear = std::max(iv.t0, 0.0f);
+    tfar = iv.t1;
+    return true;
+}
+
 bool RaytracedRenderer::regionSurface(PixelContext& c, Surface& s) const {
     const RayInterval iv = regionRayInterval(c.ray);
     if (iv.empty() || iv.t1 < 0.0f) return false;
@@ -420,12 +431,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     RayHitRecord prev{};
     float tnear = 0.0f, tfar = kInf;
     const bool clips = !m_region.unbounded();
-    if (clips) {
-        const RayInterval iv = regionRayInterval(c.ray);
-        if (iv.empty() || iv.t1 < 0.0f) return;
-        tnear = std::max(iv.t0, 0.0f);
-        tfar = iv.t1;
-    }
+    if (!tracedSpan(c.ray, tnear, tfar)) return;
     for (;;) {
         collector.count = 0;
         RTCRayHit rh = makeRayHit(c.ray, tnear);
@@ -494,12 +500,7 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
     const StyledLines& L = m_lines;
     float tnear = 0.0f, tfar = kInf;
     const bool clips = !m_region.unbounded();
-    if (clips) {
-        const RayInterval iv = regionRayInterval(c.ray);
-        if (iv.empty() || iv.t1 < 0.0f) return;
-        tnear = std::max(iv.t0, 0.0f);
-        tfar = iv.t1;
-    }
+    if (!tracedSpan(c.ray, tnear, tfar)) return;
     // Where the traced part starts may lie inside grown cones: the eye's (originsInside), or a
     // region's box face, which cuts through rings whose segments own fragments in the box.
     const bool startsInside = originsInside || tnear > 0.0f;

@@ -143,6 +143,9 @@ private:
     void shadeTransparentHalo(PixelContext& px, bool originsInside) const;
     // The part of `ray` a region traces: its interval in the box, widened by the margin.
     RayInterval regionRayInterval(const Ray& ray) const;
+    // [tnear, tfar] a transparent ray traces: all of it, or the region's part; false when a
+    // region's part is empty (the pixel gets nothing).
+    bool tracedSpan(const Ray& ray, float& tnear, float& tfar) const;
 
     StyledLines m_lines;
     // What shading reads per hit, by segment: its polyline (the id AOV, the joint and neighbour

@@ -256,6 +256,26 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
     }
 }
 
+HaloSpec haloSpec(float width, float depth, glm::vec3 color) {
+    HaloSpec halo;
+    halo.enabled = true;
+    halo.width = width;
+    halo.depth = depth;
+    halo.color = color;
+    return halo;
+}
+
+// Rasterized depth peeling of `lines` with `halo`: the reference of the ray caster's rings.
+FrameImages peeledWithHalo(const StyledLines& lines, const Camera& cam, int w, int h, const HaloSpec& halo) {
+    Scene peel;
+    peel.image.width = w;
+    peel.image.height = h;
+    peel.render.transparency = Transparency::DepthPeeling;
+    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+    peel.style.halo = halo;
+    return render(peel, lines, cam);
+}
+
 // style.halo on the straight tubes: rings of 0.6 radii (within one voxel of resolution 24, as the
 // tubes), against depth peeling with the same rings, off the colour edges of the depth-peeled
 // image (where a ray more or less through a rim is float noise). Measured: 207 of ~49,000
@@ -264,18 +284,8 @@ TEST_F(GlTest, vrc_halos_match_depth_peeling_with_halos_off_edges) {
     const int w = 320, h = 240;
     const StyledLines lines = straightTubes(0.7f);
     const Camera cam = obliqueCamera();
-    HaloSpec halo;
-    halo.enabled = true;
-    halo.width = 0.6f;
-    halo.depth = 8.0f;
-    halo.color = glm::vec3(1.0f, 1.0f, 1.0f);
-    Scene peel;
-    peel.image.width = w;
-    peel.image.height = h;
-    peel.render.transparency = Transparency::DepthPeeling;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    peel.style.halo = halo;
-    const FrameImages ref = render(peel, lines, cam);
+    const HaloSpec halo = haloSpec(0.6f, 8.0f, glm::vec3(1.0f));
+    const FrameImages ref = peeledWithHalo(lines, cam, w, h, halo);
     Scene vrcHalo = comparedVrcScene(w, h, true, 0, false);
     vrcHalo.style.halo = halo;
     const FrameImages vrc = render(vrcHalo, lines, cam);
@@ -327,22 +337,12 @@ TEST_F(GlTest, vrc_halo_rings_composite_at_their_depth_across_voxels) {
     cam.eye = {0.0f, 0.0f, 3.0f};
     cam.target = {0.0f, 0.0f, 0.0f};
     cam.fovYDeg = 40.0f;
-    HaloSpec halo;
-    halo.enabled = true;
-    halo.width = 1.0f;
-    halo.depth = 12.0f;
-    halo.color = glm::vec3(0.0f, 1.0f, 0.0f);
-    Scene peel;
-    peel.image.width = w;
-    peel.image.height = h;
-    peel.render.transparency = Transparency::DepthPeeling;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    peel.style.halo = halo;
-    const FrameImages ref = render(peel, lines, cam);
-    Scene vrcScene_ = vrcScene(w, h, 10, Transparency::DepthPeeling);
-    vrcScene_.render.vrc.quantization = 0;
-    vrcScene_.style.halo = halo;
-    const FrameImages vrc = render(vrcScene_, lines, cam);
+    const HaloSpec halo = haloSpec(1.0f, 12.0f, glm::vec3(0.0f, 1.0f, 0.0f));
+    const FrameImages ref = peeledWithHalo(lines, cam, w, h, halo);
+    Scene ringed = vrcScene(w, h, 10, Transparency::DepthPeeling);
+    ringed.render.vrc.quantization = 0;
+    ringed.style.halo = halo;
+    const FrameImages vrc = render(ringed, lines, cam);
     auto colour = [&](int x, int y) {
         const std::size_t i = 4 * (std::size_t(y) * w + x);
         return glm::ivec4(

@@ -345,6 +345,25 @@ TEST(Raytraced, opaque_images_are_identical_with_single_rays_packets_and_streams
         }
 }
 
+// One 40x32 frame of `r` per number of hits per traversal (1, 3, the default, the most), and the
+// Embree hits each took.
+struct PerHitsPerPass {
+    std::vector<FrameImages> images;
+    std::vector<std::uint64_t> hits;
+};
+PerHitsPerPass renderPerHitsPerPass(rt::RaytracedRenderer& r, const Camera& cam) {
+    PerHitsPerPass out;
+    for (int k : {1, 3, 0, rt::kMaxHitsPerPass}) {
+        r.setHitsPerPass(k);
+        FrameImages img;
+        tc::CpuStageTimer timer;
+        r.render(cam, 40, 32, img, timer);
+        out.images.push_back(std::move(img));
+        out.hits.push_back(r.lastHitCount());
+    }
+    return out;
+}
+
 TEST(Raytraced, transparent_images_are_identical_for_every_number_of_hits_per_traversal) {
     // The 70 stacked tubes of the test above (up to 70 entries and exits per ray) and bent tubes
     // without cap clipping (joint beads): one hit per traversal, a few, the default and the most
@@ -362,17 +381,7 @@ TEST(Raytraced, transparent_images_are_identical_for_every_number_of_hits_per_tr
         for (float cutoff : {0.99f, 1.0f}) {
             auto r =
                 rt::RaytracedRenderer::create(sceneFor(Transparency::DepthPeeling, lines == &stacked, cutoff), *lines);
-            const Camera cam = cameraAt({0.1f, 0.2f, 3.0f});
-            std::vector<FrameImages> images;
-            std::vector<std::uint64_t> hits;
-            for (int k : {1, 3, 0, rt::kMaxHitsPerPass}) {
-                r->setHitsPerPass(k);
-                FrameImages img;
-                tc::CpuStageTimer timer;
-                r->render(cam, 40, 32, img, timer);
-                images.push_back(std::move(img));
-                hits.push_back(r->lastHitCount());
-            }
+            const auto [images, hits] = renderPerHitsPerPass(*r, cameraAt({0.1f, 0.2f, 3.0f}));
             ASSERT_GT(hits[0], 40u * 32u) << "most pixels see several hits";
             for (std::size_t k = 1; k < images.size(); ++k) {
                 EXPECT_EQ(images[k].rgba, images[0].rgba) << k;
@@ -465,15 +474,7 @@ TEST(Raytraced, halo_images_are_identical_for_every_number_of_hits_per_traversal
     const StyledLines lines = makeLines(randomPolylines(12u, 14, true, 0.2f, 0.6f));
     for (float cutoff : {0.99f, 1.0f}) {
         auto r = rt::RaytracedRenderer::create(haloScene(true, cutoff), lines);
-        const Camera cam = cameraAt({0.1f, 0.2f, 3.0f});
-        std::vector<FrameImages> images;
-        for (int k : {1, 3, 0, rt::kMaxHitsPerPass}) {
-            r->setHitsPerPass(k);
-            FrameImages img;
-            tc::CpuStageTimer timer;
-            r->render(cam, 40, 32, img, timer);
-            images.push_back(std::move(img));
-        }
+        const std::vector<FrameImages> images = renderPerHitsPerPass(*r, cameraAt({0.1f, 0.2f, 3.0f})).images;
         for (std::size_t k = 1; k < images.size(); ++k) {
             EXPECT_EQ(images[k].rgba, images[0].rgba) << k;
             EXPECT_EQ(images[k].depth, images[0].depth) << k;
