@@ -19,6 +19,8 @@
 #include <glm/glm.hpp>
 #include <limits>
 
+#include "rt/primary_rays.h"
+
 namespace tc::rt {
 
 constexpr int kMaxHitsPerPass = 48;
@@ -104,6 +106,16 @@ struct HitCollector {
         }
         hits[i] = h;
         return count == capacity && i == count - 1;
+    }
+
+    // One pass: traverses `scene` along `ray` over [tnear, tfar] with this list's filter, the list
+    // emptied first; returns how many hits it kept (sorted in hits[0, count)).
+    int trace(RTCScene scene, const Ray& ray, float tnear, float tfar) {
+        count = 0;
+        RTCRayHit rh = makeRayHit(ray, tnear);
+        rh.ray.tfar = tfar;
+        rtcIntersect1(scene, &context, &rh);
+        return count;
     }
 
     // Prepares the next pass behind the farthest hit of this one; returns its tnear.

@@ -237,11 +237,7 @@ void RaytracedParticles::render(const Camera& camera, int width, int height, Fra
                 }
                 collector.haveLast = false;
                 while (!done) {
-                    collector.count = 0;
-                    RTCRayHit rh = makeRayHit(ray, tnear);
-                    rh.ray.tfar = tfar;
-                    rtcIntersect1(m_bvh->scene, &collector.context, &rh);
-                    const int n = collector.count;
+                    const int n = collector.trace(m_bvh->scene, ray, tnear, tfar);
                     for (int h = 0; h < n && !done; ++h) {
                         ++hits;
                         const std::uint32_t i = collector.hits[h].prim;

@@ -433,11 +433,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     const bool clips = !m_region.unbounded();
     if (!tracedSpan(c.ray, tnear, tfar)) return;
     for (;;) {
-        collector.count = 0;
-        RTCRayHit rh = makeRayHit(c.ray, tnear);
-        rh.ray.tfar = tfar;
-        rtcIntersect1(m_embree->scene(), &collector.context, &rh);
-        const int n = collector.count;
+        const int n = collector.trace(m_embree->scene(), c.ray, tnear, tfar);
         bool done = false;
         for (int k = 0; k < n && !done; ++k) {
             const RayHitRecord& h = collector.hits[k];
@@ -566,11 +562,7 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
         }
     };
     for (;;) {
-        collector.count = 0;
-        RTCRayHit rh = makeRayHit(c.ray, tnear);
-        rh.ray.tfar = tfar;
-        rtcIntersect1(m_embree->scene(), &collector.context, &rh);
-        const int n = collector.count;
+        const int n = collector.trace(m_embree->scene(), c.ray, tnear, tfar);
         for (int k = 0; k < n; ++k) {
             const RayHitRecord& h = collector.hits[k];
             ++c.hits;
