@@ -152,7 +152,7 @@ part_raytraced() {
     echo "| transparent, alpha_cutoff 0.99 | $(stages "$(ft "${rt[@]}" "${tr[@]}" --set render.raytraced.alpha_cutoff=0.99)" raytrace write frame_interval)"
     echo "| transparent, exact (alpha_cutoff 1) | $(stages "$(ft "${rt[@]}" "${tr[@]}" --set render.raytraced.alpha_cutoff=1)" raytrace write frame_interval)"
     echo "| transparent, alpha_cutoff 0.99, halos | $(stages "$(ft "${rt[@]}" "${tr[@]}" --set render.raytraced.alpha_cutoff=0.99 --set style.halo=true)" raytrace write frame_interval)"
-    echo "| opaque lines with halos (exact compositing) | $(stages "$(ft "${rt[@]}" --set style.halo=true)" raytrace write frame_interval)"
+    echo "| opaque lines with halos (auto: exact compositing) | $(stages "$(ft "${rt[@]}" --set style.halo=true --set render.transparency=auto)" raytrace write frame_interval)"
   } | sed 's/ | $/ |/' | block raytraced_frames
   scripts/bench/raytraced.sh 1 "$maxexp" bvh | tables | block raytraced_bvh
   local d=(configs/droplets.json "$p" --set render.technique=raytraced --set "dataset.particles=$particles" "${ps[@]}")
