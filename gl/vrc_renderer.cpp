@@ -808,6 +808,15 @@ nlohmann::json VrcRenderer::describe() const {
         {"ambient_occlusion", m_ao && m_aoEnabled && m_spec.ao.method == VrcSpec::Ao::Method::ConeTraced
                                   ? m_ao->describe()
                                   : nlohmann::json(m_aoEnabled)}};
+    if (m_halo) {
+        // The ring must fit one voxel as the tubes (docs/scene-spec.md, style.halo).
+        const float ringVoxels = m_voxelSize > 0 ? m_maxRadius * (1.0f + m_halo->geometry.width) / m_voxelSize : 0.0f;
+        d["halo"] = {{"width", m_halo->geometry.width},
+                     {"depth", m_halo->geometry.depth},
+                     {"max_ring_radius_voxels", ringVoxels}};
+    } else {
+        d["halo"] = false;
+    }
     if (m_paper)
         d["paper_encoding"] = {{"bits_per_piece", m_paperLayout.bitsPerPiece()},
                                {"end_bits", m_paperLayout.endBits},

@@ -114,7 +114,8 @@ TEST_F(GlTest, vrc_model_voxel_size_exceeds_the_test_tubes_radii) {
 
 TEST_F(GlTest, vrc_run_json_reports_the_largest_tube_radius_in_voxels) {
     // Tubes wider than a voxel are cut one voxel out (docs/scene-spec.md, vrc.neighbors):
-    // max_radius_voxels says whether a model is in the exact regime (< 1).
+    // max_radius_voxels says whether a model is in the exact regime (< 1), halo.max_ring_radius_voxels
+    // the same for the rings.
     const StyledLines lines = straightTubes(1.0f);
     for (int resolution : {24, 128}) {
         Scene scene = comparedVrcScene(16, 16, false, 32, false);
@@ -124,6 +125,13 @@ TEST_F(GlTest, vrc_run_json_reports_the_largest_tube_radius_in_voxels) {
         const double expected = double(lines.maxRadius) / d.at("voxel_size").get<double>();
         EXPECT_NEAR(d.at("max_radius_voxels").get<double>(), expected, 1e-6 * expected);
         EXPECT_EQ(d.at("max_radius_voxels").get<double>() < 1.0, resolution == 24) << resolution;
+        EXPECT_EQ(d.at("halo"), false);
+        // With halos, the ring's radius in voxels (it must fit one voxel as the tubes).
+        scene.render.transparency = Transparency::DepthPeeling;
+        scene.style.halo.enabled = true;
+        scene.style.halo.width = 0.5f;
+        const nlohmann::json ringed = gl::createTechnique(scene, lines)->describe();
+        EXPECT_NEAR(ringed.at("halo").at("max_ring_radius_voxels").get<double>(), 1.5 * expected, 1e-6 * expected);
     }
 }
 
