@@ -1,6 +1,7 @@
 // tubecast techniques [--json | --markdown]: the technique registry as a user reads it: each
 // technique's name (the render.technique value), the data it renders, its transparency modes and
-// ambient occlusion methods, where it runs and the paper it implements. README.md's table is the
+// ambient occlusion methods, the modes that draw style.halo, where it runs and the paper it
+// implements. README.md's table is the
 // --markdown output (a test compares them).
 #include <iostream>
 #include <sstream>
@@ -31,6 +32,9 @@ std::string regionsOf(const TechniqueDescriptor& d, const std::string& separator
     return d.regionTransparency.empty() ? std::string("none")
                                         : joined(d.regionTransparency, transparencyName, separator);
 }
+std::string halosOf(const TechniqueDescriptor& d, const std::string& separator) {
+    return d.halo.empty() ? std::string("none") : joined(d.halo, transparencyName, separator);
+}
 const char* backendOf(const TechniqueDescriptor& d) {
     return d.backend == TechniqueBackend::Gl ? "GL" : "CPU";
 }
@@ -52,6 +56,8 @@ nlohmann::json asJson(const TechniqueRegistry& registry) {
         for (AoSpec::Method m : d.ao) e["ao"].push_back(aoMethodName(m));
         e["mpi"] = nlohmann::json::array();  // transparency modes for `render --mpi`
         for (Transparency t : d.regionTransparency) e["mpi"].push_back(transparencyName(t));
+        e["halo"] = nlohmann::json::array();  // transparency modes that draw style.halo
+        for (Transparency t : d.halo) e["halo"].push_back(transparencyName(t));
         list.push_back(e);
     }
     return list;
@@ -94,6 +100,7 @@ void addTechniquesCommand(CLI::App& app) {
                       << "  transparency: " << transparencyOf(d, ", ") << "\n"
                       << "  ao:           " << aoOf(d, ", ") << "\n"
                       << "  --mpi:        " << regionsOf(d, ", ") << "\n"
+                      << "  style.halo:   " << halosOf(d, ", ") << "\n"
                       << "  implements:   " << d.paper << "\n";
         }
         std::cout

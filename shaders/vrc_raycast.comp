@@ -532,9 +532,9 @@ float pathLengthAlpha(float a, ConeInterval iv, RoundedCone cone) {
 // style.halo (Everts et al. 2009, as Günther, Rössl & Theisel 2013, Sect. 4.2 draw their lines):
 // the ring of haloFragment (shaders/transparent_fragment.glsl; CPU twin core/halo.h) on one piece,
 // for a ray that misses its tube. tRing: where the ray meets the grown cone (entry, or exit when it
-// starts inside) and nRing its normal there; key: the ray parameter of the ring's depth, which grows from the axis depth at
-// the silhouette to HALO_DEPTH radii behind the axis at the ring's outer edge. False: no ring
-// here.
+// starts inside) and nRing its normal there; key: the ray parameter of the ring's depth, which
+// grows from the axis depth at the silhouette to HALO_DEPTH radii behind the axis at the ring's
+// outer edge. False: no ring here.
 bool vrcHaloHit(Ray ray, RoundedCone c, bool vertexA, bool vertexB, out float key, out float tRing, out vec3 nRing) {
     key = 0.0;
     tRing = 0.0;

@@ -1,5 +1,6 @@
 // The transparent paths through the tubecast binary: the k-buffer memory budget error, EGL vs
-// OSMesa for a k-buffer render, and render.reference = "depth_peeling" writing quality.csv.
+// OSMesa for a k-buffer render, render.reference = "depth_peeling" writing quality.csv, and
+// style.halo (which techniques draw it, refusals, auto).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -7,6 +8,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -90,6 +93,24 @@ TEST_F(TransparencyCli, HaloIsRefusedByTechniquesThatDoNotDrawItAndAcceptedByThe
         EXPECT_EQ(r.code, 2) << c.set << "\n" << r.err;
         EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.set << "\n" << r.err;
     }
+}
+
+// `tubecast techniques` says which modes of which technique draw style.halo, as the refusals above.
+TEST_F(TransparencyCli, TechniquesListTheModesThatDrawHalos) {
+    RunResult r = run("techniques --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::map<std::string, std::vector<std::string>> halo;
+    for (const nlohmann::json& t : nlohmann::json::parse(r.out)) halo[t.at("name")] = t.at("halo");
+    const std::vector<std::string> exact = {"object_order", "kbuffer", "depth_peeling"};
+    EXPECT_EQ(halo["rasterized"],
+              (std::vector<std::string>{"object_order", "kbuffer", "depth_peeling", "opacity_optimization"}));
+    EXPECT_EQ(halo["raytraced"], exact);
+    EXPECT_EQ(halo["voxel_raycast"], exact);
+    EXPECT_TRUE(halo["spheres"].empty());
+    RunResult text = run("techniques");
+    ASSERT_EQ(text.code, 0) << text.err;
+    EXPECT_NE(text.out.find("  style.halo:   object_order, kbuffer, depth_peeling\n"), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("  style.halo:   none\n"), std::string::npos) << text.out;
 }
 
 // Halos on opaque lines with the transparency left to "auto": the opaque paths draw no halos, so
