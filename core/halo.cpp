@@ -7,7 +7,8 @@
 namespace tc {
 
 LineHalo lineHalo(const HaloSpec& spec, const glm::vec4& background) {
-    return {{spec.width, spec.depth}, srgbToLinear(haloColor(spec, background))};
+    // Clamped once here as every transparent path clamps its colours (the k-buffer stores RGBA8).
+    return {{spec.width, spec.depth}, glm::clamp(srgbToLinear(haloColor(spec, background)), 0.0f, 1.0f)};
 }
 
 bool haloFragment(const Ray& ray, const RoundedCone& c, const ClipPlanes& planes, const glm::vec3& eye,

@@ -24,8 +24,8 @@ struct HaloGeometry {
     float depth = 4.0f;  // depth offset at the ring's outer edge, tube radii
 };
 
-// A halo as a renderer draws it: the ring's geometry and its colour in linear RGB (the ring takes
-// the line's alpha; style.halo.color is sRGB, core/scene.h haloColor).
+// A halo as a renderer draws it: the ring's geometry and its colour in linear RGB, in [0, 1] (the
+// ring takes the line's alpha; style.halo.color is sRGB, core/scene.h haloColor).
 struct LineHalo {
     HaloGeometry geometry;
     glm::vec3 color{0.0f};

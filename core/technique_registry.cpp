@@ -91,6 +91,10 @@ std::optional<SpecProblem> checkTechnique(const TechniqueDescriptor& d, const Sc
                                                    quoted(aoMethodName(r.ao.method))};
     }
     if (scene.style.halo.enabled) {
+        // A ring around a tube: a line style, whatever technique draws the dataset.
+        if (kind != DataKind::Lines)
+            return SpecProblem{"style.halo",
+                               std::string("halos are drawn around lines, the dataset holds ") + dataKindName(kind)};
         if (d.halo.empty()) return SpecProblem{"style.halo", technique + " draws no halos"};
         if (r.transparency != Transparency::Auto && !contains(d.halo, r.transparency)) {
             std::vector<std::string> modes;

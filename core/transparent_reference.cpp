@@ -66,7 +66,7 @@ void collectFragments(const StyledLines& lines, const Ray& ray, const Camera& ca
         f.normal = g.normal;
         // Clamped like the GPU fragment (shaders/transparent_fragment.glsl): the k-buffer stores
         // RGBA8, so every transparent path blends colours in [0, 1]. The ring is not shaded.
-        f.rgb = g.halo ? glm::clamp(halo->color, 0.0f, 1.0f)
+        f.rgb = g.halo ? halo->color
                        : glm::clamp(shadeBlinnPhong(glm::vec3(base), g.normal, ray.dir, lightDir, light), 0.0f, 1.0f);
         f.alpha = base.w;
         f.halo = g.halo;

@@ -73,7 +73,6 @@ struct RaytracedRenderer::PixelContext {
     std::uint32_t pixel;
     float depthScale;  // view depth = t * depthScale
     glm::vec3 lightDir;
-    glm::vec3 eye, forward;  // of the camera (halo fragments' depth)
     // Outputs.
     glm::vec4 rgba{0.0f};
     float depth = kInf;
@@ -207,10 +206,8 @@ void RaytracedRenderer::render(const Camera& camera, int width, int height, Fram
                     c.ray = tile.rays[k];
                     c.depthScale = ortho ? 1.0f : glm::dot(c.ray.dir, forward);
                     c.lightDir = lightDir;
-                    c.eye = camera.eye;
-                    c.forward = forward;
                     if (m_halo) {
-                        shadeTransparentHalo(c, haloOriginsInside);
+                        shadeTransparentHalo(c, {camera.eye, forward, c.depthScale}, haloOriginsInside);
                     } else if (m_transparent) {
                         shadeTransparent(c);
                     } else if (clips) {
@@ -492,7 +489,7 @@ void RaytracedRenderer::shadeTransparent(PixelContext& c) const {
     c.rgba = glm::vec4(color, alpha);
 }
 
-void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside) const {
+void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, const FragmentView& view, bool originsInside) const {
     const StyledLines& L = m_lines;
     float tnear = 0.0f, tfar = kInf;
     const bool clips = !m_region.unbounded();
@@ -506,7 +503,6 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
     collector.context.filter = startsInside ? collectHit : collectEntry;
     collector.capacity = m_hitsPerPass;
     const HaloGeometry& ring = m_halo->geometry;
-    const FragmentView view{c.eye, c.forward, c.depthScale};
     // How far in front of the hit that names it a fragment can lie (the header), with room for
     // Embree's rounding of t; with rays that may start inside a grown cone, a late (exit) hit can
     // name a fragment at any t, so nothing is composited before the last hit.
@@ -539,7 +535,7 @@ void RaytracedRenderer::shadeTransparentHalo(PixelContext& c, bool originsInside
             glm::vec4 base = glm::mix(L.color[v0], L.color[v1], p.f.along);
             glm::vec3 rgb;
             if (p.f.halo) {
-                rgb = glm::clamp(m_halo->color, 0.0f, 1.0f);  // the ring is not shaded
+                rgb = m_halo->color;  // the ring is not shaded
             } else {
                 if (m_ao) {
                     const glm::vec3 pt = c.ray.origin + p.f.t * c.ray.dir;

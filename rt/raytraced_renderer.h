@@ -65,6 +65,7 @@
 #include "core/styled_lines.h"
 #include "core/technique.h"
 #include "core/tiling.h"
+#include "core/transparent_reference.h"
 #include "rt/hit_collector.h"
 #include "rt/primary_rays.h"
 #include "rt/tile_cover.h"
@@ -138,9 +139,10 @@ private:
     // traced from the box's entry; false: background.
     bool regionSurface(PixelContext& px, Surface& s) const;
     void shadeTransparent(PixelContext& px) const;
-    // Transparent with halos (see the header); `originsInside`: this frame's rays may start inside
-    // a grown cone, so fragments are composited only after the last hit.
-    void shadeTransparentHalo(PixelContext& px, bool originsInside) const;
+    // Transparent with halos (see the header); `view`: the camera's, for the rings' depth;
+    // `originsInside`: this frame's rays may start inside a grown cone, so fragments are
+    // composited only after the last hit.
+    void shadeTransparentHalo(PixelContext& px, const FragmentView& view, bool originsInside) const;
     // The part of `ray` a region traces: its interval in the box, widened by the margin.
     RayInterval regionRayInterval(const Ray& ray) const;
     // [tnear, tfar] a transparent ray traces: all of it, or the region's part; false when a

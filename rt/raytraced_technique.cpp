@@ -27,11 +27,6 @@ TechniqueDescriptor raytracedTechnique() {
     // Halos around the tubes, by the exact compositing (rt/raytraced_renderer.h); opaque lines
     // with halos take it too (resolveTransparency).
     d.halo = {Transparency::ObjectOrder, Transparency::KBuffer, Transparency::DepthPeeling};
-    d.check = [](const Scene& scene, DataKind kind) -> std::optional<SpecProblem> {
-        if (scene.style.halo.enabled && kind == DataKind::Particles)
-            return SpecProblem{"style.halo", "technique \"raytraced\" draws halos around lines, not particles"};
-        return std::nullopt;
-    };
     d.create = [](const Scene& scene, const TechniqueData& data,
                   const TechniqueHooks& hooks) -> std::unique_ptr<Technique> {
         const RegionSetup region = regionSetup(data, hooks);

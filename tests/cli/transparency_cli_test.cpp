@@ -86,6 +86,10 @@ TEST_F(TransparencyCli, HaloIsRefusedByTechniquesThatDoNotDrawItAndAcceptedByThe
              {"--set style.halo=true --set 'render.technique=\"raytraced\"' --set 'render.transparency=\"opaque\"'",
               "style.halo: technique \"raytraced\" draws halos with render.transparency \"object_order\", "
               "\"kbuffer\" or \"depth_peeling\", got \"opaque\""},
+             // A line style: refused for particles whatever the technique.
+             {"--set style.halo=true --set 'dataset={\"generate\": \"droplets\", \"particles\": 200}' "
+              "--set 'render.technique=\"raytraced\"'",
+              "style.halo: halos are drawn around lines, the dataset holds particles"},
              {"--set style.halo.width=0", "style.halo.width: expected a number in (0, 100]"},
              {"--set style.halo.colour=[0,0,0]", "style.halo.colour"},
          }) {
