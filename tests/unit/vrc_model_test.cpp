@@ -15,37 +15,13 @@
 #include <random>
 #include <vector>
 
+#include "test_scenes.h"
+
 namespace tc {
 namespace {
 
-struct Vertex {
-    glm::vec3 p;
-    float r;
-    glm::vec4 c;
-};
-
-StyledLines makeLines(const std::vector<std::vector<Vertex>>& polylines) {
-    StyledLines s;
-    std::uint32_t id = 0;
-    for (const auto& pl : polylines) {
-        const std::uint32_t base = std::uint32_t(s.positionRadius.size());
-        for (std::size_t i = 0; i < pl.size(); ++i) {
-            s.positionRadius.emplace_back(pl[i].p, pl[i].r);
-            s.color.push_back(pl[i].c);
-            s.polylineId.push_back(id);
-            s.flags.push_back((i == 0 ? FirstOfPolyline : 0u) | (i + 1 == pl.size() ? LastOfPolyline : 0u));
-            s.bounds.extend(pl[i].p - glm::vec3(pl[i].r));
-            s.bounds.extend(pl[i].p + glm::vec3(pl[i].r));
-            s.maxRadius = std::max(s.maxRadius, pl[i].r);
-            if (i + 1 < pl.size()) {
-                s.segmentVertices.push_back(base + std::uint32_t(i));
-                s.segmentVertices.push_back(base + std::uint32_t(i) + 1);
-            }
-        }
-        ++id;
-    }
-    return s;
-}
+using Vertex = test::TestVertex;
+constexpr auto makeLines = test::makeStyledLines;
 
 // Random smooth-ish curves: random walks with bounded turning, random radius, colour and alpha.
 // Uses std::mt19937's raw output only (distributions are implementation-defined).
@@ -79,7 +55,7 @@ double pointSegmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm:
 double distanceToPolyline(const glm::dvec3& p, const std::vector<Vertex>& pl) {
     double d = 1e30;
     for (std::size_t i = 0; i + 1 < pl.size(); ++i)
-        d = std::min(d, pointSegmentDistance(p, glm::dvec3(pl[i].p), glm::dvec3(pl[i + 1].p)));
+        d = std::min(d, pointSegmentDistance(p, glm::dvec3(pl[i].position), glm::dvec3(pl[i + 1].position)));
     return d;
 }
 
@@ -180,7 +156,8 @@ TEST(VrcModel, piecewise_approximation_is_within_one_voxel_diagonal_of_the_input
                     approxToInput = std::max(approxToInput, distanceToPolyline(glm::mix(a, b, k / 8.0), curves[c]));
             for (std::size_t i = 0; i + 1 < curves[c].size(); ++i)
                 for (int k = 0; k <= 8; ++k) {
-                    const glm::dvec3 s = glm::mix(glm::dvec3(curves[c][i].p), glm::dvec3(curves[c][i + 1].p), k / 8.0);
+                    const glm::dvec3 s =
+                        glm::mix(glm::dvec3(curves[c][i].position), glm::dvec3(curves[c][i + 1].position), k / 8.0);
                     double d = 1e30;
                     for (const auto& [a, b] : pieces[c]) d = std::min(d, pointSegmentDistance(s, a, b));
                     inputToApprox = std::max(inputToApprox, d);
@@ -219,7 +196,8 @@ TEST(VrcModel, header_partitions_the_piece_array_and_totals_are_conserved) {
     double expected = 0;
     for (const auto& c : curves)
         for (std::size_t i = 0; i + 1 < c.size(); ++i)
-            expected += glm::distance(glm::dvec3(c[i].p), glm::dvec3(c[i + 1].p)) * 0.5 * (c[i].c.w + c[i + 1].c.w);
+            expected += glm::distance(glm::dvec3(c[i].position), glm::dvec3(c[i + 1].position)) * 0.5 *
+                        (c[i].color.w + c[i + 1].color.w);
     expected /= m.voxelSize;
     ASSERT_GE(m.lod.size(), 2u);
     EXPECT_NEAR(m.lod[0].total(), expected, 1e-5 * expected);

@@ -17,38 +17,13 @@
 #include <vector>
 
 #include "core/vrc_model.h"
+#include "test_scenes.h"
 
 namespace tc {
 namespace {
 
-struct Vertex {
-    glm::vec3 p;
-    float r;
-    glm::vec4 c;
-};
-
-StyledLines makeLines(const std::vector<std::vector<Vertex>>& polylines) {
-    StyledLines s;
-    std::uint32_t id = 0;
-    for (const auto& pl : polylines) {
-        const std::uint32_t base = std::uint32_t(s.positionRadius.size());
-        for (std::size_t i = 0; i < pl.size(); ++i) {
-            s.positionRadius.emplace_back(pl[i].p, pl[i].r);
-            s.color.push_back(pl[i].c);
-            s.polylineId.push_back(id);
-            s.flags.push_back((i == 0 ? FirstOfPolyline : 0u) | (i + 1 == pl.size() ? LastOfPolyline : 0u));
-            s.bounds.extend(pl[i].p - glm::vec3(pl[i].r));
-            s.bounds.extend(pl[i].p + glm::vec3(pl[i].r));
-            s.maxRadius = std::max(s.maxRadius, pl[i].r);
-            if (i + 1 < pl.size()) {
-                s.segmentVertices.push_back(base + std::uint32_t(i));
-                s.segmentVertices.push_back(base + std::uint32_t(i) + 1);
-            }
-        }
-        ++id;
-    }
-    return s;
-}
+using Vertex = test::TestVertex;
+constexpr auto makeLines = test::makeStyledLines;
 
 // Random walks. `palette` > 0: colours drawn from that many fixed colours, else random per vertex;
 // `radius` > 0: every vertex that radius, else random. std::mt19937's raw output only.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/vrc_model.h"
+#include "test_scenes.h"
 
 namespace tc {
 namespace {
@@ -20,27 +21,14 @@ struct Vertex {
     float alpha;
 };
 
+// One colour for every vertex; the alphas as given.
 StyledLines makeLines(const std::vector<std::vector<Vertex>>& polylines) {
-    StyledLines s;
-    std::uint32_t id = 0;
+    std::vector<test::TestPolyline> coloured;
     for (const auto& pl : polylines) {
-        const std::uint32_t base = std::uint32_t(s.positionRadius.size());
-        for (std::size_t i = 0; i < pl.size(); ++i) {
-            s.positionRadius.emplace_back(pl[i].p, pl[i].r);
-            s.color.emplace_back(0.5f, 0.6f, 0.7f, pl[i].alpha);
-            s.polylineId.push_back(id);
-            s.flags.push_back((i == 0 ? FirstOfPolyline : 0u) | (i + 1 == pl.size() ? LastOfPolyline : 0u));
-            s.bounds.extend(pl[i].p - glm::vec3(pl[i].r));
-            s.bounds.extend(pl[i].p + glm::vec3(pl[i].r));
-            s.maxRadius = std::max(s.maxRadius, pl[i].r);
-            if (i + 1 < pl.size()) {
-                s.segmentVertices.push_back(base + std::uint32_t(i));
-                s.segmentVertices.push_back(base + std::uint32_t(i) + 1);
-            }
-        }
-        ++id;
+        coloured.emplace_back();
+        for (const Vertex& v : pl) coloured.back().push_back({v.p, v.r, glm::vec4(0.5f, 0.6f, 0.7f, v.alpha)});
     }
-    return s;
+    return test::makeStyledLines(coloured);
 }
 
 double pointLineDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {

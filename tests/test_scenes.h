@@ -1,8 +1,9 @@
 #pragma once
-// Small line scenes for GPU-vs-CPU tests: hand-made polylines, and random bent polylines with
-// per-vertex radii, built directly as StyledLines (the renderer's input) so a test controls every
-// radius and colour. Deterministic across compilers: only std::mt19937's raw output is used (the
-// standard fixes it; std::uniform_*_distribution is implementation-defined).
+// Small line scenes for the unit tests (CPU models) and the gl tests (GPU against CPU): hand-made
+// polylines, and random bent polylines with per-vertex radii, built directly as StyledLines (the
+// renderer's input) so a test controls every radius and colour. Deterministic across compilers:
+// only std::mt19937's raw output is used (the standard fixes it; std::uniform_*_distribution is
+// implementation-defined). No GL.
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
