@@ -79,6 +79,28 @@ StyledLines randomLineScene(std::uint32_t seed, const RandomSceneOptions& o) {
     return makeStyledLines(polylines);
 }
 
+Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float fovYDeg) {
+    Camera cam;
+    cam.eye = eye;
+    cam.target = target;
+    cam.up = up;
+    cam.fovYDeg = fovYDeg;
+    return cam;
+}
+
+Camera orthographic(glm::vec3 eye, glm::vec3 target, float height, glm::vec3 up) {
+    Camera cam = lookAt(eye, target, up);
+    cam.projection = Projection::Orthographic;
+    cam.orthoHeight = height;
+    return cam;
+}
+
+glm::vec3 eyeFromSeed(std::uint32_t seed, float distance) {
+    const float phi = 2.399963f * float(seed), z = std::fmod(0.618034f * float(seed), 1.6f) - 0.8f;
+    const float s = std::sqrt(1.0f - z * z);
+    return distance * glm::vec3(s * std::cos(phi), z, s * std::sin(phi));
+}
+
 Scene vrcScene(int w, int h, int resolution, Transparency transparency) {
     Scene scene;
     scene.image.width = w;

@@ -37,6 +37,15 @@ struct RandomSceneOptions {
 // Random bent polylines around the origin, random per-vertex colours; same seed, same scene.
 StyledLines randomLineScene(std::uint32_t seed, const RandomSceneOptions& options = {});
 
+// A perspective camera at `eye` looking at `target`, and its orthographic twin showing `height`
+// world units vertically.
+Camera lookAt(glm::vec3 eye, glm::vec3 target = {0, 0, 0}, glm::vec3 up = {0, 1, 0}, float fovYDeg = 40.0f);
+Camera orthographic(glm::vec3 eye, glm::vec3 target, float height, glm::vec3 up = {0, 1, 0});
+
+// A point on the sphere of radius `distance` around the origin, its direction from the seed
+// (golden-angle spiral): an eye for views from every side.
+glm::vec3 eyeFromSeed(std::uint32_t seed, float distance);
+
 // A voxel_raycast scene of w x h pixels on a grid of `resolution` voxels; every other key default.
 Scene vrcScene(int w, int h, int resolution, Transparency transparency);
 

@@ -64,15 +64,6 @@ Rendered render(const Scene& scene, const StyledLines& lines, const Camera& came
     return render(scene, lines, std::vector<Camera>{camera});
 }
 
-Camera lookAt(glm::vec3 eye, glm::vec3 target = {0, 0, 0}) {
-    Camera cam;
-    cam.eye = eye;
-    cam.target = target;
-    cam.up = {0, 1, 0};
-    cam.fovYDeg = 40.0f;
-    return cam;
-}
-
 // Many opaque tubes packed in a small ball: most are hidden behind the front layers.
 StyledLines denseBall(std::uint32_t seed, int polylines, float alpha) {
     RandomSceneOptions o;

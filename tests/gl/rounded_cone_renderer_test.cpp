@@ -286,29 +286,6 @@ void expectMatchesReference(const StyledLines& lines, const Camera& cam, int w, 
     EXPECT_GE(c.compared - c.ties - c.grazing, c.compared / 2) << c.summary();
 }
 
-Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up = {0, 1, 0}, float fovYDeg = 40.0f) {
-    Camera cam;
-    cam.eye = eye;
-    cam.target = target;
-    cam.up = up;
-    cam.fovYDeg = fovYDeg;
-    return cam;
-}
-
-Camera orthographic(glm::vec3 eye, glm::vec3 target, float height, glm::vec3 up = {0, 1, 0}) {
-    Camera cam = lookAt(eye, target, up);
-    cam.projection = Projection::Orthographic;
-    cam.orthoHeight = height;
-    return cam;
-}
-
-// A camera on a sphere of radius `distance` around the origin, direction from the seed.
-glm::vec3 eyeFromSeed(std::uint32_t seed, float distance) {
-    const float phi = 2.399963f * float(seed), z = std::fmod(0.618034f * float(seed), 1.6f) - 0.8f;
-    const float s = std::sqrt(1.0f - z * z);
-    return distance * glm::vec3(s * std::cos(phi), z, s * std::sin(phi));
-}
-
 using RoundedConeRendererTest = GlTest;
 
 TEST_F(RoundedConeRendererTest, random_scenes_match_cpu_reference_perspective) {

@@ -229,28 +229,6 @@ void setRandomAlpha(StyledLines& lines, std::uint32_t seed, float lo, float hi) 
     for (glm::vec4& c : lines.color) c.w = lo + (hi - lo) * float(rng() >> 8) * (1.0f / 16777216.0f);
 }
 
-Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up = {0, 1, 0}, float fovYDeg = 40.0f) {
-    Camera cam;
-    cam.eye = eye;
-    cam.target = target;
-    cam.up = up;
-    cam.fovYDeg = fovYDeg;
-    return cam;
-}
-
-Camera orthographic(glm::vec3 eye, glm::vec3 target, float height, glm::vec3 up = {0, 1, 0}) {
-    Camera cam = lookAt(eye, target, up);
-    cam.projection = Projection::Orthographic;
-    cam.orthoHeight = height;
-    return cam;
-}
-
-glm::vec3 eyeFromSeed(std::uint32_t seed, float distance) {
-    const float phi = 2.399963f * float(seed), z = std::fmod(0.618034f * float(seed), 1.6f) - 0.8f;
-    const float s = std::sqrt(1.0f - z * z);
-    return distance * glm::vec3(s * std::cos(phi), z, s * std::sin(phi));
-}
-
 // Small random transparent scenes: bent polylines, radii varying 3x per vertex, alpha 0.2-0.6.
 StyledLines smallTransparentScene(std::uint32_t seed) {
     RandomSceneOptions o;
