@@ -75,13 +75,7 @@ AoLineCache AoLineCache::build(const LineGeometry& geometry, const StyledLines& 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kAoCacheOut, cache.m_samples.id());
     glUseProgram(p);
     glProgramUniform1ui(p, uniformLocation(p, "uSegmentCount"), GLuint(segments));
-    // Chunks keep each dispatch within the 65535 work groups per dimension GL guarantees.
-    constexpr std::size_t kGroup = 64, kChunk = kGroup * 65535;
-    for (std::size_t first = 0; first < segments; first += kChunk) {
-        const std::size_t n = std::min(kChunk, segments - first);
-        glProgramUniform1ui(p, uniformLocation(p, "uFirstSegment"), GLuint(first));
-        glDispatchCompute(GLuint((n + kGroup - 1) / kGroup), 1, 1);
-    }
+    dispatchItems(p, "uFirstSegment", 0, segments, 64);  // shaders/ao_line_cache_build.comp local_size_x
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glFinish();
     cache.m_buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -77,20 +77,9 @@ void GBufferPass::render(const LineGeometry& geometry, const FrameSetup& setup, 
 }
 
 void GBufferPass::readAovs(FrameImages& out) const {
-    const int w = m_width, h = m_height;
-    const std::size_t n = std::size_t(w) * h;
-    out.width = w;
-    out.height = h;
-    std::vector<float> normalDepth(4 * n);
-    readTextureFlipped(m_normalDepth.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), normalDepth.data());
-    out.id.resize(n);
-    readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
-    out.normal.resize(3 * n);
-    out.depth.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = normalDepth[4 * i + c];
-        out.depth[i] = normalDepth[4 * i + 3];
-    }
+    out.width = m_width;
+    out.height = m_height;
+    readNormalDepthId(m_normalDepth.id(), m_id.id(), m_width, m_height, out);
 }
 
 }  // namespace tc::gl

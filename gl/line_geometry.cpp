@@ -15,7 +15,6 @@ namespace tc::gl {
 namespace {
 
 constexpr GLuint kBillboardGroupSize = 128;  // local_size_x of shaders/billboard_pass.comp
-constexpr GLuint kMaxGroupsPerDispatch = 65535;
 
 template <class T>
 Buffer upload(const std::vector<T>& v) {
@@ -157,12 +156,7 @@ void LineGeometry::buildBillboards(GLuint program, std::size_t firstSlot, std::s
     glProgramUniform1ui(program, uniformLocation(program, "uSlotEnd"), GLuint(firstSlot + count));
     glUseProgram(program);
     bind();
-    const std::size_t perDispatch = std::size_t(kMaxGroupsPerDispatch) * kBillboardGroupSize;
-    for (std::size_t first = firstSlot; first < firstSlot + count; first += perDispatch) {
-        std::size_t n = std::min(perDispatch, firstSlot + count - first);
-        glProgramUniform1ui(program, uniformLocation(program, "uFirstSlot"), GLuint(first));
-        glDispatchCompute(GLuint((n + kBillboardGroupSize - 1) / kBillboardGroupSize), 1, 1);
-    }
+    dispatchItems(program, "uFirstSlot", firstSlot, count, kBillboardGroupSize);
 }
 
 void LineGeometry::draw(std::size_t first, std::size_t count) const {

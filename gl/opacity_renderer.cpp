@@ -354,19 +354,10 @@ void OpacityRenderer::optimise(const FragmentLists& lists, const FrameSetup& set
 std::uint64_t OpacityRenderer::buildFragmentLists(const FrameSetup& setup, StageSink& timer) {
     const auto t0 = std::chrono::steady_clock::now();
     timer.begin("fragment_lists");
-    glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
-    glViewport(0, 0, setup.width, setup.height);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 0, zero);
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_FALSE);
-    glDisable(GL_CULL_FACE);
     // Blending stays on while fragment shaders have side effects: llvmpipe keeps a pixel's
     // fragments in primitive order only then. The build pass writes 0, which "under" leaves
     // unchanged.
-    glEnable(GL_BLEND);
-    glBlendEquation(GL_FUNC_ADD);
-    glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+    beginUnderCompositing(m_framebuffer.id(), setup.width, setup.height);
     const GLuint zeroCount = 0, end = kEndOfList;
     glNamedBufferSubData(m_counter.id(), 0, sizeof(GLuint), &zeroCount);
     glClearNamedBufferData(m_heads.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);

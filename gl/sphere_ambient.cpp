@@ -89,12 +89,7 @@ void SphereAmbient::voxelize(const Buffer& centerRadius, const Buffer& colors, s
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, centerRadius.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereColors, colors.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereAccumulator, m_accumulator.id());
-    const std::size_t perDispatch = kMaxGroups * kGroup;
-    for (std::size_t first = 0; first < count; first += perDispatch) {
-        const std::size_t n = std::min(perDispatch, count - first);
-        glProgramUniform1ui(p, uniformLocation(p, "uFirst"), GLuint(first));
-        glDispatchCompute(GLuint((n + kGroup - 1) / kGroup), 1, 1);
-    }
+    dispatchItems(p, "uFirst", 0, count, kGroup);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
     p = m_resolve.id();
@@ -159,12 +154,7 @@ void SphereAmbient::buildCache(const Buffer& centerRadius, std::size_t count) {
     glUseProgram(p);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, centerRadius.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereAmbientCube, m_cache.id());
-    const std::size_t perDispatch = kMaxGroups * kGroup;
-    for (std::size_t first = 0; first < items; first += perDispatch) {
-        const std::size_t n = std::min(perDispatch, items - first);
-        glProgramUniform1ui(p, uniformLocation(p, "uFirst"), GLuint(first));
-        glDispatchCompute(GLuint((n + kGroup - 1) / kGroup), 1, 1);
-    }
+    dispatchItems(p, "uFirst", 0, items, kGroup);
     glUseProgram(0);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }

@@ -21,7 +21,6 @@ namespace tc::gl {
 namespace {
 
 constexpr GLuint kSortGroupSize = 64;  // local_size_x of shaders/sphere_sort_keys.comp
-constexpr std::size_t kMaxGroups = 65535;
 
 const char* densityName(SphereDensity d) {
     switch (d) {
@@ -206,12 +205,7 @@ void SphereRenderer::sort(StageSink& timer) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereCenterRadius, m_centerRadius.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereSortKeys, m_keys.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kSphereSortValues, m_order.id());
-    const std::size_t perDispatch = kMaxGroups * kSortGroupSize;
-    for (std::size_t first = 0; first < m_count; first += perDispatch) {
-        const std::size_t n = std::min(perDispatch, m_count - first);
-        glProgramUniform1ui(p, uniformLocation(p, "uFirst"), GLuint(first));
-        glDispatchCompute(GLuint((n + kSortGroupSize - 1) / kSortGroupSize), 1, 1);
-    }
+    dispatchItems(p, "uFirst", 0, m_count, kSortGroupSize);
     glUseProgram(0);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     m_radixSort->sort(m_keys, m_order, m_count);

@@ -179,18 +179,7 @@ void TransparentRenderer::render(const FrameSetup& setup, FrameImages& out, Stag
     if (m_gbuffer) m_gbuffer->render(m_geometry, setup, timer);
     if (m_order) m_order->update(m_geometry, setup, timer);
 
-    glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer.id());
-    glViewport(0, 0, setup.width, setup.height);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(m_framebuffer.id(), GL_COLOR, 0, zero);
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_FALSE);
-    glDisable(GL_CULL_FACE);
-    // Front-to-back "under" compositing of premultiplied colour: dst += (1 - dst.a) * src.
-    // Blending also keeps llvmpipe's per-pixel primitive order for the read-modify-write passes.
-    glEnable(GL_BLEND);
-    glBlendEquation(GL_FUNC_ADD);
-    glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+    beginUnderCompositing(m_framebuffer.id(), setup.width, setup.height);
 
     switch (m_mode) {
         case Transparency::ObjectOrder:

@@ -717,16 +717,7 @@ void VrcRenderer::render(const FrameSetup& setup, FrameImages& out, StageSink& t
     out.height = h;
     out.rgba.resize(4 * n);
     readTextureFlipped(m_color.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), out.rgba.data());
-    std::vector<float> normalDepth(4 * n);
-    readTextureFlipped(m_normalDepth.id(), GL_RGBA, GL_FLOAT, w, h, 4, sizeof(float), normalDepth.data());
-    out.id.resize(n);
-    readTextureFlipped(m_id.id(), GL_RED_INTEGER, GL_UNSIGNED_INT, w, h, 1, sizeof(GLuint), out.id.data());
-    out.normal.resize(3 * n);
-    out.depth.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int c = 0; c < 3; ++c) out.normal[3 * i + c] = normalDepth[4 * i + c];
-        out.depth[i] = normalDepth[4 * i + 3];
-    }
+    readNormalDepthId(m_normalDepth.id(), m_id.id(), w, h, out);
     out.ao.clear();
     if (m_aoEnabled) {
         out.ao.resize(n);
