@@ -22,6 +22,22 @@ void writeText(const fs::path& p, const std::string& text) {
     std::ofstream(p) << text;
 }
 
+void writeUniformVti(const fs::path& p, const std::string& name, const std::string& value) {
+    std::string values;
+    for (int i = 0; i < 27; ++i) values += value + " ";
+    writeText(p, R"(<?xml version="1.0"?>
+<VTKFile type="ImageData" version="0.1" byte_order="LittleEndian">
+  <ImageData WholeExtent="0 2 0 2 0 2" Origin="0 0 0" Spacing="0.5 0.5 0.5">
+    <Piece Extent="0 2 0 2 0 2">
+      <PointData><DataArray type="Float32" Name=")" +
+                     name + R"(" NumberOfComponents="3" format="ascii">)" + values +
+                     R"(</DataArray></PointData>
+    </Piece>
+  </ImageData>
+</VTKFile>
+)");
+}
+
 void CliFixture::SetUp() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     dir = fs::path(TUBECAST_TEST_TMP) / "cli" / (std::string(info->test_suite_name()) + "." + info->name());

@@ -21,6 +21,10 @@ std::string readText(const std::filesystem::path& p);
 // Writes `text` to `p`, creating its parent directories.
 void writeText(const std::filesystem::path& p, const std::string& text);
 
+// Writes a 3x3x3-point ASCII .vti (origin 0, spacing 0.5: the box [0, 1]^3) whose point vector
+// array `name` is `value` everywhere: a uniform field to trace.
+void writeUniformVti(const std::filesystem::path& p, const std::string& name, const std::string& value);
+
 class CliFixture : public ::testing::Test {
 protected:
     // dir = TUBECAST_TEST_TMP/cli/<suite>.<test>, emptied.

@@ -212,20 +212,8 @@ TEST_F(Defaults, an_empty_tractogram_renders_the_background_with_a_warning) {
 }
 
 TEST_F(Defaults, speed_is_the_magnitude_of_the_traced_vector_whatever_its_name) {
-    // A 3x3x3 .vti with the uniform field V = (3, 4, 0): |V| = 5 everywhere.
-    std::string values;
-    for (int i = 0; i < 27; ++i) values += "3 4 0 ";
-    writeText(dir / "field.vti", R"(<?xml version="1.0"?>
-<VTKFile type="ImageData" version="0.1" byte_order="LittleEndian">
-  <ImageData WholeExtent="0 2 0 2 0 2" Origin="0 0 0" Spacing="0.5 0.5 0.5">
-    <Piece Extent="0 2 0 2 0 2">
-      <PointData><DataArray type="Float32" Name="V" NumberOfComponents="3" format="ascii">)" +
-                                     values +
-                                     R"(</DataArray></PointData>
-    </Piece>
-  </ImageData>
-</VTKFile>
-)");
+    // A uniform field V = (3, 4, 0): |V| = 5 everywhere.
+    writeUniformVti(dir / "field.vti", "V", "3 4 0");
     writeText(dir / "scene.json", R"({"dataset": {"path": "field.vti",
         "trace": {"vector": "V", "seeding": "line", "seeds": 3, "line": [[0.2, 0.2, 0.5], [0.2, 0.4, 0.5]]}},
         "style": {"color": {"attribute": "speed"}}})");

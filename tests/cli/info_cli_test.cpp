@@ -74,20 +74,8 @@ TEST_F(InfoCli, SceneGetsTheDerivedAttributesItsStyleNames) {
 }
 
 TEST_F(InfoCli, TracedSceneDescribesTheStreamlines) {
-    // A 3x3x3 .vti with the uniform field (1, 0, 0): straight streamlines along x.
-    std::string values;
-    for (int i = 0; i < 27; ++i) values += "1 0 0 ";
-    writeText(dir / "uniform.vti", R"(<?xml version="1.0"?>
-<VTKFile type="ImageData" version="0.1" byte_order="LittleEndian">
-  <ImageData WholeExtent="0 2 0 2 0 2" Origin="0 0 0" Spacing="0.5 0.5 0.5">
-    <Piece Extent="0 2 0 2 0 2">
-      <PointData><DataArray type="Float32" Name="wind" NumberOfComponents="3" format="ascii">)" +
-                                       values +
-                                       R"(</DataArray></PointData>
-    </Piece>
-  </ImageData>
-</VTKFile>
-)");
+    // The uniform field (1, 0, 0): straight streamlines along x.
+    writeUniformVti(dir / "uniform.vti", "wind", "1 0 0");
     writeText(dir / "scene.json", R"({"dataset": {"path": "uniform.vti",
         "trace": {"vector": "wind", "seeding": "line", "seeds": 3, "line": [[0.5, 0.2, 0.5], [0.5, 0.8, 0.5]]}},
         "style": {"color": {"attribute": "arc_length"}}})");
