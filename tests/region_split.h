@@ -212,4 +212,19 @@ inline FrameImages compositeUnder(const std::vector<FrameImages>& regions, const
     return out;
 }
 
+// A k-d split with a name for test messages.
+struct Layout {
+    const char* name;
+    RegionSplit split;
+};
+
+// 2, 3 and 4 regions, planes through the middle of data around the origin at uneven positions.
+inline std::vector<Layout> layouts() {
+    using S = RegionSplit;
+    return {{"2 regions", S::split(0, 0.05f, S::leaf(), S::leaf())},
+            {"3 regions", S::split(0, -0.1f, S::leaf(), S::split(1, 0.08f, S::leaf(), S::leaf()))},
+            {"4 regions",
+             S::split(0, 0.02f, S::split(1, -0.07f, S::leaf(), S::leaf()), S::split(2, 0.11f, S::leaf(), S::leaf()))}};
+}
+
 }  // namespace tc::test

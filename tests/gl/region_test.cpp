@@ -57,28 +57,6 @@ StyledLines denseScene(std::uint32_t seed, float alphaLo = 1.0f, float alphaHi =
     return lines;
 }
 
-struct Layout {
-    const char* name;
-    RegionSplit split;
-};
-
-// 2, 3 and 4 regions, planes through the middle of the data at uneven positions.
-std::vector<Layout> layouts() {
-    using S = RegionSplit;
-    return {{"2 regions", S::split(0, 0.05f, S::leaf(), S::leaf())},
-            {"3 regions", S::split(0, -0.1f, S::leaf(), S::split(1, 0.08f, S::leaf(), S::leaf()))},
-            {"4 regions",
-             S::split(0, 0.02f, S::split(1, -0.07f, S::leaf(), S::leaf()), S::split(2, 0.11f, S::leaf(), S::leaf()))}};
-}
-
-Camera perspective(glm::vec3 eye, glm::vec3 target = {0, 0, 0}) {
-    Camera cam;
-    cam.eye = eye;
-    cam.target = target;
-    cam.fovYDeg = 40.0f;
-    return cam;
-}
-
 // --- Rendering -------------------------------------------------------------------------------
 
 Scene linesScene(Transparency mode, int w, int h, bool aovs = true) {
@@ -179,7 +157,7 @@ void expectSameAovs(const FrameImages& composite, const FrameImages& full, const
 TEST_F(GlTest, opaque_regions_z_composite_bit_identically_to_the_full_frame) {
     const int w = 112, h = 84;
     const StyledLines lines = denseScene(3);
-    const Camera cam = perspective({1.7f, 1.1f, 2.3f});
+    const Camera cam = lookAt({1.7f, 1.1f, 2.3f});
     const Scene scene = linesScene(Transparency::Opaque, w, h);
     const FrameImages full = renderFull(scene, lines, cam, w, h);
     ASSERT_GT(coveredPixels(full), std::size_t(w * h / 3));
@@ -219,10 +197,10 @@ TEST_F(GlTest, opaque_regions_z_composite_bit_identically_to_the_full_frame) {
 TEST_F(GlTest, transparent_regions_composited_in_view_order_match_the_full_depth_peeled_frame) {
     const int w = 96, h = 72;
     const StyledLines lines = denseScene(5, 0.25f, 0.65f);
-    Camera ortho = perspective({-1.6f, 0.9f, -2.2f});
+    Camera ortho = lookAt({-1.6f, 0.9f, -2.2f});
     ortho.projection = Projection::Orthographic;
     ortho.orthoHeight = 2.2f;
-    for (const Camera& cam : {perspective({1.8f, -1.2f, 2.1f}), ortho}) {
+    for (const Camera& cam : {lookAt({1.8f, -1.2f, 2.1f}), ortho}) {
         const char* view = cam.projection == Projection::Orthographic ? "orthographic" : "perspective";
         const FrameImages full = renderFull(linesScene(Transparency::DepthPeeling, w, h), lines, cam, w, h);
         for (const Layout& layout : layouts()) {
@@ -264,7 +242,7 @@ TEST_F(GlTest, transparent_regions_composited_in_the_wrong_order_visibly_differ)
     const RegionSplit split = RegionSplit::split(2, 0.0f, RegionSplit::leaf(), RegionSplit::leaf());
     const int w = 80, h = 80;
     for (float side : {1.0f, -1.0f}) {
-        const Camera cam = perspective({0.1f, 0.15f, 3.0f * side});
+        const Camera cam = lookAt({0.1f, 0.15f, 3.0f * side});
         const Scene scene = linesScene(Transparency::DepthPeeling, w, h);
         const FrameImages full = renderFull(scene, lines, cam, w, h);
         const std::vector<FrameImages> regions = renderRegions(scene, lines, cam, w, h, split, Share::Reaching);
@@ -321,8 +299,8 @@ TEST_F(GlTest, regions_meeting_at_a_face_compose_tubes_crossing_it_eye_inside_an
         const char* name;
         Camera cam;
     };
-    const View views[] = {{"outside", perspective({0.4f, 0.9f, 2.6f})},
-                          {"eye inside the tube", perspective({0.02f, 0.0f, 0.02f}, {0.15f, 1.0f, 0.2f})}};
+    const View views[] = {{"outside", lookAt({0.4f, 0.9f, 2.6f})},
+                          {"eye inside the tube", lookAt({0.02f, 0.0f, 0.02f}, {0.15f, 1.0f, 0.2f})}};
     for (const View& v : views) {
         const Scene opaque = linesScene(Transparency::Opaque, w, h);
         const FrameImages full = renderFull(opaque, lines, v.cam, w, h);
@@ -369,7 +347,7 @@ TEST_F(GlTest, regions_meeting_at_a_face_compose_tubes_crossing_it_eye_inside_an
 TEST_F(GlTest, opaque_ao_of_regions_with_summed_density_matches_the_full_frame) {
     const int w = 96, h = 72;
     const StyledLines lines = denseScene(7);
-    const Camera cam = perspective({-1.5f, 1.4f, 2.2f});
+    const Camera cam = lookAt({-1.5f, 1.4f, 2.2f});
     for (AoSpec::Cache cache : {AoSpec::Cache::Precomputed, AoSpec::Cache::None}) {
         Scene scene = linesScene(Transparency::Opaque, w, h);
         scene.render.ao.enabled = true;
@@ -479,7 +457,7 @@ TEST_F(GlTest, sphere_regions_composite_to_the_full_frame_with_ao_from_summed_vo
     const int w = 96, h = 72;
     const StyledParticles spheres = disjointSpheres(150);
     ASSERT_EQ(spheres.size(), 150u);
-    const Camera cam = perspective({1.9f, 1.0f, 2.6f});
+    const Camera cam = lookAt({1.9f, 1.0f, 2.6f});
     const std::size_t expectedCrossing[] = {16, 30, 33};
     int l = 0;
     for (const Layout& layout : layouts()) {
@@ -552,7 +530,7 @@ TEST_F(GlTest, sphere_regions_composite_to_the_full_frame_with_ao_from_summed_vo
 TEST_F(GlTest, spheres_of_line_vertices_take_the_region_from_the_technique_data) {
     const int w = 80, h = 60;
     const StyledLines lines = denseScene(11);
-    const Camera cam = perspective({1.6f, -1.0f, 2.4f});
+    const Camera cam = lookAt({1.6f, -1.0f, 2.4f});
     Scene scene = linesScene(Transparency::Opaque, w, h);
     scene.render.technique = RenderTechnique::Spheres;
     const RegionSplit split = layouts()[1].split;

@@ -29,13 +29,18 @@
 #include "rt/raytraced_particles.h"
 #include "rt/raytraced_renderer.h"
 #include "rt/techniques.h"
+#include "test_scenes.h"
 
 namespace tc {
 namespace {
 
 using test::compositeNearest;
 using test::compositeUnder;
+using test::Layout;
+using test::layouts;
 using test::linesReaching;
+using test::lookAt;
+using test::orthographic;
 using test::RegionSplit;
 
 constexpr double kMinPsnr = 50.0;
@@ -123,27 +128,8 @@ StyledLines randomLines(unsigned seed, int count, float alphaLo, float alphaHi, 
     return l;
 }
 
-struct Layout {
-    const char* name;
-    RegionSplit split;
-};
-
-std::vector<Layout> layouts() {
-    using S = RegionSplit;
-    return {{"2 regions", S::split(0, 0.05f, S::leaf(), S::leaf())},
-            {"3 regions", S::split(0, -0.1f, S::leaf(), S::split(1, 0.08f, S::leaf(), S::leaf()))},
-            {"4 regions",
-             S::split(0, 0.02f, S::split(1, -0.07f, S::leaf(), S::leaf()), S::split(2, 0.11f, S::leaf(), S::leaf()))}};
-}
-
 Camera camera(glm::vec3 eye, glm::vec3 target = {0, 0, 0}, Projection projection = Projection::Perspective) {
-    Camera cam;
-    cam.eye = eye;
-    cam.target = target;
-    cam.fovYDeg = 40.0f;
-    cam.projection = projection;
-    cam.orthoHeight = 2.4f;
-    return cam;
+    return projection == Projection::Perspective ? lookAt(eye, target) : orthographic(eye, target, 2.4f);
 }
 
 Scene raytracedScene(Transparency t, bool capClipping = true) {
