@@ -16,6 +16,7 @@
 #include "core/frame_images.h"
 #include "core/region.h"
 #include "core/styled_lines.h"
+#include "core/styled_particles.h"
 
 namespace tc::test {
 
@@ -113,6 +114,21 @@ inline std::size_t segmentsCrossingRegions(const StyledLines& lines, const std::
         n += reached > 1 ? 1 : 0;
     }
     return n;
+}
+
+// The particles whose sphere reaches `box`: what a region's rank holds of a particle set.
+inline StyledParticles spheresReaching(const StyledParticles& all, const RegionBox& box) {
+    StyledParticles p;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const glm::vec4 cr = all.centerRadius[i];
+        if (!box.reaches(glm::vec3(cr) - cr.w, glm::vec3(cr) + cr.w)) continue;
+        p.centerRadius.push_back(cr);
+        p.color.push_back(all.color[i]);
+        p.id.push_back(all.id[i]);
+        p.bounds.extend(glm::vec3(cr), cr.w);
+        p.maxRadius = std::max(p.maxRadius, cr.w);
+    }
+    return p;
 }
 
 // What a rank of region `box` holds of `lines` (laid out as styleLines builds them: contiguous

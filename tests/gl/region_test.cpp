@@ -429,20 +429,6 @@ StyledParticles disjointSpheres(int count) {
     return p;
 }
 
-StyledParticles spheresReaching(const StyledParticles& all, const RegionBox& box) {
-    StyledParticles p;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-        const glm::vec4 cr = all.centerRadius[i];
-        if (!box.reaches(glm::vec3(cr) - cr.w, glm::vec3(cr) + cr.w)) continue;
-        p.centerRadius.push_back(cr);
-        p.color.push_back(all.color[i]);
-        p.id.push_back(all.id[i]);
-        p.bounds.extend(glm::vec3(cr), cr.w);
-        p.maxRadius = std::max(p.maxRadius, cr.w);
-    }
-    return p;
-}
-
 std::size_t spheresCrossing(const StyledParticles& p, const std::vector<RegionBox>& boxes) {
     std::size_t n = 0;
     for (const glm::vec4& cr : p.centerRadius) {

@@ -42,6 +42,7 @@ using test::linesReaching;
 using test::lookAt;
 using test::orthographic;
 using test::RegionSplit;
+using test::spheresReaching;
 
 constexpr double kMinPsnr = 50.0;
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -467,20 +468,6 @@ StyledParticles randomSpheres(unsigned seed, int count) {
         s.maxRadius = std::max(s.maxRadius, c.w);
     }
     return s;
-}
-
-StyledParticles spheresReaching(const StyledParticles& all, const RegionBox& box) {
-    StyledParticles p;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-        const glm::vec4 cr = all.centerRadius[i];
-        if (!box.reaches(glm::vec3(cr) - cr.w, glm::vec3(cr) + cr.w)) continue;
-        p.centerRadius.push_back(cr);
-        p.color.push_back(all.color[i]);
-        p.id.push_back(all.id[i]);
-        p.bounds.extend(glm::vec3(cr), cr.w);
-        p.maxRadius = std::max(p.maxRadius, cr.w);
-    }
-    return p;
 }
 
 FrameImages traceSpheres(const Scene& scene, const StyledParticles& p, const Camera& cam, int w, int h,
