@@ -82,11 +82,19 @@ FrameImages render(tc::Technique& t, const Scene& scene, const Camera& cam) {
 
 FrameImages render(const Scene& scene, const StyledLines& lines, const Camera& cam) {
     std::unique_ptr<tc::Technique> t = gl::createTechnique(scene, lines);
-    gl::StageTimer timer;
-    FrameImages out;
-    t->render(tc::FrameSetup{0, cam, scene.image.width, scene.image.height}, out, timer);
-    timer.collect();
-    return out;
+    return render(*t, scene, cam);
+}
+
+// Rasterized depth peeling of `lines` (with `halo`'s rings if enabled), colour only: the exact
+// reference of the ray caster.
+FrameImages depthPeeled(const StyledLines& lines, const Camera& cam, int w, int h, const HaloSpec& halo = {}) {
+    Scene peel;
+    peel.image.width = w;
+    peel.image.height = h;
+    peel.render.transparency = Transparency::DepthPeeling;
+    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
+    peel.style.halo = halo;
+    return render(peel, lines, cam);
 }
 
 // 3x3 neighbourhood of (x, y) holds a value of key() different from (x, y)'s.
@@ -218,12 +226,7 @@ TEST_F(GlTest, vrc_transparent_matches_depth_peeling_on_non_intersecting_straigh
     const int w = 128, h = 96;
     const StyledLines lines = straightTubes(0.4f);
     const Camera cam = obliqueCamera();
-    Scene peel;
-    peel.image.width = w;
-    peel.image.height = h;
-    peel.render.transparency = Transparency::DepthPeeling;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    const FrameImages ref = render(peel, lines, cam);
+    const FrameImages ref = depthPeeled(lines, cam, w, h);
     for (bool neighbors : {true, false}) {
         SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
         const FrameImages vrc = render(comparedVrcScene(w, h, true, 0, neighbors), lines, cam);
@@ -273,17 +276,6 @@ HaloSpec haloSpec(float width, float depth, glm::vec3 color) {
     return halo;
 }
 
-// Rasterized depth peeling of `lines` with `halo`: the reference of the ray caster's rings.
-FrameImages peeledWithHalo(const StyledLines& lines, const Camera& cam, int w, int h, const HaloSpec& halo) {
-    Scene peel;
-    peel.image.width = w;
-    peel.image.height = h;
-    peel.render.transparency = Transparency::DepthPeeling;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    peel.style.halo = halo;
-    return render(peel, lines, cam);
-}
-
 // style.halo on the straight tubes: rings of 0.6 radii (within one voxel of resolution 24, as the
 // tubes), against depth peeling with the same rings, off the colour edges of the depth-peeled
 // image (where a ray more or less through a rim is float noise). Measured: 207 of ~49,000
@@ -293,7 +285,7 @@ TEST_F(GlTest, vrc_halos_match_depth_peeling_with_halos_off_edges) {
     const StyledLines lines = straightTubes(0.7f);
     const Camera cam = obliqueCamera();
     const HaloSpec halo = haloSpec(0.6f, 8.0f, glm::vec3(1.0f));
-    const FrameImages ref = peeledWithHalo(lines, cam, w, h, halo);
+    const FrameImages ref = depthPeeled(lines, cam, w, h, halo);
     Scene vrcHalo = comparedVrcScene(w, h, true, 0, false);
     vrcHalo.style.halo = halo;
     const FrameImages vrc = render(vrcHalo, lines, cam);
@@ -346,7 +338,7 @@ TEST_F(GlTest, vrc_halo_rings_composite_at_their_depth_across_voxels) {
     cam.target = {0.0f, 0.0f, 0.0f};
     cam.fovYDeg = 40.0f;
     const HaloSpec halo = haloSpec(1.0f, 12.0f, glm::vec3(0.0f, 1.0f, 0.0f));
-    const FrameImages ref = peeledWithHalo(lines, cam, w, h, halo);
+    const FrameImages ref = depthPeeled(lines, cam, w, h, halo);
     Scene ringed = vrcScene(w, h, 10, Transparency::DepthPeeling);
     ringed.render.vrc.quantization = 0;
     ringed.style.halo = halo;
@@ -393,6 +385,38 @@ TEST_F(GlTest, vrc_halo_rings_composite_at_their_depth_across_voxels) {
     EXPECT_EQ(off, 0u);
 }
 
+// A stack of tubes along the view direction, axes at y = 0 (orthographic rays parallel to z): on
+// the rays well inside the tubes' silhouette (|y| <= 0.6 r) the depth-peeled alpha is `alpha` and
+// the ray caster's image equals depth peeling's up to float noise of the hit points (alpha 1e-5,
+// colour 2e-4, as the straight-tube test); more than 4 rows of such rays, or the test is vacuous.
+void expectStackMatches(const FrameImages& ref, const FrameImages& vrc, const Camera& cam, int w, int h, float r,
+                        double alpha, const char* what) {
+    ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
+    std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
+    double worstAlpha = 0, worstColor = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const Ray ray = pixelRay(cam, w, h, float(x), float(y));
+            if (std::abs(ray.origin.y) > 0.6f * r) continue;
+            ++stackPixels;
+            EXPECT_NEAR(ref.rgba[4 * i + 3], alpha, 1e-5) << x << "," << y;
+            const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
+            worstAlpha = std::max(worstAlpha, da);
+            alphaOff += da > 1e-5;
+            for (int c = 0; c < 3; ++c) {
+                const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
+                worstColor = std::max(worstColor, dc);
+                colorOff += dc > 2e-4;
+            }
+        }
+    std::printf("vrc %s vs depth peeling: %zu px, worst alpha %.3g, worst colour %.3g\n", what, stackPixels, worstAlpha,
+                worstColor);
+    EXPECT_GT(stackPixels, std::size_t(4 * w));
+    EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
+    EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+}
+
 // Kanzler et al. 2019, Sec. 4: every intersection in a voxel is composited in order. A stack of
 // 20 parallel tubes one behind the other along the view direction, all in the voxels of one
 // column (resolution 3: voxels ~1 wide, the stack 0.64 deep, so at least 10 tubes share a voxel
@@ -425,12 +449,7 @@ TEST_F(GlTest, vrc_transparent_blends_every_hit_of_a_voxel_crossed_by_more_tubes
     for (const VrcVoxel& v : model.voxels) mostPieces = std::max(mostPieces, v.count & kCountMask);
     ASSERT_GE(mostPieces, 10u) << "the premise: a voxel holds more tubes than the 8 hit slots";
 
-    Scene peel;
-    peel.image.width = w;
-    peel.image.height = h;
-    peel.render.transparency = Transparency::DepthPeeling;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    const FrameImages ref = render(peel, lines, cam);
+    const FrameImages ref = depthPeeled(lines, cam, w, h);
     for (bool neighbors : {true, false}) {
         {
             // Exact ends: snapped to bins of ~1/32 voxel, tubes 0.03 voxel wide would move off the rows.
@@ -438,32 +457,7 @@ TEST_F(GlTest, vrc_transparent_blends_every_hit_of_a_voxel_crossed_by_more_tubes
             Scene scene = comparedVrcScene(w, h, true, 0, neighbors);
             scene.render.vrc.resolution = 3;
             const FrameImages vrc = render(scene, lines, cam);
-            ASSERT_EQ(vrc.rgba.size(), ref.rgba.size());
-            std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
-            double worstAlpha = 0, worstColor = 0;
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) {
-                    const std::size_t i = std::size_t(y) * w + x;
-                    const Ray ray = pixelRay(cam, w, h, float(x), float(y));
-                    // Rays well inside the tubes' silhouette (rays are parallel to z; the axes at y = 0).
-                    if (std::abs(ray.origin.y) > 0.6f * r) continue;
-                    ++stackPixels;
-                    EXPECT_NEAR(ref.rgba[4 * i + 3], 1.0 - std::pow(1.0 - a, tubes), 1e-5) << x << "," << y;
-                    const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
-                    worstAlpha = std::max(worstAlpha, da);
-                    alphaOff += da > 1e-5;
-                    for (int c = 0; c < 3; ++c) {
-                        const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
-                        worstColor = std::max(worstColor, dc);
-                        // As the straight-tube test above: float noise of the hit point (2e-4).
-                        colorOff += dc > 2e-4;
-                    }
-                }
-            std::printf("vrc %d stacked tubes vs depth peeling: %zu px, worst alpha %.3g, worst colour %.3g\n", tubes,
-                        stackPixels, worstAlpha, worstColor);
-            EXPECT_GT(stackPixels, std::size_t(4 * w));
-            EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
-            EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+            expectStackMatches(ref, vrc, cam, w, h, r, 1.0 - std::pow(1.0 - a, tubes), "stacked tubes");
         }
     }
 }
@@ -513,40 +507,13 @@ TEST_F(GlTest, vrc_transparent_blends_a_polyline_once_per_voxel_across_hit_batch
     ASSERT_EQ(front - back, glm::ivec3(0, 0, 1)) << "the premise: ten tubes in each of two voxels along the rays";
     ASSERT_EQ(back.z, int(std::floor((zOf(0) - model.origin.z) / model.voxelSize)));
 
-    Scene peel;
-    peel.image.width = w;
-    peel.image.height = h;
-    peel.render.transparency = Transparency::DepthPeeling;
-    peel.output.aovDepth = peel.output.aovNormal = peel.output.aovId = false;
-    const FrameImages ref = render(peel, referenceLines, cam);
+    const FrameImages ref = depthPeeled(referenceLines, cam, w, h);
     for (bool neighbors : {true, false}) {
         SCOPED_TRACE(neighbors ? "neighbors on" : "neighbors off (copies)");
         Scene scene = comparedVrcScene(w, h, true, 0, neighbors);
         scene.render.vrc.resolution = 3;
         const FrameImages vrc = render(scene, bentLines, cam);
-        std::size_t stackPixels = 0, alphaOff = 0, colorOff = 0;
-        double worstAlpha = 0, worstColor = 0;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::size_t i = std::size_t(y) * w + x;
-                const Ray ray = pixelRay(cam, w, h, float(x), float(y));
-                if (std::abs(ray.origin.y) > 0.6f * r) continue;
-                ++stackPixels;
-                EXPECT_NEAR(ref.rgba[4 * i + 3], 1.0 - std::pow(1.0 - a, tubes - 1), 1e-5) << x << "," << y;
-                const double da = std::abs(double(ref.rgba[4 * i + 3]) - vrc.rgba[4 * i + 3]);
-                worstAlpha = std::max(worstAlpha, da);
-                alphaOff += da > 1e-5;
-                for (int c = 0; c < 3; ++c) {
-                    const double dc = std::abs(double(ref.rgba[4 * i + c]) - vrc.rgba[4 * i + c]);
-                    worstColor = std::max(worstColor, dc);
-                    colorOff += dc > 2e-4;
-                }
-            }
-        std::printf("vrc bent polyline across batches vs depth peeling: %zu px, worst alpha %.3g, worst colour %.3g\n",
-                    stackPixels, worstAlpha, worstColor);
-        EXPECT_GT(stackPixels, std::size_t(4 * w));
-        EXPECT_EQ(alphaOff, 0u) << "worst " << worstAlpha;
-        EXPECT_EQ(colorOff, 0u) << "worst " << worstColor;
+        expectStackMatches(ref, vrc, cam, w, h, r, 1.0 - std::pow(1.0 - a, tubes - 1), "bent polyline across batches");
     }
 }
 
