@@ -632,18 +632,19 @@ float redOfTubeAt(const FrameImages& f, float orthoHeight, float xWorld) {
     return sum;
 }
 
+// The shadow tests' scene: two grey tubes of radius 0.06 along y at x = -0.15 and 0.15, z = 0.
+StyledLines twoGreyTubes() {
+    const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
+    return makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
+                            {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
+}
+
 TEST_F(GlTest, vrc_soft_shadows_darken_the_tube_behind_another_toward_the_light_only) {
     // Two parallel tubes side by side seen from +z, the light from +x (camera right): the left tube
     // lies in the right one's shadow; the right one has nothing toward the light.
     const int w = 96, h = 64;
-    const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
-    const StyledLines lines =
-        makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
-                         {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
-    Camera cam;
-    cam.eye = {0.0f, 0.0f, 2.0f};
-    cam.projection = Projection::Orthographic;
-    cam.orthoHeight = 1.0f;
+    const StyledLines lines = twoGreyTubes();
+    const Camera cam = orthographic({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 1.0f);
     Scene scene = comparedVrcScene(w, h, false, 32, true);
     scene.lighting.direction = {1.0f, 0.0f,
                                 0.0f};  // horizontal: cones from the visible upper halves cross the other tube
@@ -673,14 +674,8 @@ TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind
     // tubes: their representatives are the tubes' axes), so the shadowed pixels lose all diffuse
     // and specular light; the right tube has nothing toward the light.
     const int w = 96, h = 64;
-    const glm::vec4 grey(0.7f, 0.7f, 0.7f, 1.0f);
-    const StyledLines lines =
-        makeStyledLines({{{{-0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{-0.15f, 0.8f, 0.0f}, 0.06f, grey}},
-                         {{{0.15f, -0.8f, 0.0f}, 0.06f, grey}, {{0.15f, 0.8f, 0.0f}, 0.06f, grey}}});
-    Camera cam;
-    cam.eye = {0.0f, 0.0f, 2.0f};
-    cam.projection = Projection::Orthographic;
-    cam.orthoHeight = 1.0f;
+    const StyledLines lines = twoGreyTubes();
+    const Camera cam = orthographic({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 1.0f);
     Scene scene = comparedVrcScene(w, h, false, 32, false);
     scene.lighting.direction = {1.0f, 0.0f, 0.0f};
     const FrameImages lit = render(scene, lines, cam);
