@@ -4,7 +4,8 @@
 # shaders, and the EGL device platform. Prints ONE summary table on stdout (progress on stderr):
 # the GL renderer, which synchronisation path the k-buffer and depth peeling ran, the `gl` ctest
 # label on the EGL device, the images of each path against the llvmpipe path of the same scene,
-# and ms per frame of every registered technique on the 1M-segment tornado at 1920x1080.
+# and ms per frame of every registered technique on the 1M-segment tornado at 1920x1080, and the
+# voxel model's build time on the CPU against the GPU (render.vrc.build).
 #
 #   scripts/gpu-check.sh [--quick] [--build DIR] [--device N] [--out DIR]
 #
@@ -203,6 +204,36 @@ while IFS=' ' read -r name data; do
   done
 done < <(json "$out/techniques.json" '"\n".join(t["name"] + " " + " ".join(t["data"]) for t in j)')
 
+# --- The voxel model build: CPU against GPU (render.vrc.build) ----------------------------------------------
+# `auto` takes the GPU build on a hardware GL without a measurement from such a machine
+# (docs/scene-spec.md, vrc.build); this row is that measurement: run.json's build_ms of the
+# tornado's model, built twice each way in the order cpu gpu gpu cpu, and what `auto` took.
+log "vrc.build cpu / gpu"
+vrc_what=tornado_1m
+[ "$quick" = 1 ] && vrc_what="tornado_1m (60 lines)"
+vrc_args=(configs/tornado_1m.json "${lines[@]}" "${egl[@]}" --set render.technique=voxel_raycast
+          --set image.width=64 --set image.height=48 --frames 0)
+declare -A build_ms=([cpu]=0 [gpu]=0)
+vrc_row=
+for b in cpu gpu gpu cpu; do
+  dir=$out/vrc_build/$b
+  if ! render "$dir" "${vrc_args[@]}" --set render.vrc.build=$b; then
+    vrc_row="| vrc.build, $vrc_what | render failed: $dir.log |"
+    break
+  fi
+  build_ms[$b]=$(awk -v sum="${build_ms[$b]}" -v ms="$(json "$dir/run.json" 'j["technique"]["build_ms"]')" \
+    'BEGIN { print sum + ms / 2 }')
+done
+if [ -z "$vrc_row" ]; then
+  dir=$out/vrc_build/auto
+  if render "$dir" "${vrc_args[@]}" --set render.vrc.build=auto; then
+    vrc_row=$(printf '| vrc.build, %s | cpu %.0f ms, gpu %.0f ms (means of two builds); auto takes %s |' "$vrc_what" \
+      "${build_ms[cpu]}" "${build_ms[gpu]}" "$(json "$dir/run.json" 'j["technique"]["build"]')")
+  else
+    vrc_row="| vrc.build, $vrc_what | render failed: $dir.log |"
+  fi
+fi
+
 # --- The table ----------------------------------------------------------------------------------------------
 if [ "$gpu" = 1 ]; then
   exercised="yes: $renderer"
@@ -216,5 +247,5 @@ echo "| GPU | $exercised |"
 echo "| k-buffer path | ${kbuffer_path:--} |"
 echo "| depth peeling path | ${peel_path:--} |"
 echo "| gl tests (ctest -L gl, EGL) | $gl_tests |"
-printf '%s\n' "${path_rows[@]}" "${technique_rows[@]}"
+printf '%s\n' "${path_rows[@]}" "${technique_rows[@]}" "$vrc_row"
 echo "| machine time | $(($(date +%s) - start)) s, load average $(cut -d' ' -f1-3 /proc/loadavg) |"

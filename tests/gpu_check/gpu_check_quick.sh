@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs scripts/gpu-check.sh --quick and checks its summary table: one Markdown table of two
 # columns; the renderer, GPU, path and test rows; a path comparison row per scene and mode; an
-# ms/frame row for every registered technique, opaque and transparent; "no GPU path exercised"
-# exactly when the GL renderer is a software one, and then the llvmpipe path matches itself.
+# ms/frame row for every registered technique, opaque and transparent; the voxel model's build
+# times both ways and the build `auto` took (the CPU one on a software renderer); "no GPU path
+# exercised" exactly when the GL renderer is a software one, and then the llvmpipe path matches
+# itself.
 # Usage: gpu_check_quick.sh GPU_CHECK_SH BUILD_DIR TUBECAST WORK_DIR
 set -euo pipefail
 script=$1 build=$2 tubecast=$3 work=$4
@@ -40,11 +42,17 @@ for name in $names; do
   done
 done
 
+# The voxel model built both ways, in ms, and the build `auto` took.
+vrc=$(row "vrc.build") || fail "no vrc.build row"
+grep -Eq '^ cpu [0-9]+ ms, gpu [0-9]+ ms \(means of two builds\); auto takes (cpu|gpu) $' <<<"$vrc" ||
+  fail "vrc.build row: '$vrc'"
+
 # A software renderer says so, a GPU does not; on llvmpipe both contexts run the same path.
 renderer=$(row "GL renderer")
 if [[ $renderer =~ llvmpipe|softpipe|swrast ]]; then
   grep -q "no GPU path exercised" <<<"$(row "GPU")" || fail "a software renderer without 'no GPU path exercised'"
   [ "$(row "k-buffer path")" = " llvmpipe per-pixel primitive order (blending on) " ] || fail "unexpected k-buffer path"
+  grep -q "auto takes cpu" <<<"$vrc" || fail "on a software renderer vrc.build auto took the GPU build"
   for mode in "kbuffer k=4, tornado" "depth_peeling, tornado"; do
     grep -q "PSNR inf (identical) dB, max error 0 " <<<"$(row "$mode")" || fail "$mode: llvmpipe differs from itself"
   done
