@@ -16,11 +16,9 @@ ranks=$1 tubecast=$2 work=$3/np$1
 shift 3
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
+enter_work
 style='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": [0.9, 0.9, 0.9]},
  "render": {"technique": "rasterized", "transparency": "opaque",
             "ao": {"enabled": true, "resolution": 64, "strength": 1.0}},
@@ -28,12 +26,7 @@ style='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": 
 echo "{\"dataset\": {\"generate\": \"tornado\", \"lines\": 60, \"points\": 64, \"seed\": 3}, $style}" >scene.json
 echo "{\"dataset\": {\"path\": \"parts\"}, $style}" >parts.json
 
-mpi() {  # SCENE OUT: the MPI job
-    timeout 110 "${launcher[@]}" "$tubecast" render "$1" --mpi -o "$2" -q >out.txt 2>err
-    local rc=$?
-    [[ $rc -ne 124 ]] || fail "$2: the job hung (timeout)"
-    [[ $rc -eq 0 ]] || fail "$2: the MPI job exited $rc"
-}
+mpi() { mpi_render "$@"; }  # SCENE OUT
 within() {  # WHAT A B: max error <= 1/255
     local maxerr psnr
     maxerr=$("$tubecast" compare "$2/frame.0000.png" "$3/frame.0000.png" | awk '$1 == "max_error" { print $2 }')

@@ -12,7 +12,7 @@ ranks=$1 binary=$2 work=$3/np$1
 shift 3
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
 rm -rf "$work"
 mkdir -p "$work"

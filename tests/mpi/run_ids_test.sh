@@ -19,30 +19,16 @@ ranks=$1 tubecast=$2 exr_ids=$3 work=$4/np$1
 shift 4
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
+enter_work
 style='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": [0.8, 0.5, 0.2]},
  "render": {"technique": "rasterized", "transparency": "opaque"},
  "output": {"formats": ["exr"], "aovs": ["depth", "id"]}'
 echo "{\"dataset\": {\"generate\": \"tornado\", \"lines\": 60, \"points\": 64, \"seed\": 3}, $style}" >scene.json
 echo "{\"dataset\": {\"path\": \"parts\"}, $style}" >parts.json
 
-single() {  # OUT ARGS...: one process
-    local out=$1
-    shift
-    "$tubecast" render scene.json -o "$out" -q "$@" 2>err || fail "single-process render $out exited $?"
-}
-mpi() {  # SCENE OUT ARGS...: the MPI job
-    local scene=$1 out=$2
-    shift 2
-    timeout 110 "${launcher[@]}" "$tubecast" render "$scene" --mpi -o "$out" -q "$@" >out.txt 2>err
-    local rc=$?
-    [[ $rc -ne 124 ]] || fail "$out: the job hung (timeout)"
-    [[ $rc -eq 0 ]] || fail "$out: the MPI job exited $rc"
-}
+mpi() { mpi_render "$@"; }  # SCENE OUT ARGS...
 ids() {  # DIR: the id channel of DIR/frame.0000.exr, one value per pixel
     "$exr_ids" "$1/frame.0000.exr" || fail "cannot read the id channel of $1/frame.0000.exr"
 }

@@ -18,11 +18,9 @@ ranks=$1 tubecast=$2 work=$3/np$1
 shift 3
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
+enter_work
 host=$(hostname)
 last=$((ranks - 1))
 style='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": [0.3, 0.6, 0.9]},
@@ -30,13 +28,7 @@ style='"image": {"width": 64, "height": 48}, "style": {"radius": 0.02, "color": 
 echo "{\"dataset\": {\"generate\": \"tornado\", \"lines\": 40, \"points\": 48, \"seed\": 5}, $style}" >source.json
 echo "{\"dataset\": {\"path\": \"parts\"}, $style}" >parts.json
 
-mpi() {  # SCENE OUT ARGS...: the MPI job; sets rc
-    local scene=$1 out=$2
-    shift 2
-    timeout 110 "${launcher[@]}" "$tubecast" render "$scene" --mpi -o "$out" -q "$@" >out.txt 2>err
-    rc=$?
-    [[ $rc -ne 124 ]] || fail "$out: the job hung (timeout)"
-}
+mpi() { mpi_job "$@"; }  # SCENE OUT ARGS...: sets rc
 
 "$tubecast" render source.json -o one -q 2>err || fail "single-process render exited $?"
 "$tubecast" partition source.json -n "$ranks" -o parts 2>err || fail "partition exited $?"

@@ -13,11 +13,9 @@ ranks=$1 tubecast=$2 work=$3/np$1
 shift 3
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
+enter_work
 python3 - <<'PY'
 # layers.obj: LineVis attribute rows ("a" names, one "vt" row per "v"); reversed.obj: the same
 # geometry with the layer values reversed in depth.

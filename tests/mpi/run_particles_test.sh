@@ -18,11 +18,9 @@ ranks=$1 tubecast=$2 exr_ids=$3 work=$4/np$1
 shift 4
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
+enter_work
 cat >scene.json <<'JSON'
 {"dataset": {"generate": "droplets", "particles": 3000, "seed": 2},
  "style": {"radius": 0.02, "color": {"attribute": "density", "colormap": "viridis", "range": [0.0, 1.6]}},
@@ -34,19 +32,7 @@ JSON
 transparent=(--set style.opacity=0.4 --set 'render.transparency="object_order"')
 raytraced=(--set 'render.technique="raytraced"')
 
-single() {  # OUT ARGS...: one process
-    local out=$1
-    shift
-    "$tubecast" render scene.json -o "$out" -q "$@" 2>err || fail "single-process render $out exited $?"
-}
-mpi() {  # OUT ARGS...: the MPI job
-    local out=$1
-    shift
-    timeout 110 "${launcher[@]}" "$tubecast" render scene.json --mpi -o "$out" -q "$@" >out.txt 2>err
-    local rc=$?
-    [[ $rc -ne 124 ]] || fail "$out: the job hung (timeout)"
-    [[ $rc -eq 0 ]] || fail "$out: the MPI job exited $rc"
-}
+mpi() { mpi_render scene.json "$@"; }  # OUT ARGS...
 metric() {  # NAME A B: a line of `tubecast compare`
     "$tubecast" compare "$2/frame.0000.png" "$3/frame.0000.png" | awk -v k="$1" '$1 == k { print $2 }'
 }

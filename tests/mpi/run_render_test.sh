@@ -18,11 +18,9 @@ ranks=$1 tubecast=$2 work=$3/np$1
 shift 3
 [[ $1 == -- ]] && shift
 launcher=("$@")
-fail() { echo "FAIL: $*"; [[ -f $work/err ]] && sed 's/^/  stderr: /' "$work/err"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-rm -rf "$work"
-mkdir -p "$work"
-cd "$work" || exit 1
+enter_work
 cat >scene.json <<'JSON'
 {"dataset": {"generate": "tornado", "lines": 60, "points": 64, "seed": 3},
  "image": {"width": 64, "height": 48},
@@ -32,19 +30,7 @@ cat >scene.json <<'JSON'
 JSON
 transparent=(--set style.opacity=0.4)
 
-single() {  # OUT ARGS...: one process
-    local out=$1
-    shift
-    "$tubecast" render scene.json -o "$out" -q "$@" 2>err || fail "single-process render $out exited $?"
-}
-mpi() {  # OUT ARGS...: the MPI job
-    local out=$1
-    shift
-    timeout 110 "${launcher[@]}" "$tubecast" render scene.json --mpi -o "$out" -q "$@" >out.txt 2>err
-    local rc=$?
-    [[ $rc -ne 124 ]] || fail "$out: the job hung (timeout)"
-    [[ $rc -eq 0 ]] || fail "$out: the MPI job exited $rc"
-}
+mpi() { mpi_render scene.json "$@"; }  # OUT ARGS...
 metric() {  # NAME A B: a line of `tubecast compare`
     "$tubecast" compare "$2" "$3" | awk -v k="$1" '$1 == k { print $2 }'
 }
