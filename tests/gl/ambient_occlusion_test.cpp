@@ -505,33 +505,7 @@ TEST_F(GlTest, cached_ao_agrees_with_cone_traced_ao_in_the_kbuffer) {
 // ---------------------------------------------------------------------------------------------
 // Golden: the bundle of the contrast test seen obliquely (perspective), AO on, opaque, 128 x 96,
 // over a dark background, same thresholds and TUBECAST_BLESS mechanism as golden_test.cpp
-// (tests/golden/README.md): kPixelThreshold, kMaxFractionOver, kMaxMeanError and blessing() are
-// golden.h's. The comparison stays local: it checks the image size and reports the actual image in
-// the threshold messages instead of writing a diff image.
-void expectMatchesAoGolden(const FrameImages& images, const std::string& name) {
-    const std::string golden = (fs::path(TUBECAST_SOURCE_DIR) / "tests/golden" / (name + ".png")).string();
-    if (blessing()) {
-        writePng(images, golden);
-        std::printf("[ blessed  ] %s\n", golden.c_str());
-        return;
-    }
-    const fs::path outDir = fs::path(TUBECAST_TEST_TMP) / "golden";
-    fs::create_directories(outDir);
-    const std::string actual = (outDir / (name + ".actual.png")).string();
-    writePng(images, actual);
-    ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; render it with scripts/bless-goldens.sh and review it. "
-                                    << "Actual image: " << actual;
-    const ImageDiff d = compareImages(actual, golden, kPixelThreshold);
-    const RgbaImage a = readImageRgba(actual), g = readImageRgba(golden);
-    ASSERT_EQ(a.rgba.size(), g.rgba.size());
-    const double mean = meanAbsoluteDifference(a, g);
-    std::printf("[ measured ] golden %s: pixels over 2/255 %.4f %%, mean %.3g\n", name.c_str(), 100.0 * d.fractionOver,
-                mean);
-    EXPECT_LE(d.fractionOver, kMaxFractionOver) << "pixels differing by more than 2/255; actual: " << actual;
-    EXPECT_LE(mean, kMaxMeanError) << "mean absolute difference; actual: " << actual
-                                   << "; if intended and reviewed, re-bless with scripts/bless-goldens.sh";
-}
-
+// (tests/golden/README.md; golden.h).
 using AoGoldenTest = GlTest;
 
 TEST_F(AoGoldenTest, opaque_bundle_with_ao_at_128x96_matches_golden) {
@@ -548,7 +522,7 @@ TEST_F(AoGoldenTest, opaque_bundle_with_ao_at_128x96_matches_golden) {
     scene.render.ao.cache = AoSpec::Cache::None;
     FrameImages img = render(scene, b.lines, cam, 128, 96);
     compositeUnder(img, glm::vec4(0.1f, 0.1f, 0.12f, 1.0f));
-    expectMatchesAoGolden(img, "ao_bundle_128x96");
+    expectMatchesGolden(img, "ao_bundle_128x96");
 }
 
 }  // namespace

@@ -82,9 +82,10 @@ void expectMatchesGolden(const FrameImages& images, const std::string& name) {
     ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; render it with scripts/bless-goldens.sh and review it. "
                                     << "Actual image: " << actual;
 
+    const RgbaImage a = readImageRgba(actual), g = readImageRgba(golden);
+    ASSERT_EQ(a.rgba.size(), g.rgba.size()) << "image size differs from the golden's; actual: " << actual;
     const ImageDiff d = compareImages(actual, golden, kPixelThreshold);
     // Mean absolute error ourselves: ImageDiff carries RMSE, the mean is the threshold stated above.
-    const RgbaImage a = readImageRgba(actual), g = readImageRgba(golden);
     const double mean = meanAbsoluteDifference(a, g);
     std::printf(
         "[ measured ] golden %s: %zu px, max error %.4f (%.1f/255), pixels over 2/255 %.4f %%, mean %.3g, "
