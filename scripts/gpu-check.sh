@@ -221,14 +221,18 @@ for b in cpu gpu gpu cpu; do
     vrc_row="| vrc.build, $vrc_what | render failed: $dir.log |"
     break
   fi
-  build_ms[$b]=$(awk -v sum="${build_ms[$b]}" -v ms="$(json "$dir/run.json" 'j["technique"]["build_ms"]')" \
-    'BEGIN { print sum + ms / 2 }')
+  ms=$(json "$dir/run.json" 'j["technique"].get("build_ms", "")')
+  if [ -z "$ms" ]; then
+    vrc_row="| vrc.build, $vrc_what | no build_ms in $dir/run.json |"
+    break
+  fi
+  build_ms[$b]=$(awk -v sum="${build_ms[$b]}" -v ms="$ms" 'BEGIN { print sum + ms / 2 }')
 done
 if [ -z "$vrc_row" ]; then
   dir=$out/vrc_build/auto
   if render "$dir" "${vrc_args[@]}" --set render.vrc.build=auto; then
     vrc_row=$(printf '| vrc.build, %s | cpu %.0f ms, gpu %.0f ms (means of two builds); auto takes %s |' "$vrc_what" \
-      "${build_ms[cpu]}" "${build_ms[gpu]}" "$(json "$dir/run.json" 'j["technique"]["build"]')")
+      "${build_ms[cpu]}" "${build_ms[gpu]}" "$(json "$dir/run.json" 'j["technique"].get("build", "-")')")
   else
     vrc_row="| vrc.build, $vrc_what | render failed: $dir.log |"
   fi
