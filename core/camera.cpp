@@ -42,22 +42,24 @@ glm::mat4 Camera::worldToCamera() const {
 PixelRays::PixelRays(const Camera& camera, int width, int height)
     : m_eye(camera.eye),
       m_forward(camera.forward()),
-      m_right(camera.right()),
-      m_up(camera.trueUp()),
-      m_width(float(width)),
       m_height(float(height)),
-      m_aspect(float(width) / float(height)),
-      m_halfExtent(camera.projection == Projection::Orthographic ? 0.5f * camera.orthoHeight
-                                                                 : std::tan(glm::radians(camera.fovYDeg) * 0.5f)),
-      m_ortho(camera.projection == Projection::Orthographic) {}
+      m_ortho(camera.projection == Projection::Orthographic) {
+    // The image rectangle at unit distance (perspective) or on the eye plane (orthographic): half
+    // extents h * aspect and h, swept by x in [0, width] and y in [0, height].
+    const float h = m_ortho ? 0.5f * camera.orthoHeight : std::tan(glm::radians(camera.fovYDeg) * 0.5f);
+    const float aspect = float(width) / float(height);
+    const glm::vec3 right = camera.right(), up = camera.trueUp();
+    m_dx = (2.0f * h * aspect / float(width)) * right;
+    m_dy = (2.0f * h / float(height)) * up;
+    m_base = (m_ortho ? m_eye : m_forward) - (h * aspect) * right - h * up;
+}
 
 Ray PixelRays::operator()(float px, float py) const {
-    // NDC of the pixel centre; py = 0 is the top row.
-    float sx = 2.0f * (px + 0.5f) / m_width - 1.0f;
-    float sy = 1.0f - 2.0f * (py + 0.5f) / m_height;
-    float h = m_halfExtent;
-    if (m_ortho) return {m_eye + (sx * h * m_aspect) * m_right + (sy * h) * m_up, m_forward};
-    return {m_eye, glm::normalize(m_forward + (sx * h * m_aspect) * m_right + (sy * h) * m_up)};
+    // Window coordinates of the pixel centre; py = 0 is the top row, y = 0 the bottom edge.
+    const float x = px + 0.5f, y = m_height - (py + 0.5f);
+    const glm::vec3 v = m_base + x * m_dx + y * m_dy;
+    if (m_ortho) return {v, m_forward};
+    return {m_eye, glm::normalize(v)};
 }
 
 Ray pixelRay(const Camera& camera, int width, int height, float px, float py) {

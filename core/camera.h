@@ -35,15 +35,26 @@ Ray pixelRay(const Camera& camera, int width, int height, float px, float py);
 // pixelRay with the camera basis computed once: the CPU ray casters generate millions of rays per
 // frame, and the basis (two normalisations and crosses per call) cost as much as the ray itself.
 // Gives bit-identical rays to pixelRay (which is implemented with it).
+//
+// A ray is an affine function of the sample's window coordinate (x, y) = (px + 0.5, height - py -
+// 0.5) (y up, as gl_FragCoord): v = base + x dx + y dy is the direction before normalisation
+// (perspective; the origin is the eye) or the origin (orthographic; the direction is forward).
+// The GL passes evaluate the same three vectors (gl/frame_uniforms.h, shaders/camera.glsl
+// pixelRay): two multiply-adds per component and a normalisation per fragment instead of the
+// divisions by the image size and both projections' code, which llvmpipe runs for every lane
+// (docs/performance.md, "Multiples of the constant-colour floor").
 class PixelRays {
 public:
     PixelRays(const Camera& camera, int width, int height);
     Ray operator()(float px, float py) const;
+    const glm::vec3& base() const { return m_base; }
+    const glm::vec3& dx() const { return m_dx; }
+    const glm::vec3& dy() const { return m_dy; }
 
 private:
-    glm::vec3 m_eye, m_forward, m_right, m_up;
-    float m_width, m_height, m_aspect;
-    float m_halfExtent;  // tan(fov / 2) (perspective) or orthoHeight / 2
+    glm::vec3 m_eye, m_forward;
+    glm::vec3 m_base, m_dx, m_dy;
+    float m_height;
     bool m_ortho;
 };
 

@@ -20,6 +20,11 @@ FrameUniforms frameUniforms(const FrameSetup& setup, const LightingSpec& lightin
     u.tanHalfFov = std::tan(glm::radians(cam.fovYDeg) * 0.5f);
     u.orthoHalfHeight = 0.5f * cam.orthoHeight;
     setViewWindowUniforms(u, setup);
+    // The rays of the full image's pixels: the same three vectors as the CPU ray casters' PixelRays.
+    const PixelRays rays(cam, int(u.viewport.x), int(u.viewport.y));
+    u.rayBase = glm::vec4(rays.base(), 0.0f);
+    u.rayDx = glm::vec4(rays.dx(), 0.0f);
+    u.rayDy = glm::vec4(rays.dy(), 0.0f);
     u.lightDir = lightDirectionWorld(lighting, cam);
     u.lightTerms = glm::vec4(lighting.ambient, lighting.diffuse, lighting.specular, lighting.shininess);
     return u;

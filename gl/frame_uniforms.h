@@ -51,6 +51,10 @@ struct alignas(16) FrameUniforms {
     // infinite), read only by programs compiled with REGION_CLIP (shaders/region.glsl).
     alignas(16) glm::vec4 regionLo{-std::numeric_limits<float>::infinity()};  // uRegionLo
     alignas(16) glm::vec4 regionHi{std::numeric_limits<float>::infinity()};   // uRegionHi
+    // The pixel rays of the full image (core/camera.h PixelRays base, dx, dy; w unused).
+    alignas(16) glm::vec4 rayBase{0.0f};  // uRayBase
+    alignas(16) glm::vec4 rayDx{0.0f};    // uRayDx
+    alignas(16) glm::vec4 rayDy{0.0f};    // uRayDy
 };
 static_assert(sizeof(FrameUniforms) % 16 == 0, "std140 blocks are padded to 16 bytes");
 

@@ -23,6 +23,11 @@ struct RayCamera {
     bool orthographic;
     vec2 viewport;
     vec2 pixelOffset;
+    // The rays as base + x dx + y dy of the full-image window coordinate (x, y): direction before
+    // normalisation (perspective) or origin (orthographic); tc::PixelRays base(), dx(), dy().
+    vec3 rayBase;
+    vec3 rayDx;
+    vec3 rayDy;
 };
 
 // Ray through the pixel whose centre is at window coordinate fragCoord (gl_FragCoord.xy: y = 0.5
@@ -31,19 +36,10 @@ struct RayCamera {
 // the plane through the eye.
 Ray pixelRay(RayCamera cam, vec2 fragCoord) {
     vec2 p = fragCoord + cam.pixelOffset;
-    float sx = 2.0 * p.x / cam.viewport.x - 1.0;
-    float sy = 2.0 * p.y / cam.viewport.y - 1.0;
-    float aspect = cam.viewport.x / cam.viewport.y;
+    vec3 v = cam.rayBase + p.x * cam.rayDx + p.y * cam.rayDy;
     Ray ray;
-    if (cam.orthographic) {
-        float h = cam.orthoHalfHeight;
-        ray.origin = cam.eye + (sx * h * aspect) * cam.right + (sy * h) * cam.trueUp;
-        ray.dir = cam.forward;
-        return ray;
-    }
-    float t = cam.tanHalfFovY;
-    ray.origin = cam.eye;
-    ray.dir = normalize(cam.forward + (sx * t * aspect) * cam.right + (sy * t) * cam.trueUp);
+    ray.origin = cam.orthographic ? v : cam.eye;
+    ray.dir = cam.orthographic ? cam.forward : normalize(v);
     return ray;
 }
 

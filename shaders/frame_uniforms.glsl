@@ -32,13 +32,17 @@ layout(std140, binding = UBO_FRAME_UNIFORMS) uniform FrameUniforms {
     // infinite); read only by programs compiled with REGION_CLIP (region.glsl).
     vec4 uRegionLo;
     vec4 uRegionHi;
+    // The full image's pixel rays as base + x dx + y dy (core/camera.h PixelRays; xyz).
+    vec4 uRayBase;
+    vec4 uRayDx;
+    vec4 uRayDy;
 };
 
 vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
 
 RayCamera frameCamera() {
     return RayCamera(uEye, uForward, uRight, uUp, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport,
-                     uPixelOffset);
+                     uPixelOffset, uRayBase.xyz, uRayDx.xyz, uRayDy.xyz);
 }
 
 // View-space depth of a hit at parameter t: distance along the viewing direction. Orthographic

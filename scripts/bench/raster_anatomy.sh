@@ -11,9 +11,9 @@
 #   pixel_ray         also builds the pixel's ray (pixelRay) and discards by a test along it
 #   no_lateral        the shipped shader without the cone's lateral surface (two spheres only)
 #   discard_first     the shipped shader with a discard of every fragment before anything else
-#   projection_fixed  the shipped shader with the perspective camera's branch only and the aspect
-#                     ratio a constant (what a per-projection shader variant would save; a
-#                     perspective scene draws its right image)
+#   projection_fixed  the shipped shader with the perspective camera's code only (what a
+#                     per-projection shader variant would save; a perspective scene draws its right
+#                     image)
 #   shipped           the built-in shader
 #   scripts/bench/raster_anatomy.sh [SCENE.json] [-- --set key=value ...]   (default configs/tornado_1m.json)
 # Env: BENCH (default build/tests/bench/tubecast_raster_floor_bench), ROUNDS (2 per process; every
@@ -54,8 +54,7 @@ sed -i 's/if (L > abs(rr)) {/if (false) {/' "$work/no_lateral/shaders/rounded_co
 f=$(variant discard_first)
 sed -i 's/^void main() {$/void main() {\n    if (gl_FragCoord.x > -1.0) discard;/' "$f"
 variant projection_fixed > /dev/null
-aspect=$(awk -v w="$width" -v h="$height" 'BEGIN { printf "%.9g", w / h }')
-sed -i "s|float aspect = cam.viewport.x / cam.viewport.y;|float aspect = $aspect;|; s|if (cam.orthographic) {|if (false) {|" \
+sed -i 's|ray.origin = cam.orthographic ? v : cam.eye;|ray.origin = cam.eye;|; s|ray.dir = cam.orthographic ? cam.forward : normalize(v);|ray.dir = normalize(v);|' \
   "$work/projection_fixed/shaders/camera.glsl"
 sed -i 's|return uOrthographic ? t : t \* dot(ray.dir, uForward);|return t * dot(ray.dir, uForward);|' \
   "$work/projection_fixed/shaders/frame_uniforms.glsl"

@@ -44,6 +44,9 @@ const std::vector<Member>& members() {
         {"uTargetSize", offsetof(FrameUniforms, targetSize)},
         {"uRegionLo", offsetof(FrameUniforms, regionLo)},
         {"uRegionHi", offsetof(FrameUniforms, regionHi)},
+        {"uRayBase", offsetof(FrameUniforms, rayBase)},
+        {"uRayDx", offsetof(FrameUniforms, rayDx)},
+        {"uRayDy", offsetof(FrameUniforms, rayDy)},
     };
     return all;
 }
@@ -75,7 +78,7 @@ TEST_F(GlTest, frame_uniform_block_has_the_offsets_size_and_binding_of_the_cpp_s
 TEST_F(GlTest, frame_uniform_block_reads_every_member_as_the_cpp_struct_wrote_it) {
     // Distinct values in every word, bools true, so a swapped or shifted member shows.
     FrameUniforms u;
-    std::vector<float> values(64);
+    std::vector<float> values(72);
     for (std::size_t i = 0; i < values.size(); ++i) values[i] = 0.5f + float(i) * 1.25f;
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) u.viewProj[c][r] = values[std::size_t(4 * c + r)];
@@ -96,11 +99,14 @@ TEST_F(GlTest, frame_uniform_block_reads_every_member_as_the_cpp_struct_wrote_it
     u.targetSize = {values[48], values[49]};
     u.regionLo = {values[52], values[53], values[54], values[55]};
     u.regionHi = {values[56], values[57], values[58], values[59]};
+    u.rayBase = {values[60], values[61], values[62], values[63]};
+    u.rayDx = {values[64], values[65], values[66], values[67]};
+    u.rayDy = {values[68], values[69], values[70], values[71]};
 
     const gl::Program program = gl::compileProgram({{GL_COMPUTE_SHADER, "test_frame_uniforms.comp"}});
     gl::Buffer uniforms;
     gl::uploadFrameUniforms(uniforms, u);
-    const std::size_t used = offsetof(FrameUniforms, regionHi) + sizeof u.regionHi;
+    const std::size_t used = offsetof(FrameUniforms, rayDy) + sizeof u.rayDy;
     gl::Buffer out = gl::makeBuffer(used, nullptr, 0);
     glUseProgram(program.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());

@@ -556,7 +556,11 @@ TEST_F(GlTest, vrc_path_length_opacity_follows_the_chord_through_a_tube_seen_sid
                 // The axis is the x axis and the rays are parallel to z.
                 const double d = std::abs(double(ray.origin.y));
                 const float on = pathAlpha.rgba[4 * i + 3], off = styleAlpha.rgba[4 * i + 3];
-                EXPECT_EQ(on > 0.0f, off > 0.0f) << "coverage differs at " << x << "," << y;
+                // A ray tangent to the tube (row 52: d = r = 20 pixels, to float error) may meet it with a
+                // chord of 0: path-length alpha 0 against the style's a. Everywhere else they agree.
+                if (std::abs(d - double(r)) > 1e-6) {
+                    EXPECT_EQ(on > 0.0f, off > 0.0f) << "coverage differs at " << x << "," << y;
+                }
                 if (d < r - 0.5 * pixel) {
                     EXPECT_GT(off, 0.0f) << x << "," << y;
                 }

@@ -27,4 +27,7 @@ void main() {
     putVec(i, vec4(uTargetSize, 0.0, 0.0), 4);  // two words of std140 padding (0, as the C++ struct's)
     putVec(i, uRegionLo, 4);
     putVec(i, uRegionHi, 4);
+    putVec(i, uRayBase, 4);
+    putVec(i, uRayDx, 4);
+    putVec(i, uRayDy, 4);
 }
