@@ -16,7 +16,7 @@ FrameUniforms frameUniforms(const FrameSetup& setup, const LightingSpec& lightin
     u.right = cam.right();
     u.up = cam.trueUp();
     u.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
-    // The float arithmetic of tc::pixelRay (core/camera.cpp), so CPU and GPU rays agree per pixel.
+    // The pixel footprints of the voxel LoD (shaders/vrc_lod.glsl) and the sphere bounds.
     u.tanHalfFov = std::tan(glm::radians(cam.fovYDeg) * 0.5f);
     u.orthoHalfHeight = 0.5f * cam.orthoHeight;
     setViewWindowUniforms(u, setup);

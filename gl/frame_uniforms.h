@@ -21,8 +21,8 @@ namespace tc::gl {
 struct alignas(16) FrameUniforms {
     // Full-image clip space of the rasterized lines (gl/line_geometry.h; identity elsewhere).
     alignas(16) glm::mat4 viewProj{1.0f};  // uViewProj
-    // The camera (shaders/camera.glsl RayCamera): Camera::forward/right/trueUp,
-    // tan(radians(fovYDeg) / 2), orthoHeight / 2.
+    // The camera: Camera::forward/right/trueUp, tan(radians(fovYDeg) / 2), orthoHeight / 2 (the
+    // rays themselves come from rayBase / rayDx / rayDy below; shaders/camera.glsl RayCamera).
     alignas(16) glm::vec3 eye{0.0f};      // uEye
     float tanHalfFov = 0;                 // uTanHalfFov
     alignas(16) glm::vec3 forward{0.0f};  // uForward

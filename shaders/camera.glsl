@@ -9,15 +9,13 @@ struct Ray {
 };
 
 // What the shader needs of a tc::Camera, filled from uniforms:
-//   forward/right/trueUp = Camera::forward()/right()/trueUp(),
+//   forward = Camera::forward(),
 //   tanHalfFovY = std::tan(glm::radians(fovYDeg) * 0.5f), orthoHalfHeight = 0.5f * orthoHeight,
 //   viewport = (width, height) of the full image in pixels, pixelOffset = the full-image window
 //   coordinate of the render target's origin (shaders/frame_uniforms.glsl; 0 untiled).
 struct RayCamera {
     vec3 eye;
     vec3 forward;
-    vec3 right;
-    vec3 trueUp;
     float tanHalfFovY;
     float orthoHalfHeight;
     bool orthographic;

@@ -41,8 +41,8 @@ layout(std140, binding = UBO_FRAME_UNIFORMS) uniform FrameUniforms {
 vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
 
 RayCamera frameCamera() {
-    return RayCamera(uEye, uForward, uRight, uUp, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport,
-                     uPixelOffset, uRayBase.xyz, uRayDx.xyz, uRayDy.xyz);
+    return RayCamera(uEye, uForward, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport, uPixelOffset,
+                     uRayBase.xyz, uRayDx.xyz, uRayDy.xyz);
 }
 
 // View-space depth of a hit at parameter t: distance along the viewing direction. Orthographic
