@@ -40,6 +40,52 @@ layout(std140, binding = UBO_FRAME_UNIFORMS) uniform FrameUniforms {
 
 vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
 
+// The block's values that the line fragment shaders read, handed on as flat varyings: on llvmpipe
+// every uniform a fragment shader reads is a conditional scalar load per lane, while a flat varying
+// is set once per triangle. Reading the pixel ray's eleven values from the block cost a tenth of
+// the opaque visibility pass (docs/performance.md, "Uniforms in fragment shaders"). A flat varying
+// is the provoking vertex's value bit for bit, so images do not change. The billboard stages
+// #define FRAME_VARYINGS_OUT and call writeFrameVaryings() for every vertex that provokes a
+// triangle; line fragment shaders #define FRAME_VARYINGS_IN before their first #include, and the
+// names below then read the varyings in everything that follows.
+#if defined(FRAME_VARYINGS_OUT) || defined(FRAME_VARYINGS_IN)
+#ifdef FRAME_VARYINGS_OUT
+#define TC_FRAME_VARYING flat out
+#else
+#define TC_FRAME_VARYING flat in
+#endif
+// Separate varyings, not an array: the linker drops those a fragment shader does not read.
+TC_FRAME_VARYING vec4 vFrameEye;      // uEye, uOrthographic
+TC_FRAME_VARYING vec4 vFrameForward;  // uForward, uFarDepth
+TC_FRAME_VARYING vec4 vFrameRayBase;  // uRayBase.xyz, uPixelOffset.x
+TC_FRAME_VARYING vec4 vFrameRayDx;    // uRayDx.xyz, uPixelOffset.y
+TC_FRAME_VARYING vec3 vFrameRayDy;
+TC_FRAME_VARYING vec3 vFrameLightDir;
+TC_FRAME_VARYING vec4 vFrameLightTerms;
+#endif
+#if defined(FRAME_VARYINGS_OUT)
+void writeFrameVaryings() {
+    vFrameEye = vec4(uEye, uOrthographic ? 1.0 : 0.0);
+    vFrameForward = vec4(uForward, uFarDepth);
+    vFrameRayBase = vec4(uRayBase.xyz, uPixelOffset.x);
+    vFrameRayDx = vec4(uRayDx.xyz, uPixelOffset.y);
+    vFrameRayDy = uRayDy.xyz;
+    vFrameLightDir = uLightDir;
+    vFrameLightTerms = uLightTerms;
+}
+#elif defined(FRAME_VARYINGS_IN)
+#define uEye (vFrameEye.xyz)
+#define uOrthographic (vFrameEye.w != 0.0)
+#define uForward (vFrameForward.xyz)
+#define uFarDepth (vFrameForward.w)
+#define uRayBase (vec4(vFrameRayBase.xyz, 0.0))
+#define uRayDx (vec4(vFrameRayDx.xyz, 0.0))
+#define uRayDy (vec4(vFrameRayDy, 0.0))
+#define uPixelOffset (vec2(vFrameRayBase.w, vFrameRayDx.w))
+#define uLightDir (vFrameLightDir)
+#define uLightTerms (vFrameLightTerms)
+#endif
+
 RayCamera frameCamera() {
     return RayCamera(uEye, uForward, uTanHalfFov, uOrthoHalfHeight, uOrthographic, uViewport, uPixelOffset,
                      uRayBase.xyz, uRayDx.xyz, uRayDy.xyz);

@@ -4,6 +4,7 @@
 #include "billboard.glsl"
 #include "line_buffers.glsl"
 #define SEGMENT_VARYINGS_OUT
+#define FRAME_VARYINGS_OUT
 #include "segment_varyings.glsl"
 
 layout(points) in;
@@ -33,6 +34,7 @@ void main() {
     for (int k = 0; k < 4; ++k) {
         vSegment = segment;
         writeSegmentVaryings(varyings);
+        writeFrameVaryings();
         gl_Position = vec4(targetNdc(bb.ndc[k]), 0.0, 1.0);
         EmitVertex();
     }

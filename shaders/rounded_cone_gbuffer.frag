@@ -2,6 +2,7 @@
 // and the segment id, nothing else. Everything else about the visible surface is recovered once
 // per pixel by surface_attributes.frag (a visibility buffer): on llvmpipe every render target
 // written per fragment costs, and most fragments are overdrawn.
+#define FRAME_VARYINGS_IN  // the frame's camera from flat varyings (frame_uniforms.glsl)
 #include "camera.glsl"
 #include "rounded_cone.glsl"
 #include "line_buffers.glsl"

@@ -6,6 +6,7 @@
 #include "billboard.glsl"
 #include "line_buffers.glsl"
 #define SEGMENT_VARYINGS_OUT
+#define FRAME_VARYINGS_OUT
 #include "segment_varyings.glsl"
 
 #include "frame_uniforms.glsl"
@@ -30,7 +31,10 @@ void main() {
     bool provoking = gl_VertexID % 6 == 2 || gl_VertexID % 6 == 5;
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
-    if (provoking) writeSegmentVaryings(readSegmentRecord(segment));
+    if (provoking) {
+        writeSegmentVaryings(readSegmentRecord(segment));
+        writeFrameVaryings();
+    }
     gl_Position = vec4(targetNdc((corner & 1) == 0 ? pair.xy : pair.zw), 0.0, 1.0);
 #else
     vec4 a = positionRadius[segmentVertices[2u * segment]];
@@ -46,6 +50,9 @@ void main() {
     }
 #endif
     gl_Position = vec4(targetNdc(corners[corner]), 0.0, 1.0);
-    if (provoking) writeSegmentVaryings(loadSegmentVaryings(segment));
+    if (provoking) {
+        writeSegmentVaryings(loadSegmentVaryings(segment));
+        writeFrameVaryings();
+    }
 #endif
 }

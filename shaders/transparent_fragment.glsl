@@ -1,7 +1,9 @@
 // One transparent fragment of a segment: the ray-cast entry into its rounded cone after cap
 // clipping (core/cap_clipping.h has the rule; core/transparent_reference.cpp is the CPU twin),
 // shaded with Blinn-Phong, with the vertex alpha interpolated along the segment. Shared by the
-// object-order, k-buffer and depth-peeling fragment shaders. GLSL 4.50 chunk.
+// object-order, k-buffer and depth-peeling fragment shaders. GLSL 4.50 chunk, #include'd before
+// any other chunk: the frame's camera and light come from flat varyings (frame_uniforms.glsl).
+#define FRAME_VARYINGS_IN
 #include "camera.glsl"
 #include "rounded_cone.glsl"
 #include "cap_clipping.glsl"
