@@ -36,6 +36,11 @@ HierarchicalCulling HierarchicalCulling::create(Target target, const CullingSpec
         defines.insert(defines.end(), geometry.haloDefines().begin(), geometry.haloDefines().end());
         c.m_billboards = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, defines);
     }
+    if (target == Target::MinOpacity) {
+        c.m_mark = compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "cull_mark.frag"}},
+                                  {"CULLING", define});
+        c.m_emptyVao = VertexArray::create();
+    }
     c.m_counter = makeBuffer(sizeof(GLuint), nullptr, GL_DYNAMIC_STORAGE_BIT);
     return c;
 }
@@ -123,6 +128,16 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
     setUniforms(program);
     const GLuint billboards = m_billboards.id();
     if (billboards) setUniforms(billboards);
+    if (m_mark) {
+        setUniforms(m_mark.id());
+        // Nothing hidden yet: depth 1 everywhere; the billboards lie at depth 0.5 (NDC z = 0).
+        glEnable(GL_DEPTH_TEST);
+        glDepthMask(GL_TRUE);
+        const float far = 1.0f;
+        glClearBufferfv(GL_DEPTH, 0, &far);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_LESS);
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::kCullPyramid, m_pyramid.id());
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, binding::kCulledSegments, m_counter.id());
     // The slices are cut from the segments in view (the order's prefix, gl/segment_order.h); the
@@ -135,7 +150,10 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
         const std::size_t first = s < m_slices ? inView * std::size_t(s) / std::size_t(m_slices) : inView;
         const std::size_t end = s < m_slices ? inView * std::size_t(s + 1) / std::size_t(m_slices) : n;
         if (end == first) continue;
-        if (first > 0) rebuild(source, geometry.farDepth(setup));
+        if (first > 0) {
+            rebuild(source, geometry.farDepth(setup));
+            if (m_mark) markHidden();
+        }
         order.bind();
         if (billboards) {
             geometry.buildBillboards(billboards, first, end - first);
@@ -145,6 +163,21 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
         order.bind();
         geometry.draw(first, end - first);
     }
+    if (m_mark) glDisable(GL_DEPTH_TEST);
+}
+
+void HierarchicalCulling::markHidden() const {
+    GLboolean colorMask[4];
+    glGetBooleanv(GL_COLOR_WRITEMASK, colorMask);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_ALWAYS);
+    glUseProgram(m_mark.id());
+    glBindVertexArray(m_emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+    glColorMask(colorMask[0], colorMask[1], colorMask[2], colorMask[3]);
 }
 
 std::uint64_t HierarchicalCulling::readCulled(StageSink& timer) const {
@@ -163,7 +196,8 @@ nlohmann::json HierarchicalCulling::describe() const {
             {"opacity_threshold", m_threshold},
             {"billboard_test", m_billboards ? "compute pre-pass, per slice" : "where the billboard is built"},
             {"frustum", "segments outside the view sorted last, not drawn (timings stage \"frustum\")"},
-            {"fragment_test", true}};
+            {"fragment_test", m_target == Target::MaxDepth ? "in the shader, before the ray casting"
+                                                           : "depth test before the shader (pixels marked per slice)"}};
 }
 
 }  // namespace tc::gl

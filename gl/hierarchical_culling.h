@@ -5,6 +5,11 @@
 // every billboard where it is built and every fragment before its ray casting against it
 // (shaders/hierarchical_culling.glsl). Opaque: max view depth; transparent: min accumulated
 // opacity. Culled segments are counted with an atomic counter, read back once per frame.
+// The transparent fragment test is a depth test: after each slice the pixels it hides get depth 0
+// (shaders/cull_mark.frag), and the line shaders test depth before they run
+// (early_fragment_tests). On llvmpipe that is the test that skips a shader: a 4x4 block whose
+// pixels all fail it is not shaded, while a `discard` in the shader runs every lane through all of
+// the code anyway (docs/performance.md, "Depth slices and culling").
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -28,6 +33,8 @@ public:
 
     // Per-pixel bytes of the pyramid (its levels: 4 B x (1/4 + 1/16 + ...) < 2 B a pixel).
     static constexpr std::size_t kBytesPerPixel = 2;
+    // Per-pixel bytes of the depth attachment MinOpacity marks (16-bit depth).
+    static constexpr std::size_t kMarkBytesPerPixel = 2;
 
     // Defines for draw programs that cull per fragment (and per billboard on the vertex and
     // geometry paths): DRAW_ORDER, CULLING, CULL_MAX_DEPTH | CULL_MIN_OPACITY.
@@ -37,7 +44,8 @@ public:
     // the order `order`, rebuilding the pyramid from `source` (the depth texture for MaxDepth,
     // the accumulation target for MinOpacity) between slices. The caller has bound the target
     // framebuffer and set the program's other uniforms; the billboards of the compute path are
-    // built here, per slice.
+    // built here, per slice. MinOpacity: the framebuffer has a depth attachment, which this clears
+    // and marks; the depth test is on during the draws and off again after them.
     void drawSliced(const LineGeometry& geometry, const SegmentOrder& order, GLuint program, const Texture& source,
                     const FrameSetup& setup);
     // Segments culled by the last drawSliced(), read back as stage "culling" of `timer` (its
@@ -63,7 +71,11 @@ private:
     Target m_target = Target::MaxDepth;
     int m_slices = 10;
     float m_threshold = 0.95f;
+    void markHidden() const;
+
     Program m_fromSource, m_fromLevel, m_billboards;
+    Program m_mark;  // MinOpacity: cull_mark.frag
+    VertexArray m_emptyVao;
     Buffer m_pyramid;                      // all levels, row by row
     std::vector<glm::ivec2> m_levelSizes;  // index i = pyramid level i + 1
     std::vector<GLint> m_levelOffsets;     // in floats

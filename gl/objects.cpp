@@ -17,6 +17,8 @@ std::size_t bytesPerTexel(GLenum internalFormat) {
     switch (internalFormat) {
         case GL_R8:
             return 1;
+        case GL_DEPTH_COMPONENT16:
+            return 2;
         case GL_R32F:
         case GL_R32UI:
         case GL_RGBA8:

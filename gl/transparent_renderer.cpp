@@ -115,7 +115,8 @@ PixelBuffers TransparentRenderer::pixelBuffers(const Scene& scene) {
     const RenderSpec& r = scene.render;
     const OutputSpec& o = scene.output;
     const std::size_t aovs = o.aovDepth || o.aovNormal || o.aovId ? GBufferPass::kBytesPerPixel : 0;
-    const std::size_t pyramid = r.culling.enabled ? HierarchicalCulling::kBytesPerPixel : 0;
+    const std::size_t pyramid =
+        r.culling.enabled ? HierarchicalCulling::kBytesPerPixel + HierarchicalCulling::kMarkBytesPerPixel : 0;
     switch (r.transparency) {
         case Transparency::KBuffer: {
             const std::size_t entries = 8 * std::size_t(r.kbufferK);  // m_kbuffer; + 4 B ring header
@@ -134,6 +135,7 @@ void TransparentRenderer::resize(int width, int height) {
     std::size_t bytes = pixels * 16;                                                    // the float colour target
     if (m_mode == Transparency::KBuffer) bytes += pixels * (std::size_t(m_k) * 8 + 4);  // entries, ring header
     if (m_mode == Transparency::DepthPeeling) bytes += pixels * 16;
+    if (m_culling) bytes += pixels * HierarchicalCulling::kMarkBytesPerPixel;
     if (bytes > m_memoryBudgetBytes)
         throw InputError(
             "render.memory_budget_mb: " + std::string(transparencyName(m_mode)) + " at " + std::to_string(width) + "x" +
@@ -143,7 +145,8 @@ void TransparentRenderer::resize(int width, int height) {
     m_width = width;
     m_height = height;
     m_color = makeTexture2D(GL_RGBA32F, width, height);
-    m_framebuffer = makeFramebuffer({&m_color}, nullptr, "transparency target");
+    if (m_culling) m_cullDepth = makeTexture2D(GL_DEPTH_COMPONENT16, width, height);
+    m_framebuffer = makeFramebuffer({&m_color}, m_culling ? &m_cullDepth : nullptr, "transparency target");
     if (m_mode == Transparency::KBuffer) {
         m_kbuffer = makeBuffer(pixels * std::size_t(m_k) * 8);
         clearBuffer64(m_kbuffer, ~std::uint64_t(0));  // the resolve pass leaves it empty again

@@ -66,6 +66,7 @@ private:
     VertexArray m_emptyVao;
     int m_width = 0, m_height = 0;
     Texture m_color;
+    Texture m_cullDepth;  // culling: pixels the slices so far hide (gl/hierarchical_culling.h)
     Framebuffer m_framebuffer;
     Buffer m_kbuffer, m_kbufferHeaders, m_peelKeys[2], m_candidates;
     int m_lastPeelLayers = 0;

@@ -61,11 +61,13 @@ bool haloFragment(Ray ray, vec4 plane0, vec4 plane1, bool clip0, bool clip1, out
 }
 #endif
 
-bool lineFragment(out LineFragment f) {
 #ifdef CULLING
-    // Depth slices: this pixel is already (nearly) opaque; skip the ray casting and shading.
-    if (cullFragment(ivec2(gl_FragCoord.xy), 0.0)) return false;
+// Depth slices: a pixel already (nearly) opaque has depth 0 (shaders/cull_mark.frag), and the
+// fragments there fail the depth test before the shader runs (gl/hierarchical_culling.h).
+layout(early_fragment_tests) in;
 #endif
+
+bool lineFragment(out LineFragment f) {
     // The segment's cone, cap planes (uCapClipping) and colours: segment_varyings.glsl.
     vec4 a = vConeA, b = vConeB;
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);

@@ -276,6 +276,63 @@ TEST_F(GlTest, transparent_culling_changes_pixels_by_at_most_one_minus_threshold
     }
 }
 
+// The per-fragment test of transparent culling (the pixel's level-1 pyramid texel: the least
+// opacity of its 2 x 2 pixels) skips exactly the fragments of hidden pixels: a wall of nearly
+// opaque tubes in front, one tube behind it that also passes beside it, one segment per slice.
+// Where the wall hides the pixel the culled image is the wall alone; everywhere else it is the
+// unculled image, bit for bit.
+TEST_F(GlTest, transparent_culling_skips_exactly_the_fragments_of_hidden_pixels) {
+    const int w = 64, h = 48;  // even: the level-1 texels are the same 2 x 2 blocks in image rows
+    const float threshold = 0.9f;
+    std::vector<TestPolyline> wall;
+    for (int i = 0; i < 5; ++i) {
+        const float y = -0.26f + 0.13f * float(i);  // 0.01 apart: no pixel sees two of them
+        wall.push_back({{{-0.3f, y, 0.3f}, 0.06f, {0.9f, 0.3f, 0.2f, 0.97f}},
+                        {{0.3f, y, 0.3f}, 0.06f, {0.9f, 0.3f, 0.2f, 0.97f}}});
+    }
+    std::vector<TestPolyline> all = wall;
+    all.push_back({{{-1.5f, 0.02f, -0.5f}, 0.05f, {0.2f, 0.4f, 0.9f, 0.6f}},
+                   {{1.5f, 0.02f, -0.5f}, 0.05f, {0.2f, 0.4f, 0.9f, 0.6f}}});
+    const Camera cam = lookAt({0.0f, 0.0f, 2.0f});
+    Scene scene = baseScene(w, h);
+    scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = false;
+    scene.render.transparency = Transparency::ObjectOrder;  // the target's alpha is the composite's
+    const FrameImages front = render(scene, makeStyledLines(wall), cam).images;
+    const FrameImages unculled = render(scene, makeStyledLines(all), cam).images;
+    scene.render.culling.enabled = true;
+    scene.render.culling.opacityThreshold = threshold;
+    scene.render.culling.slices = int(all.size());
+    const Rendered culled = render(scene, makeStyledLines(all), cam);
+    ASSERT_TRUE(culled.hadCullingStage);
+    EXPECT_EQ(culled.culled, 0u);  // the back tube reaches past the wall: no whole segment hidden
+
+    auto pixel = [](const FrameImages& im, int x, int y) {
+        const std::size_t i = 4 * (std::size_t(y) * std::size_t(im.width) + std::size_t(x));
+        return glm::vec4(im.rgba[i], im.rgba[i + 1], im.rgba[i + 2], im.rgba[i + 3]);
+    };
+    int hidden = 0, hiddenBehind = 0, shown = 0, shownBehind = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float least = 1.0f;  // the texel's least opacity after the wall's slices
+            for (int v = y & ~1; v <= (y | 1); ++v)
+                for (int u = x & ~1; u <= (x | 1); ++u) least = std::min(least, pixel(front, u, v).w);
+            const glm::vec4 c = pixel(culled.images, x, y);
+            const bool behind = pixel(unculled, x, y) != pixel(front, x, y);  // the back tube adds here
+            if (least > threshold) {
+                ++hidden;
+                hiddenBehind += behind ? 1 : 0;
+                EXPECT_EQ(c, pixel(front, x, y)) << "hidden pixel " << x << ", " << y;
+            } else {
+                ++shown;
+                shownBehind += behind ? 1 : 0;
+                EXPECT_EQ(c, pixel(unculled, x, y)) << "pixel " << x << ", " << y;
+            }
+        }
+    // Not vacuous: the back tube lies behind hidden pixels and beside the wall.
+    EXPECT_GT(hiddenBehind, 20) << "of " << hidden << " hidden pixels";
+    EXPECT_GT(shownBehind, 20) << "of " << shown << " other pixels";
+}
+
 TEST_F(GlTest, slicing_without_culling_leaves_the_kbuffer_bit_identical) {
     const int w = 80, h = 60;
     const StyledLines lines = denseBall(8, 200, 0.4f);

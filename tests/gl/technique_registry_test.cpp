@@ -159,7 +159,7 @@ TEST_F(GlTest, per_pixel_bytes_follow_the_renderers_allocations) {
     EXPECT_EQ(b.largestStorage, 64u);
     s.output.aovDepth = s.output.aovNormal = s.output.aovId = false;
     s.render.culling.enabled = true;
-    EXPECT_EQ(rasterized.pixelBuffersFor(s, DataKind::Lines).bytes, 16u + 64u + 4u + 2u);
+    EXPECT_EQ(rasterized.pixelBuffersFor(s, DataKind::Lines).bytes, 16u + 64u + 4u + 2u + 2u);  // + pyramid, marks
     s.render.transparency = Transparency::Opaque;
     EXPECT_EQ(rasterized.pixelBuffersFor(s, DataKind::Lines).bytes, 36u + 20u + 2u);
     s.render.technique = RenderTechnique::Raytraced;
