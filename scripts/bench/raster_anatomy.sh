@@ -4,8 +4,9 @@
 # parts one at a time, each as a multiple of the constant-colour floor measured in the same
 # process (tubecast_raster_floor_bench, see scripts/bench/raster_floor.sh). The variants replace
 # rounded_cone_gbuffer.frag (or a chunk it includes) in a copy of shaders/ passed as
-# --shader-dir; all rows but the last two draw wrong images on purpose (they measure, they do not
-# render):
+# --shader-dir (reading the frame's camera from flat varyings, as the shipped shader does:
+# shaders/frame_uniforms.glsl FRAME_VARYINGS_IN); all rows but the last two draw wrong images on
+# purpose (they measure, they do not render):
 #   id_depth          writes the segment id and gl_FragDepth = gl_FragCoord.z, reads no cone
 #   cone              also reads the cone's three flat vec4 varyings (vConeA, vConeB, vAxis)
 #   pixel_ray         also builds the pixel's ray (pixelRay) and discards by a test along it
@@ -34,7 +35,8 @@ trap 'rm -rf "$work"' EXIT
 # variant NAME: a copy of shaders/ in $work/NAME; prints the path of its visibility shader.
 variant() { mkdir -p "$work/$1"; cp -r shaders "$work/$1/"; echo "$work/$1/shaders/rounded_cone_gbuffer.frag"; }
 
-header='#include "camera.glsl"
+header='#define FRAME_VARYINGS_IN
+#include "camera.glsl"
 #include "rounded_cone.glsl"
 #include "line_buffers.glsl"
 #include "frame_uniforms.glsl"
