@@ -67,12 +67,11 @@ private:
     void reset();
     void rebuild(const Texture& source, float farDepth);
     void setUniforms(GLuint program) const;
+    void markHidden() const;  // MinOpacity, after a rebuild: cull_mark.frag
 
     Target m_target = Target::MaxDepth;
     int m_slices = 10;
     float m_threshold = 0.95f;
-    void markHidden() const;
-
     Program m_fromSource, m_fromLevel, m_billboards;
     Program m_mark;  // MinOpacity: cull_mark.frag
     VertexArray m_emptyVao;

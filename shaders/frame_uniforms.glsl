@@ -54,7 +54,9 @@ vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
 #else
 #define TC_FRAME_VARYING flat in
 #endif
-// Separate varyings, not an array: the linker drops those a fragment shader does not read.
+// Separate varyings, not an array: the linker drops those a fragment shader does not read. With
+// segment_varyings.glsl's seven and the segment id, the transparent shaders use 15 varying slots,
+// GL 4.5's minimum GL_MAX_VARYING_VECTORS: a further varying there needs values packed first.
 TC_FRAME_VARYING vec4 vFrameEye;      // uEye, uOrthographic
 TC_FRAME_VARYING vec4 vFrameForward;  // uForward, uFarDepth
 TC_FRAME_VARYING vec4 vFrameRayBase;  // uRayBase.xyz, uPixelOffset.x
