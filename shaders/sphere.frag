@@ -4,6 +4,8 @@
 //            of the sort; EARLY_Z adds early fragment tests against the chunk mask (Sect. 5.2).
 //   OPAQUE:  the first hit with gl_FragDepth (depth test), plain Blinn-Phong surface, plus the
 //            world normal / view depth and the particle id for the AOVs.
+// The frame's camera and light come from flat varyings (frame_uniforms.glsl).
+#define FRAME_VARYINGS_IN
 #include "camera.glsl"
 #include "frame_uniforms.glsl"
 #include "shading.glsl"

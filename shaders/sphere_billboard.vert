@@ -7,6 +7,7 @@
 // renderer then draws the frame again with quads. Depth is a constant 0.5 (NDC 0): the early-z
 // chunks of Sect. 5.2 mark finished pixels with depth 0 and let the depth test reject later
 // particles before shading.
+#define FRAME_VARYINGS_OUT  // the frame's camera and light for sphere.frag (frame_uniforms.glsl)
 #include "camera.glsl"
 #include "frame_uniforms.glsl"
 #include "sphere_glyph.glsl"
@@ -50,6 +51,7 @@ void main() {
     uint p = slot;
 #endif
     vec4 cr = centerRadius[p];
+    writeFrameVaryings();
     vCenterRadius = cr;
     vColor = colors[p];
     vId = ids[p];
