@@ -44,14 +44,28 @@ float exactLineAmbientOcclusion(uint segment, vec3 position, vec3 normal) {
 }
 #endif
 
-// AO of a point on line segment `segment` (rasterized line paths): cached when the program is
-// compiled with AO_LINE_CACHE (render.ao.cache "precomputed"), else cone traced here.
-float lineAmbientOcclusion(uint segment, vec3 position, vec3 normal) {
+// AO of a point on line segment `segment` from a to b (rasterized line paths): cached when the
+// program is compiled with AO_LINE_CACHE (render.ao.cache "precomputed"), else cone traced here.
+// The line fragment shaders pass the ends from their flat varyings: on llvmpipe each storage
+// buffer read of a fragment shader is a scalar load per lane.
+float lineAmbientOcclusion(uint segment, vec3 a, vec3 b, vec3 position, vec3 normal) {
 #if defined(AMBIENT_OCCLUSION) && defined(AO_LINE_CACHE)
-    return cachedLineOcclusion(segment, position, normalize(normal));
+    return cachedLineOcclusion(segment, a, b, position, normalize(normal));
 #elif defined(AMBIENT_OCCLUSION) && defined(AO_LINES)
     return exactLineAmbientOcclusion(segment, position, normal);
 #else
     return ambientOcclusion(position, normal);
+#endif
+}
+
+// The same for passes without the segment's varyings (full screen): the cache's ends from the
+// line buffers.
+float lineAmbientOcclusion(uint segment, vec3 position, vec3 normal) {
+#if defined(AMBIENT_OCCLUSION) && defined(AO_LINE_CACHE)
+    vec3 a = positionRadius[segmentVertices[2u * segment]].xyz;
+    vec3 b = positionRadius[segmentVertices[2u * segment + 1u]].xyz;
+    return lineAmbientOcclusion(segment, a, b, position, normal);
+#else
+    return lineAmbientOcclusion(segment, vec3(0.0), vec3(0.0), position, normal);
 #endif
 }

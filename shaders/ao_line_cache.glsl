@@ -95,11 +95,9 @@ float aoCacheAzimuth(vec3 axis, float origin, vec3 normal, out float ringWeight)
     return azimuth;
 }
 
-// AO factor (1 = unoccluded) at `position` on segment `segment` with unit `normal`.
-float cachedLineOcclusion(uint segment, vec3 position, vec3 normal)
+// AO factor (1 = unoccluded) at `position` on segment `segment` (from a to b) with unit `normal`.
+float cachedLineOcclusion(uint segment, vec3 a, vec3 b, vec3 position, vec3 normal)
 {
-    vec3 a = positionRadius[segmentVertices[2u * segment]].xyz;
-    vec3 b = positionRadius[segmentVertices[2u * segment + 1u]].xyz;
     vec3 axis;
     float s;
     aoCacheSegmentAxis(a, b, position, axis, s);

@@ -95,7 +95,7 @@ bool lineFragment(out LineFragment f) {
     float s = len2 > 0.0 ? clamp(dot(p - a.xyz, axis) / len2, 0.0, 1.0) : 0.0;
     vec4 albedo = mix(vColor0, vColor1, s);
     // Per fragment before insertion (the paper's cost model for the transparent path).
-    albedo.rgb *= lineAmbientOcclusion(vSegment, p, dot(n, ray.dir) <= 0.0 ? n : -n);
+    albedo.rgb *= lineAmbientOcclusion(vSegment, a.xyz, b.xyz, p, dot(n, ray.dir) <= 0.0 ? n : -n);
     f.color = vec4(shadeBlinnPhong(albedo.rgb, n, ray.dir, uLightDir, uLightTerms.x, uLightTerms.y, uLightTerms.z,
                                    uLightTerms.w),
                    albedo.a);
