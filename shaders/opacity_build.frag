@@ -17,7 +17,7 @@ void main() {
     // The hit's position along the segment, from its depth (lineFragment keeps it to itself).
     uint v0 = segmentVertices[2u * vSegment];
     uint v1 = segmentVertices[2u * vSegment + 1u];
-    vec3 a = positionRadius[v0].xyz, b = positionRadius[v1].xyz;
+    vec3 a = vConeA.xyz, b = vConeB.xyz;  // the ends from the flat varyings, not two more buffer reads
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);
     float t = uOrthographic ? f.depth : f.depth / dot(ray.dir, uForward);
     vec3 p = ray.origin + t * ray.dir;
