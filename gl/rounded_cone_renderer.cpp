@@ -27,6 +27,7 @@ std::unique_ptr<RoundedConeRenderer> RoundedConeRenderer::create(const Scene& sc
         r->m_ao->buildLineCache(r->m_geometry, lines);
         defines = r->m_ao->lineDefines();
     }
+    defines.push_back("FULLSCREEN_FRAME_VARYINGS");
     r->m_shadingProgram =
         compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "deferred_shading.frag"}}, defines);
     return r;

@@ -1,6 +1,8 @@
 // Deferred shading of the opaque path: once per pixel, Blinn-Phong on the G-buffer (ambient and
 // diffuse scaled by cone traced ambient occlusion when enabled), written as premultiplied linear
 // RGBA into a float target (alpha 1 where a tube is visible, 0 elsewhere), and the AO factor.
+// The camera and light from flat varyings (fullscreen.vert with FULLSCREEN_FRAME_VARYINGS).
+#define FRAME_VARYINGS_IN
 #include "camera.glsl"
 #include "shading.glsl"
 #include "frame_uniforms.glsl"

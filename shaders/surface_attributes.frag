@@ -2,6 +2,8 @@
 // same function on the same inputs, so the same hit), settle depth ties by segment index, and
 // write linear albedo, outward world normal + view depth, and polyline id for shading and the
 // AOVs.
+// The camera from flat varyings (fullscreen.vert with FULLSCREEN_FRAME_VARYINGS).
+#define FRAME_VARYINGS_IN
 #include "camera.glsl"
 #include "rounded_cone.glsl"
 #include "line_buffers.glsl"
