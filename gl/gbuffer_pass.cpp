@@ -18,9 +18,8 @@ GBufferPass GBufferPass::create(const LineGeometry& geometry, const Hierarchical
         "rounded_cone_gbuffer.frag", culling ? culling->drawDefines() : std::vector<std::string>{});
     std::vector<std::string> attributeDefines = geometry.regionDefines();
     attributeDefines.push_back("FULLSCREEN_FRAME_VARYINGS");
-    pass.m_attributesProgram =
-        compileProgram({{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}},
-                       attributeDefines);
+    pass.m_attributesProgram = compileProgram(
+        {{GL_VERTEX_SHADER, "fullscreen.vert"}, {GL_FRAGMENT_SHADER, "surface_attributes.frag"}}, attributeDefines);
     pass.m_emptyVao = VertexArray::create();
     return pass;
 }
