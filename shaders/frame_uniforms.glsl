@@ -44,10 +44,11 @@ vec2 targetNdc(vec2 ndc) { return ndc * uNdcToTarget.xy + uNdcToTarget.zw; }
 // every uniform a fragment shader reads is a conditional scalar load per lane, while a flat varying
 // is set once per triangle. Reading the pixel ray's eleven values from the block cost a tenth of
 // the opaque visibility pass (docs/performance.md, "Uniforms in fragment shaders"). A flat varying
-// is the provoking vertex's value bit for bit, so images do not change. The billboard stages
-// #define FRAME_VARYINGS_OUT and call writeFrameVaryings() for every vertex that provokes a
-// triangle; line fragment shaders #define FRAME_VARYINGS_IN before their first #include, and the
-// names below then read the varyings in everything that follows.
+// is the provoking vertex's value bit for bit, so images do not change. The vertex stages of the
+// line and sphere billboards and of the full-screen triangle (FULLSCREEN_FRAME_VARYINGS) #define
+// FRAME_VARYINGS_OUT and call writeFrameVaryings() for every vertex that provokes a triangle;
+// their fragment shaders #define FRAME_VARYINGS_IN before their first #include, and the names
+// below then read the varyings in everything that follows.
 #if defined(FRAME_VARYINGS_OUT) || defined(FRAME_VARYINGS_IN)
 #ifdef FRAME_VARYINGS_OUT
 #define TC_FRAME_VARYING flat out
