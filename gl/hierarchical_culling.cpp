@@ -167,8 +167,6 @@ void HierarchicalCulling::drawSliced(const LineGeometry& geometry, const Segment
 }
 
 void HierarchicalCulling::markHidden() const {
-    GLboolean colorMask[4];
-    glGetBooleanv(GL_COLOR_WRITEMASK, colorMask);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_ALWAYS);
@@ -177,7 +175,7 @@ void HierarchicalCulling::markHidden() const {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_FALSE);
-    glColorMask(colorMask[0], colorMask[1], colorMask[2], colorMask[3]);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);  // colour writes are on outside such passes
 }
 
 std::uint64_t HierarchicalCulling::readCulled(StageSink& timer) const {
