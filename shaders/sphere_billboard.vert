@@ -51,7 +51,12 @@ void main() {
     uint p = slot;
 #endif
     vec4 cr = centerRadius[p];
+#ifdef POINTS
     writeFrameVaryings();
+#else
+    // Flat varyings come from each triangle's provoking vertex (corners 2 and 3: the 3rd and 6th).
+    if (gl_VertexID % 6 == 2 || gl_VertexID % 6 == 5) writeFrameVaryings();
+#endif
     vCenterRadius = cr;
     vColor = colors[p];
     vId = ids[p];
