@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "gl/bindings.h"
+#include "gl/context.h"
 #include "gl/gl_util.h"
 #include "gl/gpu_timer.h"
 #include "gl/segment_order.h"
@@ -20,13 +21,23 @@ const char* targetDefine(HierarchicalCulling::Target t) {
     return t == HierarchicalCulling::Target::MaxDepth ? "CULL_MAX_DEPTH" : "CULL_MIN_OPACITY";
 }
 
+HierarchicalCulling::FragmentTest g_fragmentTest = HierarchicalCulling::FragmentTest::Auto;
+
 }  // namespace
+
+void HierarchicalCulling::setFragmentTest(FragmentTest mode) {
+    g_fragmentTest = mode;
+}
 
 HierarchicalCulling HierarchicalCulling::create(Target target, const CullingSpec& spec, const LineGeometry& geometry) {
     HierarchicalCulling c;
     c.m_target = target;
     c.m_slices = spec.slices;
     c.m_threshold = spec.opacityThreshold;
+    if (target == Target::MaxDepth)
+        c.m_fragmentTest = g_fragmentTest == FragmentTest::Auto
+                               ? currentContextInfo().renderer.find("llvmpipe") == std::string::npos
+                               : g_fragmentTest == FragmentTest::On;
     const std::string define = targetDefine(target);
     c.m_fromSource = compileProgram({{GL_COMPUTE_SHADER, "cull_pyramid.comp"}}, {define, "FROM_SOURCE"});
     c.m_fromLevel = compileProgram({{GL_COMPUTE_SHADER, "cull_pyramid.comp"}}, {define});
@@ -46,7 +57,9 @@ HierarchicalCulling HierarchicalCulling::create(Target target, const CullingSpec
 }
 
 std::vector<std::string> HierarchicalCulling::drawDefines() const {
-    return {"DRAW_ORDER", "CULLING", targetDefine(m_target)};
+    std::vector<std::string> defines{"DRAW_ORDER", "CULLING", targetDefine(m_target)};
+    if (m_fragmentTest) defines.push_back("CULL_FRAGMENT_TEST");
+    return defines;
 }
 
 void HierarchicalCulling::resize(int width, int height) {
@@ -196,8 +209,9 @@ nlohmann::json HierarchicalCulling::describe() const {
             {"opacity_threshold", m_threshold},
             {"billboard_test", m_billboards ? "compute pre-pass, per slice" : "where the billboard is built"},
             {"frustum", "segments outside the view sorted last, not drawn (timings stage \"frustum\")"},
-            {"fragment_test", m_target == Target::MaxDepth ? "in the shader, before the ray casting"
-                                                           : "depth test before the shader (pixels marked per slice)"}};
+            {"fragment_test", m_target == Target::MinOpacity ? "depth test before the shader (pixels marked per slice)"
+                              : m_fragmentTest               ? "in the shader, before the ray casting"
+                                               : "none (llvmpipe: a discard does not skip the shader's work)"}};
 }
 
 }  // namespace tc::gl

@@ -3,8 +3,8 @@
 // are drawn as `slices` consecutive draw calls; after each, a mip pyramid of what is already
 // hidden is rebuilt from the render target (shaders/cull_pyramid.comp), and the next slice tests
 // every billboard where it is built and every fragment before its ray casting against it
-// (shaders/hierarchical_culling.glsl). Opaque: max view depth; transparent: min accumulated
-// opacity. Culled segments are counted with an atomic counter, read back once per frame.
+// (shaders/hierarchical_culling.glsl; opaque fragments only where that pays, setFragmentTest). Opaque: max view depth;
+// transparent: min accumulated opacity. Culled segments are counted with an atomic counter, read back once per frame.
 // The transparent fragment test is a depth test: after each slice the pixels it hides get depth 0
 // (shaders/cull_mark.frag), and the line shaders test depth before they run
 // (early_fragment_tests). On llvmpipe that is the test that skips a shader: a 4x4 block whose
@@ -36,8 +36,18 @@ public:
     // Per-pixel bytes of the depth attachment MinOpacity marks (16-bit depth).
     static constexpr std::size_t kMarkBytesPerPixel = 2;
 
-    // Defines for draw programs that cull per fragment (and per billboard on the vertex and
-    // geometry paths): DRAW_ORDER, CULLING, CULL_MAX_DEPTH | CULL_MIN_OPACITY.
+    // Whether MaxDepth draws test each fragment against the pyramid before its ray casting
+    // (CULL_FRAGMENT_TEST, a `discard`). Auto: where a discard skips the rest of the shader (GPUs),
+    // not on llvmpipe, where every lane of a block runs the whole shader anyway and the test only
+    // costs (5-11 % of the culled opaque draw's CPU time, docs/performance.md). Either way the
+    // image is the same: the test drops only fragments the depth test would reject. Applies to
+    // the HierarchicalCulling objects created after the call; tests force On and Off.
+    enum class FragmentTest { Auto, On, Off };
+    static void setFragmentTest(FragmentTest mode);
+
+    // Defines for draw programs that cull per billboard (vertex and geometry paths) and, for
+    // MaxDepth with the fragment test, per fragment: DRAW_ORDER, CULLING, CULL_MAX_DEPTH |
+    // CULL_MIN_OPACITY[, CULL_FRAGMENT_TEST].
     std::vector<std::string> drawDefines() const;
 
     // Draws all segments of `geometry` with `program` (compiled with drawDefines()) in slices of
@@ -72,6 +82,7 @@ private:
     Target m_target = Target::MaxDepth;
     int m_slices = 10;
     float m_threshold = 0.95f;
+    bool m_fragmentTest = false;  // MaxDepth: CULL_FRAGMENT_TEST (setFragmentTest)
     Program m_fromSource, m_fromLevel, m_billboards;
     Program m_mark;  // MinOpacity: cull_mark.frag
     VertexArray m_emptyVao;

@@ -16,9 +16,9 @@ flat in uint vSegment;
 layout(location = 0) out uint outSegment;
 
 void main() {
-#ifdef CULLING
+#ifdef CULL_FRAGMENT_TEST
     // Depth slices: skip the intersection where earlier slices already cover this pixel nearer
-    // than anything of this segment.
+    // than anything of this segment (not on llvmpipe, gl/hierarchical_culling.h).
     if (cullFragment(ivec2(gl_FragCoord.xy), cullNearestDepth(vConeA, vConeB))) discard;
 #endif
     Ray ray = pixelRay(frameCamera(), gl_FragCoord.xy);

@@ -179,27 +179,38 @@ std::size_t coveredPixels(const FrameImages& f) {
 // attributes pass not settled ties by segment index (shaders/surface_attributes.frag), 64 pixels
 // of the far view and 110 of the near view (the ball fills the frame, most segments are culled or
 // outside it) would differ, on every billboard path.
+// With the per-fragment test (what GPUs run) and without it (llvmpipe's default): both cull.
 TEST_F(GlTest, opaque_culling_gives_the_unculled_image_and_culls_most_of_a_dense_scene) {
+    using FragmentTest = gl::HierarchicalCulling::FragmentTest;
+    struct Reset {
+        ~Reset() { gl::HierarchicalCulling::setFragmentTest(FragmentTest::Auto); }
+    } reset;
     const int w = 96, h = 72;
     const StyledLines lines = denseBall(5, 1000, 1.0f);
     for (const auto& [cam, label] :
          {std::pair{lookAt({0.3f, 0.4f, 2.0f}), "far view"}, std::pair{lookAt({0.1f, 0.1f, 1.2f}), "near view"}}) {
         for (BillboardPath path : {BillboardPath::Compute, BillboardPath::Vertex, BillboardPath::Geometry}) {
-            SCOPED_TRACE(std::string(label) + ", billboard path " + std::to_string(int(path)));
             Scene scene = baseScene(w, h);
             scene.output.aovDepth = scene.output.aovNormal = scene.output.aovId = true;
             scene.render.billboards = path;
             const Rendered off = render(scene, lines, cam);
-            scene.render.culling.enabled = true;
-            const Rendered on = render(scene, lines, cam);
             EXPECT_FALSE(off.hadCullingStage);
-            ASSERT_TRUE(on.hadCullingStage);
-            // Not vacuous: at least half of the primitives are culled or outside the view.
-            EXPECT_GE(on.culled + on.outsideView, lines.segmentCount() / 2) << "of " << lines.segmentCount();
-            EXPECT_GT(on.culled, lines.segmentCount() / 4) << "of " << lines.segmentCount();
             const std::size_t covered = coveredPixels(off.images);
             EXPECT_GT(covered, std::size_t(w) * h / 4);
-            EXPECT_EQ(differingPixels(off.images, on.images), 0u) << "of " << covered << " covered pixels";
+            scene.render.culling.enabled = true;
+            for (FragmentTest test : {FragmentTest::On, FragmentTest::Off}) {
+                SCOPED_TRACE(std::string(label) + ", billboard path " + std::to_string(int(path)) +
+                             (test == FragmentTest::On ? ", fragment test" : ", no fragment test"));
+                gl::HierarchicalCulling::setFragmentTest(test);
+                const Rendered on = render(scene, lines, cam);
+                ASSERT_TRUE(on.hadCullingStage);
+                EXPECT_EQ(on.description["culling"]["fragment_test"].get<std::string>().starts_with("in the shader"),
+                          test == FragmentTest::On);
+                // Not vacuous: at least half of the primitives are culled or outside the view.
+                EXPECT_GE(on.culled + on.outsideView, lines.segmentCount() / 2) << "of " << lines.segmentCount();
+                EXPECT_GT(on.culled, lines.segmentCount() / 4) << "of " << lines.segmentCount();
+                EXPECT_EQ(differingPixels(off.images, on.images), 0u) << "of " << covered << " covered pixels";
+            }
         }
     }
 }
