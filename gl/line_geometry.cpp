@@ -50,6 +50,10 @@ LineGeometry LineGeometry::create(const StyledLines& lines, BillboardPath path, 
         g.m_billboardProgram = compileProgram({{GL_COMPUTE_SHADER, "billboard_pass.comp"}}, g.billboardDefines());
     }
     g.m_emptyVao = VertexArray::create();
+    if (path != BillboardPath::Geometry) {
+        g.m_quads = QuadIndices::create();
+        g.m_quads.attachTo(g.m_emptyVao);
+    }
     return g;
 }
 
@@ -165,7 +169,7 @@ void LineGeometry::draw(std::size_t first, std::size_t count) const {
     if (m_path == BillboardPath::Geometry)
         glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
     else
-        glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+        m_quads.draw(first, count);
 }
 
 }  // namespace tc::gl

@@ -14,6 +14,7 @@
 #include "core/styled_lines.h"
 #include "core/technique.h"
 #include "gl/objects.h"
+#include "gl/quad_indices.h"
 
 namespace tc::gl {
 
@@ -106,6 +107,7 @@ private:
     Buffer m_frameUniforms;   // gl/frame_uniforms.h, set per frame
     Program m_billboardProgram;
     VertexArray m_emptyVao;  // core profile needs a bound VAO even when vertices are pulled
+    QuadIndices m_quads;     // the billboard quads' triangles (not with BillboardPath::Geometry)
 };
 
 }  // namespace tc::gl

@@ -84,6 +84,8 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(const Scene& scene, const
         r->m_radixSort = RadixSort::create();
     }
     r->m_emptyVao = VertexArray::create();
+    r->m_quads = QuadIndices::create();
+    r->m_quads.attachTo(r->m_emptyVao);
     r->m_samplesQuery = Query::create(GL_SAMPLES_PASSED);
     r->uploadBuffers(particles);
     r->resize(scene.image.width, scene.image.height);
@@ -193,7 +195,7 @@ void SphereRenderer::drawRange(const Programs& programs, std::size_t first, std:
         glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
         glDisable(GL_PROGRAM_POINT_SIZE);
     } else {
-        glDrawArrays(GL_TRIANGLES, GLint(6 * first), GLsizei(6 * count));
+        m_quads.draw(first, count);
     }
 }
 

@@ -21,6 +21,7 @@
 #include "core/technique.h"
 #include "core/technique_registry.h"
 #include "gl/objects.h"
+#include "gl/quad_indices.h"
 #include "gl/radix_sort.h"
 
 namespace tc::gl {
@@ -96,6 +97,7 @@ private:
     std::optional<RadixSort> m_radixSort;
     std::unique_ptr<SphereAmbient> m_ambient;
     VertexArray m_emptyVao;
+    QuadIndices m_quads;  // the quad path's triangles
     Query m_samplesQuery;
     std::vector<Query> m_chunkQueries;
     int m_width = 0, m_height = 0;

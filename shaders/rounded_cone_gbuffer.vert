@@ -1,4 +1,4 @@
-// Vertex pulling: 6 vertices (two triangles) per segment, no vertex buffers. The quad's corners
+// Vertex pulling: 4 corners (two indexed triangles) per segment, no vertex buffers. The quad's corners
 // come from the billboard pre-pass (BILLBOARDS_PRECOMPUTED, the default) or are built here, once
 // per vertex (BILLBOARDS_IN_VERTEX_SHADER, kept for the measurements in docs/performance.md).
 #include "camera.glsl"
@@ -19,16 +19,15 @@ layout(std430, binding = SSBO_BILLBOARD_CORNERS) readonly buffer BillboardCorner
 
 flat out uint vSegment;
 
-// Two triangles of the quad from its 4 corners in triangle-strip order.
-const int kCorner[6] = int[6](0, 1, 2, 2, 1, 3);
-
 void main() {
-    uint segment = segmentOfSlot(uint(gl_VertexID) / 6u);
-    int corner = kCorner[gl_VertexID % 6];
+    // The quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 2-1-3
+    // (gl/quad_indices.h).
+    uint segment = segmentOfSlot(uint(gl_VertexID) / 4u);
+    int corner = gl_VertexID % 4;
     vSegment = segment;
     // Flat varyings come from each triangle's provoking vertex (the last one, GL's default: corners
-    // 2 and 3 of the triangles 0-1-2 and 2-1-3), so only those two of the six vertices fetch them.
-    bool provoking = gl_VertexID % 6 == 2 || gl_VertexID % 6 == 5;
+    // 2 and 3), so only those two corners fetch them.
+    bool provoking = corner >= 2;
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
     if (provoking) {
@@ -46,7 +45,7 @@ void main() {
     // BILLBOARDS_PRECOMPUTED path culls in billboard_pass.comp instead.
     if (cullBillboard(corners, cullNearestDepth(a, b))) {
         corners[corner] = vec2(-2.0);
-        if (gl_VertexID % 6 == 0) atomicCounterIncrement(uCulledSegments);
+        if (corner == 0) atomicCounterIncrement(uCulledSegments);
     }
 #endif
     gl_Position = vec4(targetNdc(corners[corner]), 0.0, 1.0);

@@ -1,7 +1,7 @@
-// Sphere glyphs: vertex pulling, 6 vertices (two triangles) per particle on the rectangle that
+// Sphere glyphs: vertex pulling, 4 corners (two indexed triangles) per particle on the rectangle that
 // contains the projected sphere exactly (perspective-correct tangent bounds, sphere_glyph.glsl),
 // padded by half a pixel. POINTS: one vertex per particle instead, a point sprite (square) around
-// the same rectangle, clamped to the target: a sixth of the vertex work, which on llvmpipe runs on
+// the same rectangle, clamped to the target: a quarter of the vertex work, which on llvmpipe runs on
 // one thread and dominated the frame (docs/performance.md, "Design notes"). A sphere whose square
 // exceeds the implementation's largest point size is not drawn but counted in `oversized`; the
 // renderer then draws the frame again with quads. Depth is a constant 0.5 (NDC 0): the early-z
@@ -37,13 +37,14 @@ flat out uvec3 vAmbientPositive;  // faces +x, +y, +z of the sphere's ambient cu
 flat out uvec3 vAmbientNegative;  // faces -x, -y, -z
 #endif
 
-const int kCorner[6] = int[6](0, 1, 2, 2, 1, 3);
-
 void main() {
 #ifdef POINTS
     uint slot = uint(gl_VertexID);
 #else
-    uint slot = uint(gl_VertexID) / 6u;
+    // A quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 2-1-3
+    // (gl/quad_indices.h).
+    uint slot = uint(gl_VertexID) / 4u;
+    int corner = gl_VertexID % 4;
 #endif
 #ifdef DRAW_ORDER
     uint p = drawOrder[slot];
@@ -54,8 +55,8 @@ void main() {
 #ifdef POINTS
     writeFrameVaryings();
 #else
-    // Flat varyings come from each triangle's provoking vertex (corners 2 and 3: the 3rd and 6th).
-    if (gl_VertexID % 6 == 2 || gl_VertexID % 6 == 5) writeFrameVaryings();
+    // Flat varyings come from each triangle's provoking (last) vertex: corners 2 and 3.
+    if (corner >= 2) writeFrameVaryings();
 #endif
     vCenterRadius = cr;
     vColor = colors[p];
@@ -95,7 +96,6 @@ void main() {
     gl_PointSize = size;
     gl_Position = vec4(0.5 * (lo + hi), 0.0, 1.0);
 #else
-    int corner = kCorner[gl_VertexID % 6];
     gl_Position = vec4(targetNdc(vec2((corner & 1) == 0 ? rect.x : rect.z, (corner & 2) == 0 ? rect.y : rect.w)), 0.0, 1.0);
 #endif
 }

@@ -1,0 +1,29 @@
+#pragma once
+// Quads drawn as indexed triangle pairs: quad q is the triangles (4q, 4q+1, 4q+2) and
+// (4q+2, 4q+1, 4q+3), so a vertex shader sees gl_VertexID = 4 q + corner with the corners in
+// triangle-strip order, and each triangle's provoking (last) vertex is corner 2 or 3. Against six
+// vertices per quad drawn with glDrawArrays, llvmpipe's vertex stage shades each corner once (its
+// vertex cache works on indexed draws only), and that stage runs on one thread: 7-8 % less wall time
+// of the opaque line pass (docs/performance.md, "Billboard shape" and below). The index pattern is one
+// chunk of quads reused through the base vertex, not an index per quad of the data set.
+#include <cstddef>
+
+#include "gl/objects.h"
+
+namespace tc::gl {
+
+class QuadIndices {
+public:
+    static QuadIndices create();
+
+    // Makes this pattern the element buffer of `vao` (once, after creating both).
+    void attachTo(const VertexArray& vao) const;
+    // Draws quads [first, first + count) with the bound program and a VAO attachTo'd: their
+    // corners get gl_VertexID 4 first ... 4 (first + count) - 1.
+    void draw(std::size_t first, std::size_t count) const;
+
+private:
+    Buffer m_indices;
+};
+
+}  // namespace tc::gl
