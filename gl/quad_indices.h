@@ -1,11 +1,12 @@
 #pragma once
 // Quads drawn as indexed triangle pairs: quad q is the triangles (4q, 4q+1, 4q+2) and
 // (4q+2, 4q+1, 4q+3), so a vertex shader sees gl_VertexID = 4 q + corner with the corners in
-// triangle-strip order, and each triangle's provoking (last) vertex is corner 2 or 3. Against six
-// vertices per quad drawn with glDrawArrays, llvmpipe's vertex stage shades each corner once (its
-// vertex cache works on indexed draws only), and that stage runs on one thread: 7-8 % less wall time
-// of the opaque line pass (docs/performance.md, "Billboard shape" and below). The index pattern is one
-// chunk of quads reused through the base vertex, not an index per quad of the data set.
+// triangle-strip order, and each triangle's provoking (last) vertex is corner 2 or 3. Where six
+// vertices per quad drawn with glDrawArrays are each shaded, llvmpipe's vertex stage (on one
+// thread) shades each corner once, as its vertex cache works on indexed draws only: 10 % less CPU
+// in the opaque line pass, more where depth slices wait for it (docs/performance.md, "Indexed
+// quads"). The index pattern is one chunk of quads reused through the base vertex, not an index per
+// quad of the data set.
 #include <cstddef>
 
 #include "gl/objects.h"
