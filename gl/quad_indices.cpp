@@ -16,7 +16,7 @@ constexpr std::size_t kChunkQuads = 65536;
 
 QuadIndices QuadIndices::create() {
     std::vector<GLuint> indices(6 * kChunkQuads);
-    const GLuint corners[6] = {0, 1, 2, 2, 1, 3};
+    const GLuint corners[6] = {0, 1, 2, 1, 3, 2};  // corner 2 last in both: the provoking vertex
     for (std::size_t q = 0; q < kChunkQuads; ++q)
         for (std::size_t c = 0; c < 6; ++c) indices[6 * q + c] = GLuint(4 * q + corners[c]);
     QuadIndices qi;

@@ -20,14 +20,14 @@ layout(std430, binding = SSBO_BILLBOARD_CORNERS) readonly buffer BillboardCorner
 flat out uint vSegment;
 
 void main() {
-    // The quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 2-1-3
+    // The quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 1-3-2
     // (gl/quad_indices.h).
     uint segment = segmentOfSlot(uint(gl_VertexID) / 4u);
     int corner = gl_VertexID % 4;
     vSegment = segment;
-    // Flat varyings come from each triangle's provoking vertex (the last one, GL's default: corners
-    // 2 and 3), so only those two corners fetch them.
-    bool provoking = corner >= 2;
+    // Flat varyings come from each triangle's provoking vertex (the last one, GL's default: corner 2
+    // of both), so only that corner fetches them.
+    bool provoking = corner == 2;
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
     if (provoking) {

@@ -41,7 +41,7 @@ void main() {
 #ifdef POINTS
     uint slot = uint(gl_VertexID);
 #else
-    // A quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 2-1-3
+    // A quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 1-3-2
     // (gl/quad_indices.h).
     uint slot = uint(gl_VertexID) / 4u;
     int corner = gl_VertexID % 4;
@@ -55,8 +55,8 @@ void main() {
 #ifdef POINTS
     writeFrameVaryings();
 #else
-    // Flat varyings come from each triangle's provoking (last) vertex: corners 2 and 3.
-    if (corner >= 2) writeFrameVaryings();
+    // Flat varyings come from each triangle's provoking (last) vertex: corner 2 of both.
+    if (corner == 2) writeFrameVaryings();
 #endif
     vCenterRadius = cr;
     vColor = colors[p];
