@@ -3,8 +3,9 @@
 // are drawn as `slices` consecutive draw calls; after each, a mip pyramid of what is already
 // hidden is rebuilt from the render target (shaders/cull_pyramid.comp), and the next slice tests
 // every billboard where it is built and every fragment before its ray casting against it
-// (shaders/hierarchical_culling.glsl; opaque fragments only where that pays, setFragmentTest). Opaque: max view depth;
-// transparent: min accumulated opacity. Culled segments are counted with an atomic counter, read back once per frame.
+// (shaders/hierarchical_culling.glsl; opaque fragments only where that pays, setFragmentTest).
+// Opaque: max view depth; transparent: min accumulated opacity. Culled segments are counted with
+// an atomic counter, read back once per frame.
 // The transparent fragment test is a depth test: after each slice the pixels it hides get depth 0
 // (shaders/cull_mark.frag), and the line shaders test depth before they run
 // (early_fragment_tests). On llvmpipe that is the test that skips a shader: a 4x4 block whose

@@ -1,7 +1,6 @@
 #include "gl/quad_indices.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <vector>
 
 namespace tc::gl {

@@ -1,14 +1,13 @@
 #pragma once
 // Quads drawn as indexed triangle pairs: quad q is the triangles (4q, 4q+1, 4q+2) and
 // (4q+1, 4q+3, 4q+2), so a vertex shader sees gl_VertexID = 4 q + corner with the corners in
-// triangle-strip order, and both triangles' provoking (last) vertex is corner 2: only that corner
-// needs to write the flat varyings (5 % less CPU in the opaque line pass than corners 2 and 3,
-// docs/performance.md). Culling of back faces must be off (the two wind oppositely). Where six
-// vertices per quad drawn with glDrawArrays are each shaded, llvmpipe's vertex stage (on one
-// thread) shades each corner once, as its vertex cache works on indexed draws only: 10 % less CPU
-// in the opaque line pass, more where depth slices wait for it (docs/performance.md, "Indexed
-// quads"). The index pattern is one chunk of quads reused through the base vertex, not an index per
-// quad of the data set.
+// triangle-strip order. llvmpipe's vertex stage, which runs on one thread, then shades each corner
+// once (its vertex cache works on indexed draws only) instead of the six vertices of two
+// glDrawArrays triangles, and corner 2, the last and so provoking vertex of both triangles, is the
+// only one that writes the flat varyings: 15 % less CPU in the opaque line pass, more where depth
+// slices wait for the vertex stage (docs/performance.md, "Indexed quads"). The two triangles wind
+// oppositely: face culling stays off. The index pattern is one chunk of quads reused through the
+// base vertex, not an index per quad of the data set.
 #include <cstddef>
 
 #include "gl/objects.h"
