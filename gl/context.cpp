@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/technique_registry.h"
 #include "gl/gl_api.h"
 
 // The few OSMesa functions and constants we use, declared here because <GL/osmesa.h> includes
@@ -601,10 +602,7 @@ const ContextInfo& Context::info() const {
 }
 
 bool Context::isSoftwareRenderer() const {
-    const std::string& r = info().renderer;
-    for (const char* name : {"llvmpipe", "softpipe", "swrast"})
-        if (r.find(name) != std::string::npos) return true;
-    return false;
+    return isSoftwareRasterizer(info().renderer);
 }
 
 void Context::makeCurrent() {

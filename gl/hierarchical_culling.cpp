@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/technique_registry.h"
 #include "gl/bindings.h"
 #include "gl/context.h"
 #include "gl/gl_util.h"
@@ -35,9 +36,8 @@ HierarchicalCulling HierarchicalCulling::create(Target target, const CullingSpec
     c.m_slices = spec.slices;
     c.m_threshold = spec.opacityThreshold;
     if (target == Target::MaxDepth)
-        c.m_fragmentTest = g_fragmentTest == FragmentTest::Auto
-                               ? currentContextInfo().renderer.find("llvmpipe") == std::string::npos
-                               : g_fragmentTest == FragmentTest::On;
+        c.m_fragmentTest = g_fragmentTest == FragmentTest::Auto ? !isSoftwareRasterizer(currentContextInfo().renderer)
+                                                                : g_fragmentTest == FragmentTest::On;
     const std::string define = targetDefine(target);
     c.m_fromSource = compileProgram({{GL_COMPUTE_SHADER, "cull_pyramid.comp"}}, {define, "FROM_SOURCE"});
     c.m_fromLevel = compileProgram({{GL_COMPUTE_SHADER, "cull_pyramid.comp"}}, {define});
@@ -204,14 +204,15 @@ std::uint64_t HierarchicalCulling::readCulled(StageSink& timer) const {
 }
 
 nlohmann::json HierarchicalCulling::describe() const {
-    return {{"slices", m_slices},
-            {"pyramid", m_target == Target::MaxDepth ? "max view depth" : "min accumulated opacity"},
-            {"opacity_threshold", m_threshold},
-            {"billboard_test", m_billboards ? "compute pre-pass, per slice" : "where the billboard is built"},
-            {"frustum", "segments outside the view sorted last, not drawn (timings stage \"frustum\")"},
-            {"fragment_test", m_target == Target::MinOpacity ? "depth test before the shader (pixels marked per slice)"
-                              : m_fragmentTest               ? "in the shader, before the ray casting"
-                                               : "none (llvmpipe: a discard does not skip the shader's work)"}};
+    return {
+        {"slices", m_slices},
+        {"pyramid", m_target == Target::MaxDepth ? "max view depth" : "min accumulated opacity"},
+        {"opacity_threshold", m_threshold},
+        {"billboard_test", m_billboards ? "compute pre-pass, per slice" : "where the billboard is built"},
+        {"frustum", "segments outside the view sorted last, not drawn (timings stage \"frustum\")"},
+        {"fragment_test", m_target == Target::MinOpacity ? "depth test before the shader (pixels marked per slice)"
+                          : m_fragmentTest               ? "in the shader, before the ray casting"
+                                           : "none (software rasterizer: a discard does not skip the shader's work)"}};
 }
 
 }  // namespace tc::gl

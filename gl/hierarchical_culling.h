@@ -39,8 +39,9 @@ public:
 
     // Whether MaxDepth draws test each fragment against the pyramid before its ray casting
     // (CULL_FRAGMENT_TEST, a `discard`). Auto: where a discard skips the rest of the shader (GPUs),
-    // not on llvmpipe, where every lane of a block runs the whole shader anyway and the test only
-    // costs (5-11 % of the culled opaque draw's CPU time, docs/performance.md). Either way the
+    // not on software rasterizers (isSoftwareRasterizer): on llvmpipe every lane of a block runs the
+    // whole shader anyway and the test only costs (5-11 % of the culled opaque draw's CPU time,
+    // docs/performance.md). Either way the
     // image is the same: the test drops only fragments the depth test would reject. Applies to
     // the HierarchicalCulling objects created after the call; tests force On and Off.
     enum class FragmentTest { Auto, On, Off };
