@@ -5,9 +5,11 @@
 // once (its vertex cache works on indexed draws only) instead of the six vertices of two
 // glDrawArrays triangles, and corner 2, the last and so provoking vertex of both triangles, is the
 // only one that writes the flat varyings: 10 % and another 5 % less CPU in the opaque line pass,
-// more where depth slices wait for the vertex stage (docs/performance.md, "Indexed quads"). The two triangles wind
-// oppositely: face culling stays off. The index pattern is one chunk of quads reused through the
-// base vertex, not an index per quad of the data set.
+// more where depth slices wait for the vertex stage (docs/performance.md, "Indexed quads"). The
+// two triangles wind oppositely: face culling stays off. The index pattern is one chunk of quads
+// reused through the base vertex, not an index per quad of the data set. shaders/quad_corners.glsl
+// is its vertex shader side (which vertex is which corner, which corner provokes); the GL test
+// tests/gl/quad_indices_test.cpp checks the two agree.
 #include <cstddef>
 
 #include "gl/objects.h"

@@ -5,6 +5,7 @@
 #include "rounded_cone.glsl"
 #include "billboard.glsl"
 #include "line_buffers.glsl"
+#include "quad_corners.glsl"
 #define SEGMENT_VARYINGS_OUT
 #define FRAME_VARYINGS_OUT
 #include "segment_varyings.glsl"
@@ -20,14 +21,12 @@ layout(std430, binding = SSBO_BILLBOARD_CORNERS) readonly buffer BillboardCorner
 flat out uint vSegment;
 
 void main() {
-    // The quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 1-3-2
-    // (gl/quad_indices.h).
-    uint segment = segmentOfSlot(uint(gl_VertexID) / 4u);
-    int corner = gl_VertexID % 4;
+    // The quad's 4 corners, drawn as two indexed triangles (shaders/quad_corners.glsl).
+    uint segment = segmentOfSlot(quadOfVertex());
+    int corner = quadCorner();
     vSegment = segment;
-    // Flat varyings come from each triangle's provoking vertex (the last one, GL's default: corner 2
-    // of both), so only that corner fetches them.
-    bool provoking = corner == 2;
+    // Flat varyings come from each triangle's provoking vertex, so only that corner fetches them.
+    bool provoking = isProvokingCorner(corner);
 #ifdef BILLBOARDS_PRECOMPUTED
     vec4 pair = billboardCorners[2u * segment + uint(corner >> 1)];
     if (provoking) {

@@ -11,6 +11,7 @@
 #include "camera.glsl"
 #include "frame_uniforms.glsl"
 #include "sphere_glyph.glsl"
+#include "quad_corners.glsl"
 
 layout(std430, binding = SSBO_SPHERE_CENTER_RADIUS) readonly buffer CenterRadius { vec4 centerRadius[]; };
 layout(std430, binding = SSBO_SPHERE_COLORS) readonly buffer Colors { vec4 colors[]; };
@@ -41,10 +42,9 @@ void main() {
 #ifdef POINTS
     uint slot = uint(gl_VertexID);
 #else
-    // A quad's 4 corners in triangle-strip order, drawn as the indexed triangles 0-1-2 and 1-3-2
-    // (gl/quad_indices.h).
-    uint slot = uint(gl_VertexID) / 4u;
-    int corner = gl_VertexID % 4;
+    // A quad's 4 corners, drawn as two indexed triangles (shaders/quad_corners.glsl).
+    uint slot = quadOfVertex();
+    int corner = quadCorner();
 #endif
 #ifdef DRAW_ORDER
     uint p = drawOrder[slot];
@@ -55,8 +55,8 @@ void main() {
 #ifdef POINTS
     writeFrameVaryings();
 #else
-    // Flat varyings come from each triangle's provoking (last) vertex: corner 2 of both.
-    if (corner == 2) writeFrameVaryings();
+    // Flat varyings come from each triangle's provoking vertex.
+    if (isProvokingCorner(corner)) writeFrameVaryings();
 #endif
     vCenterRadius = cr;
     vColor = colors[p];
