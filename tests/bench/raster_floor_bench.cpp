@@ -8,7 +8,8 @@
 // hits them alike; a row is the median over the rounds. Each stage is timed between two
 // glFinish() calls, as wall time and as the CPU time of the whole process (every llvmpipe thread:
 // the work done, which other processes on a loaded machine do not inflate the way they stretch
-// wall time).
+// wall time). The floor draw's fragments (every pixel a billboard covers, i.e. the
+// ray-cone tests a line pass runs) are counted too.
 // Run by scripts/bench/raster_floor.sh.
 //
 //   tubecast_raster_floor_bench SCENE.json [--rounds 4] [--k 4,8,16] [--opacity 0.3] [--set key=value ...]
@@ -107,10 +108,17 @@ public:
         glDisable(GL_BLEND);
         glDisable(GL_CULL_FACE);
         glUseProgram(m_program.id());
+        glBeginQuery(GL_SAMPLES_PASSED, m_fragmentsQuery.id());
         m_geometry.draw(0, m_geometry.segmentCount());
+        glEndQuery(GL_SAMPLES_PASSED);
         timer.end();
+        glGetQueryObjectui64v(m_fragmentsQuery.id(), GL_QUERY_RESULT, &m_fragments);
         return timer.take();
     }
+
+    // The fragments of the last draw: every pixel a billboard covers, once per billboard (no depth
+    // test), i.e. the ray-cone tests a line pass runs.
+    std::uint64_t fragments() const { return m_fragments; }
 
 private:
     tc::gl::LineGeometry m_geometry;
@@ -118,6 +126,8 @@ private:
     tc::gl::Texture m_color;
     tc::gl::Framebuffer m_framebuffer;
     tc::LightingSpec m_lighting;
+    tc::gl::Query m_fragmentsQuery = tc::gl::Query::create(GL_SAMPLES_PASSED);
+    GLuint64 m_fragments = 0;
 };
 
 struct Case {
@@ -254,8 +264,10 @@ int main(int argc, char** argv) try {
     }
     std::printf(
         "\n%s: %zu segments, %dx%d, %d rounds; draw: floor = the constant-colour draw, opaque = stage "
-        "gbuffer, k-buffer = stages kbuffer + resolve; frame: every stage of the frame\n",
-        path.c_str(), opaqueLines.segmentCount(), setup.width, setup.height, rounds);
+        "gbuffer, k-buffer = stages kbuffer + resolve; frame: every stage of the frame; the floor draw's "
+        "fragments (billboard pixels): %llu\n",
+        path.c_str(), opaqueLines.segmentCount(), setup.width, setup.height, rounds,
+        static_cast<unsigned long long>(cases[0].floor->fragments()));
     return 0;
 } catch (const tc::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
