@@ -190,11 +190,17 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     Scene used = scene;
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-    const std::size_t perBlock = piecesPerBlock(model.bytesPerPiece(), std::size_t(maxBlock));
-    const bool tooLarge = options.dilate && model.pieceCount() > perBlock * kMaxPieceBlocks;
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    const bool tooLarge =
+        options.dilate && !pieceStorage(model.pieceCount(), model.bytesPerPiece(), model.quantization > 0,
+                                        std::size_t(maxBlock), std::size_t(maxTexels))
+                               .fits();
     if (tooLarge) {
-        // The copies do not fit kMaxPieceBlocks shader storage blocks: neighbour tests at render
-        // time instead, the same image from the model without copies.
+        // The ray caster cannot read the copies (pieceStorage): neighbour tests at render time
+        // instead, from the model without copies (both exact on straight tubes thinner than a
+        // voxel, tests/gl/vrc_renderer_test.cpp; the 10^7-segment tornado's transparent frames
+        // of the two differ by 52.8 dB PSNR).
         options.dilate = false;
         model = build();
         used.render.vrc.neighbors = true;
@@ -216,6 +222,20 @@ std::size_t VrcRenderer::piecesPerBlock(std::size_t bytesPerPiece, std::size_t m
     std::size_t n = 1;
     while (2 * n * bytesPerPiece <= maxBlockBytes && n < (std::size_t(1) << 30)) n *= 2;
     return n;
+}
+
+VrcRenderer::PieceStorage VrcRenderer::pieceStorage(std::size_t pieces, std::size_t bytesPerPiece, bool quantized,
+                                                    std::size_t maxBlockBytes, std::size_t maxTexels) {
+    PieceStorage s;
+    // An empty model still binds one (one-piece) buffer.
+    pieces = std::max<std::size_t>(1, pieces);
+    if (quantized && pieces <= maxTexels) {
+        s.texture = true;
+        return s;
+    }
+    s.perBlock = piecesPerBlock(bytesPerPiece, maxBlockBytes);
+    s.blocks = (pieces + s.perBlock - 1) / s.perBlock;
+    return s;
 }
 
 std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const StyledLines& lines, const VrcModel& model,
@@ -347,28 +367,31 @@ void VrcRenderer::uploadBricks(const VrcModel& model) {
 }
 
 void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes) {
-    // The piece array in blocks of 2^m_blockShift pieces, one buffer each: the GL caps one
-    // shader storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe), not the
-    // total. A piece index i lives in block i >> shift at i & (2^shift - 1).
+    // One buffer, read through a texture buffer or as blocks of 2^m_blockShift pieces
+    // (pieceStorage): the GL caps one shader storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE,
+    // 128 MiB on llvmpipe), not the total. A piece index i lives in block i >> shift at
+    // i & (2^shift - 1).
     GLint64 glMax = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &glMax);
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
     const std::size_t bytesPerPiece = model.bytesPerPiece();
     const std::size_t limit = maxBlockBytes > 0 ? std::min(maxBlockBytes, std::size_t(glMax)) : std::size_t(glMax);
-    const std::size_t perBlock = piecesPerBlock(bytesPerPiece, limit);
     const std::size_t pieces = model.pieceCount();
-    const std::size_t blocks = std::max<std::size_t>(1, (pieces + perBlock - 1) / perBlock);
-    if (blocks > std::size_t(kMaxPieceBlocks))
+    const PieceStorage storage =
+        pieceStorage(pieces, bytesPerPiece, model.quantization > 0, limit, std::size_t(maxTexels));
+    if (!storage.fits())
         throw InputError("render.vrc: the voxel model's " + std::to_string(pieces) + " pieces need " +
-                         std::to_string(blocks) + " shader storage blocks of " + std::to_string(perBlock) +
-                         " pieces, more than " + std::to_string(kMaxPieceBlocks) +
+                         std::to_string(storage.blocks) + " shader storage blocks of " +
+                         std::to_string(storage.perBlock) + " pieces, more than " + std::to_string(kMaxPieceBlocks) +
                          "; lower render.vrc.resolution or turn render.vrc.neighbors on");
-    while ((std::size_t(1) << m_blockShift) < perBlock) ++m_blockShift;
+    while ((std::size_t(1) << m_blockShift) < storage.perBlock) ++m_blockShift;
     const auto* bytes = model.quantization > 0
                             ? static_cast<const unsigned char*>(static_cast<const void*>(model.compact.data()))
                             : static_cast<const unsigned char*>(static_cast<const void*>(model.exact.data()));
     // One buffer; the blocks are ranges of it (their offsets, multiples of 2^shift pieces, are
     // aligned). An empty model still binds one valid (one-piece, zero) buffer.
-    m_pieceBlockCount = blocks;
+    m_pieceBlockCount = storage.blocks;
     m_piecesInBuffer = std::max<std::size_t>(1, pieces);
     if (pieces == 0) {
         const std::vector<unsigned char> zero(bytesPerPiece, 0);
@@ -378,19 +401,15 @@ void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes)
     }
     GLint alignment = 0;
     glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
-    if (blocks > 1 && (perBlock * bytesPerPiece) % std::size_t(std::max(alignment, 1)) != 0)
-        throw std::logic_error("VrcRenderer: piece block of " + std::to_string(perBlock * bytesPerPiece) +
+    if (storage.blocks > 1 && (storage.perBlock * bytesPerPiece) % std::size_t(std::max(alignment, 1)) != 0)
+        throw std::logic_error("VrcRenderer: piece block of " + std::to_string(storage.perBlock * bytesPerPiece) +
                                " bytes is not a multiple of GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT " +
                                std::to_string(alignment));
     // Quantized pieces are read through a texture buffer over the whole array (one piece per
     // RGBA32UI texel; shaders/vrc_raycast.comp, VRC_PIECE_TEXTURE): llvmpipe gathers a texel
     // fetch with vector code, while a storage buffer read at per-lane addresses is a loop over
     // the lanes, and the blocks needed one read per block.
-    GLint maxTexels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    if (model.quantization > 0 && m_piecesInBuffer <= std::size_t(maxTexels)) {
-        m_pieceTexture = makeBufferTexture(m_pieceBuffer, GL_RGBA32UI);
-    }
+    if (storage.texture) m_pieceTexture = makeBufferTexture(m_pieceBuffer, GL_RGBA32UI);
 }
 
 void VrcRenderer::uploadPaper(const VrcPackedModel& packed, bool globalIds) {

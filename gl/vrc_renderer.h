@@ -60,11 +60,12 @@ class VrcRenderer final : public Technique {
 public:
     // Builds the model (render.vrc; on the GPU or the CPU by render.vrc.build), uploads it and
     // compiles the ray caster. Needs a current context.
-    // With render.vrc.neighbors off the model gets copies (core/vrc_model.h). The piece array is
-    // split over up to kMaxPieceBlocks shader storage blocks of at most
+    // With render.vrc.neighbors off the model gets copies (core/vrc_model.h). Quantized pieces are
+    // read through one texture buffer of up to GL_MAX_TEXTURE_BUFFER_SIZE pieces (128 Mi on
+    // llvmpipe); exact pieces are split over up to kMaxPieceBlocks shader storage blocks of at most
     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE each (128 MiB on llvmpipe; the cap is per block, not in
-    // total); only a model larger than all of them falls back to neighbour tests (describe():
-    // copies_did_not_fit).
+    // total). Only a model with copies that neither holds falls back to neighbour tests
+    // (describe(): copies_did_not_fit).
     static std::unique_ptr<VrcRenderer> create(const Scene& scene, const StyledLines& lines);
     // Per-pixel GPU memory: the colour, normal + depth, id and AO images.
     static PixelBuffers pixelBuffers(const Scene& scene);
@@ -79,6 +80,18 @@ public:
     static constexpr int kMaxPieceBlocks = 8;
     // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
     static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
+    // How the ray caster reads a piece array (shaders/vrc_raycast.comp): quantized pieces through
+    // one texture buffer over the whole array when it has at most `maxTexels` pieces
+    // (GL_MAX_TEXTURE_BUFFER_SIZE; one piece per texel), which no storage block limit caps;
+    // otherwise (exact pieces, or more pieces than texels) as `blocks` shader storage blocks of
+    // `perBlock` pieces within `maxBlockBytes` each. fits(): the ray caster can read it.
+    struct PieceStorage {
+        bool texture = false;
+        std::size_t blocks = 0, perBlock = 0;
+        bool fits() const { return texture || blocks <= std::size_t(kMaxPieceBlocks); }
+    };
+    static PieceStorage pieceStorage(std::size_t pieces, std::size_t bytesPerPiece, bool quantized,
+                                     std::size_t maxBlockBytes, std::size_t maxTexels);
     // Where render.vrc.build builds the model on a GL whose GL_RENDERER is `glRenderer`: "gpu" and
     // "cpu" as asked; "auto" on the GPU (Kanzler et al. 2019, Sec. 3.3) except on a software
     // rasterizer, which runs the compute shaders on the CPU build's cores (docs/performance.md,
@@ -180,8 +193,9 @@ private:
     Buffer m_paperCounts;       // 1-byte counts, four voxels per word
     Buffer m_globalIdBuffer;    // per piece, the polyline id (only with the id image)
     Texture m_globalIdTexture;  // GL_R32UI over m_globalIdBuffer
-    // The piece array, bound as m_pieceBlockCount shader storage blocks (ranges) of 2^m_blockShift
-    // pieces; quantized pieces are read through m_pieceTexture (GL_RGBA32UI over the whole buffer).
+    // The piece array, read through m_pieceTexture (quantized pieces: GL_RGBA32UI over the whole
+    // buffer; m_pieceBlockCount 0) or bound as m_pieceBlockCount shader storage blocks (ranges) of
+    // 2^m_blockShift pieces (pieceStorage).
     Buffer m_pieceBuffer;
     std::size_t m_pieceBlockCount = 0, m_piecesInBuffer = 0;
     Texture m_pieceTexture;

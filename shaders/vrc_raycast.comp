@@ -94,6 +94,7 @@ struct VrcExactPiece {
 #define VRC_PIECE_T VrcExactPiece
 #endif
 #ifndef VRC_PAPER
+#ifndef VRC_PIECE_TEXTURE
 // The piece array in VRC_PIECE_BLOCKS blocks of 2^VRC_BLOCK_SHIFT pieces (one shader storage
 // block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB on llvmpipe): block 0 at
 // SSBO_VRC_PIECES, blocks 1.. at SSBO_VRC_PIECE_BLOCKS + 0, 1, ... (gl/vrc_renderer.cpp). Piece i is in block i >> VRC_BLOCK_SHIFT.
@@ -122,6 +123,7 @@ layout(std430, binding = SSBO_VRC_PIECE_BLOCKS + 6) readonly buffer VrcPieces7 {
 #if VRC_PIECE_BLOCKS > 8
 #error "at most 8 piece blocks (VrcRenderer::kMaxPieceBlocks)"
 #endif
+#endif  // !VRC_PIECE_TEXTURE
 
 #ifdef VRC_PIECE_TEXTURE
 // The whole piece array as one texture buffer (GL_RGBA32UI, gl/vrc_renderer.cpp): llvmpipe

@@ -700,10 +700,11 @@ TEST_F(GlTest, vrc_hard_shadows_from_representative_lines_darken_the_tube_behind
 }
 
 TEST_F(GlTest, vrc_piece_array_split_over_several_storage_blocks_renders_the_single_block_image) {
-    // The piece array of a large model is split over several shader storage blocks (one block is
-    // capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE). A tiny forced block size splits this small
-    // model the same way: the image, depth and ids must be bit-identical to one block, for both
-    // piece encodings, transparent (every piece along the ray is read) and opaque.
+    // The exact piece array of a large model is split over several shader storage blocks (one
+    // block is capped at GL_MAX_SHADER_STORAGE_BLOCK_SIZE). A tiny forced block size splits this
+    // small model the same way: the image, depth and ids must be bit-identical to one block,
+    // transparent (every piece along the ray is read) and opaque. Quantized pieces are read
+    // through one texture buffer whatever the block size: no blocks, the same image.
     const int w = 96, h = 72;
     const StyledLines lines = straightTubes(0.4f);
     const Camera cam = obliqueCamera();
@@ -725,10 +726,12 @@ TEST_F(GlTest, vrc_piece_array_split_over_several_storage_blocks_renders_the_sin
             ASSERT_GE(perBlock, 16u);
             const std::unique_ptr<gl::VrcRenderer> split =
                 gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece());
-            EXPECT_EQ(one->describe()["piece_blocks"], 1);
+            const bool texture = q > 0;
             const std::size_t blocks = (model.pieceCount() + perBlock - 1) / perBlock;
-            EXPECT_EQ(split->describe()["piece_blocks"], blocks);
             EXPECT_GE(blocks, 5u);
+            EXPECT_EQ(one->describe()["piece_blocks"], texture ? 0u : 1u);
+            EXPECT_EQ(split->describe()["piece_blocks"], texture ? 0u : blocks);
+            EXPECT_EQ(split->describe()["piece_texture"], texture);
             const FrameImages a = render(*one, scene, cam), b = render(*split, scene, cam);
             std::size_t covered = 0;
             for (std::size_t i = 0; i < a.id.size(); ++i) covered += a.id[i] != kBackgroundId;
@@ -740,16 +743,58 @@ TEST_F(GlTest, vrc_piece_array_split_over_several_storage_blocks_renders_the_sin
     }
 }
 
-TEST_F(GlTest, vrc_model_needing_more_storage_blocks_than_bindings_is_an_input_error) {
+TEST_F(GlTest, vrc_exact_model_needing_more_storage_blocks_than_bindings_is_an_input_error) {
+    // Exact pieces are read from storage blocks only; the quantized model of the same lines, read
+    // through one texture buffer, renders at the same forced block size.
     const StyledLines lines = straightTubes(0.4f);
-    VrcBuildOptions o;
-    o.resolution = 24;
-    o.dilate = true;
-    const VrcModel model = buildVrcModel(lines, o);
-    const Scene scene = comparedVrcScene(32, 24, true, o.quantization, false);
-    const std::size_t perBlock = 16;
-    ASSERT_GT(model.pieceCount(), perBlock * gl::VrcRenderer::kMaxPieceBlocks);
-    EXPECT_THROW(gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece()), InputError);
+    for (int q : {0, 32}) {
+        SCOPED_TRACE("q=" + std::to_string(q));
+        VrcBuildOptions o;
+        o.resolution = 24;
+        o.quantization = q;
+        o.dilate = true;
+        const VrcModel model = buildVrcModel(lines, o);
+        const Scene scene = comparedVrcScene(32, 24, true, o.quantization, false);
+        const std::size_t perBlock = 16;
+        ASSERT_GT(model.pieceCount(), perBlock * gl::VrcRenderer::kMaxPieceBlocks);
+        if (q == 0) {
+            EXPECT_THROW(gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece()), InputError);
+        } else {
+            const std::unique_ptr<gl::VrcRenderer> r =
+                gl::VrcRenderer::create(scene, lines, model, perBlock * model.bytesPerPiece());
+            EXPECT_EQ(r->describe()["piece_texture"], true);
+            EXPECT_EQ(r->describe()["piece_blocks"], 0u);
+        }
+    }
+}
+
+TEST(VrcPieceStorage, quantized_pieces_read_through_one_texture_up_to_its_texels_exact_ones_from_at_most_8_blocks) {
+    // llvmpipe's limits: 128 MiB per storage block, 128 Mi texels per texture buffer.
+    const std::size_t blockBytes = std::size_t(128) << 20, texels = std::size_t(128) << 20;
+    // A model with copies past 8 blocks of 16-byte pieces (64 Mi of them), within the texels: read
+    // through the texture, so the copies stay (create() falls back to neighbour tests otherwise).
+    const gl::VrcRenderer::PieceStorage quantized =
+        gl::VrcRenderer::pieceStorage(83'000'000, 16, true, blockBytes, texels);
+    EXPECT_TRUE(quantized.texture);
+    EXPECT_EQ(quantized.blocks, 0u);
+    EXPECT_TRUE(quantized.fits());
+    // Exact pieces (64 bytes): 2 Mi per block, 40 blocks.
+    const gl::VrcRenderer::PieceStorage exact =
+        gl::VrcRenderer::pieceStorage(83'000'000, 64, false, blockBytes, texels);
+    EXPECT_FALSE(exact.texture);
+    EXPECT_EQ(exact.perBlock, std::size_t(2) << 20);
+    EXPECT_EQ(exact.blocks, 40u);
+    EXPECT_FALSE(exact.fits());
+    // Exactly 8 full blocks fit; one piece more does not.
+    EXPECT_TRUE(gl::VrcRenderer::pieceStorage(std::size_t(16) << 20, 64, false, blockBytes, texels).fits());
+    EXPECT_FALSE(gl::VrcRenderer::pieceStorage((std::size_t(16) << 20) + 1, 64, false, blockBytes, texels).fits());
+    // Quantized pieces past the texels go to blocks: 8 Mi per block, 17 of them.
+    const gl::VrcRenderer::PieceStorage past = gl::VrcRenderer::pieceStorage(texels + 1, 16, true, blockBytes, texels);
+    EXPECT_FALSE(past.texture);
+    EXPECT_EQ(past.blocks, 17u);
+    EXPECT_FALSE(past.fits());
+    // An empty model binds one piece.
+    EXPECT_EQ(gl::VrcRenderer::pieceStorage(0, 64, false, blockBytes, texels).blocks, 1u);
 }
 
 TEST_F(GlTest, vrc_gpu_build_produces_the_cpu_model_bit_for_bit) {
