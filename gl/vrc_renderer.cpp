@@ -188,14 +188,7 @@ std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const Style
     const auto t0 = std::chrono::steady_clock::now();
     VrcModel model = build();
     Scene used = scene;
-    GLint64 maxBlock = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-    GLint maxTexels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    const bool tooLarge =
-        options.dilate && !pieceStorage(model.pieceCount(), model.bytesPerPiece(), model.quantization > 0,
-                                        std::size_t(maxBlock), std::size_t(maxTexels))
-                               .fits();
+    const bool tooLarge = options.dilate && !pieceStorageOf(model, 0).fits();
     if (tooLarge) {
         // The ray caster cannot read the copies (pieceStorage): neighbour tests at render time
         // instead, from the model without copies (both exact on straight tubes thinner than a
@@ -236,6 +229,17 @@ VrcRenderer::PieceStorage VrcRenderer::pieceStorage(std::size_t pieces, std::siz
     s.perBlock = piecesPerBlock(bytesPerPiece, maxBlockBytes);
     s.blocks = (pieces + s.perBlock - 1) / s.perBlock;
     return s;
+}
+
+VrcRenderer::PieceStorage VrcRenderer::pieceStorageOf(const VrcModel& model, std::size_t maxBlockBytes) {
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    const std::size_t limit =
+        maxBlockBytes > 0 ? std::min(maxBlockBytes, std::size_t(maxBlock)) : std::size_t(maxBlock);
+    return pieceStorage(model.pieceCount(), model.bytesPerPiece(), model.quantization > 0, limit,
+                        std::size_t(maxTexels));
 }
 
 std::unique_ptr<VrcRenderer> VrcRenderer::create(const Scene& scene, const StyledLines& lines, const VrcModel& model,
@@ -371,15 +375,9 @@ void VrcRenderer::uploadPieces(const VrcModel& model, std::size_t maxBlockBytes)
     // (pieceStorage): the GL caps one shader storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE,
     // 128 MiB on llvmpipe), not the total. A piece index i lives in block i >> shift at
     // i & (2^shift - 1).
-    GLint64 glMax = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &glMax);
-    GLint maxTexels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
     const std::size_t bytesPerPiece = model.bytesPerPiece();
-    const std::size_t limit = maxBlockBytes > 0 ? std::min(maxBlockBytes, std::size_t(glMax)) : std::size_t(glMax);
     const std::size_t pieces = model.pieceCount();
-    const PieceStorage storage =
-        pieceStorage(pieces, bytesPerPiece, model.quantization > 0, limit, std::size_t(maxTexels));
+    const PieceStorage storage = pieceStorageOf(model, maxBlockBytes);
     if (!storage.fits())
         throw InputError("render.vrc: the voxel model's " + std::to_string(pieces) + " pieces need " +
                          std::to_string(storage.blocks) + " shader storage blocks of " +

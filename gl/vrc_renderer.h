@@ -122,6 +122,8 @@ private:
     // lines, and the ray caster's defines for what was uploaded.
     void uploadBricks(const VrcModel& model);
     void uploadPieces(const VrcModel& model, std::size_t maxBlockBytes);
+    // pieceStorage of `model` under this context's limits (`maxBlockBytes` > 0: a smaller block).
+    static PieceStorage pieceStorageOf(const VrcModel& model, std::size_t maxBlockBytes);
     // render.vrc.encoding "paper": the packed model (core/vrc_packed.h) as the header buffers, one
     // GL_R32UI texture buffer of the piece words and, with the id image requested, the global ids.
     void uploadPaper(const VrcPackedModel& packed, bool globalIds);
