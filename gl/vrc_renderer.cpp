@@ -211,12 +211,6 @@ bool VrcRenderer::buildsOnGpu(VrcSpec::Build build, const std::string& glRendere
     return !glRenderer.empty() && !isSoftwareRasterizer(glRenderer);
 }
 
-std::size_t VrcRenderer::piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes) {
-    std::size_t n = 1;
-    while (2 * n * bytesPerPiece <= maxBlockBytes && n < (std::size_t(1) << 30)) n *= 2;
-    return n;
-}
-
 VrcRenderer::PieceStorage VrcRenderer::pieceStorage(std::size_t pieces, std::size_t bytesPerPiece, bool quantized,
                                                     std::size_t maxBlockBytes, std::size_t maxTexels) {
     PieceStorage s;
@@ -226,7 +220,9 @@ VrcRenderer::PieceStorage VrcRenderer::pieceStorage(std::size_t pieces, std::siz
         s.texture = true;
         return s;
     }
-    s.perBlock = piecesPerBlock(bytesPerPiece, maxBlockBytes);
+    // The largest power of two of pieces within one block.
+    s.perBlock = 1;
+    while (2 * s.perBlock * bytesPerPiece <= maxBlockBytes && s.perBlock < (std::size_t(1) << 30)) s.perBlock *= 2;
     s.blocks = (pieces + s.perBlock - 1) / s.perBlock;
     return s;
 }

@@ -78,13 +78,12 @@ public:
     // Most shader storage blocks the piece array is split over (VRC_PIECE_BLOCKS of
     // shaders/vrc_raycast.comp).
     static constexpr int kMaxPieceBlocks = 8;
-    // Pieces per block: the largest power of two of `bytesPerPiece` pieces within `maxBlockBytes`.
-    static std::size_t piecesPerBlock(std::size_t bytesPerPiece, std::size_t maxBlockBytes);
     // How the ray caster reads a piece array (shaders/vrc_raycast.comp): quantized pieces through
     // one texture buffer over the whole array when it has at most `maxTexels` pieces
     // (GL_MAX_TEXTURE_BUFFER_SIZE; one piece per texel), which no storage block limit caps;
     // otherwise (exact pieces, or more pieces than texels) as `blocks` shader storage blocks of
-    // `perBlock` pieces within `maxBlockBytes` each. fits(): the ray caster can read it.
+    // `perBlock` pieces (the largest power of two within `maxBlockBytes`) each. fits(): the ray
+    // caster can read it.
     struct PieceStorage {
         bool texture = false;
         std::size_t blocks = 0, perBlock = 0;
